@@ -1,0 +1,378 @@
+//! Bézier curves in any dimension: formula (1) of spec/bezier-order.md, evaluated by de
+//! Casteljau; the hodograph; conversion to and from the power form (2) with H_n (4), (5).
+
+use crate::numeric::{binomial_f64, Dd};
+use crate::{Error, Result};
+
+/// A parametric curve that can be evaluated into a caller's buffer.
+pub trait ParamCurve {
+    /// Dimension of the points.
+    fn dim(&self) -> usize;
+
+    /// Writes the point at parameter `t` into `out` (length [`ParamCurve::dim`]).
+    ///
+    /// `out` must have exactly `dim` entries; checked in debug builds. Use
+    /// [`ParamCurve::eval_many`] for a checked batched version.
+    fn eval_into(&self, t: f64, out: &mut [f64]);
+
+    /// The point at `t` as a new vector.
+    fn eval(&self, t: f64) -> Vec<f64> {
+        let mut out = vec![0.0; self.dim()];
+        self.eval_into(t, &mut out);
+        out
+    }
+
+    /// Evaluates at every parameter of `ts`, writing point k to
+    /// `out[k*dim .. (k+1)*dim]`. Errors on a wrong buffer length or a non-finite parameter.
+    fn eval_many(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
+        let d = self.dim();
+        if out.len() != ts.len() * d {
+            return Err(Error::BufferSize {
+                expected: ts.len() * d,
+                got: out.len(),
+            });
+        }
+        if let Some(index) = ts.iter().position(|t| !t.is_finite()) {
+            return Err(Error::NonFinite {
+                what: "parameter",
+                index,
+            });
+        }
+        for (t, o) in ts.iter().zip(out.chunks_exact_mut(d)) {
+            self.eval_into(*t, o);
+        }
+        Ok(())
+    }
+
+    /// `count` points at uniformly spaced parameters over [0, 1] (count >= 2), row-major.
+    fn sample_uniform(&self, count: usize) -> Vec<f64> {
+        let count = count.max(2);
+        let ts: Vec<f64> = (0..count).map(|k| k as f64 / (count - 1) as f64).collect();
+        let mut out = vec![0.0; count * self.dim()];
+        for (t, o) in ts.iter().zip(out.chunks_exact_mut(self.dim())) {
+            self.eval_into(*t, o);
+        }
+        out
+    }
+}
+
+/// Checks a row-major point array: dimension >= 1, length a multiple of it, at least one
+/// point, every number finite.
+pub(crate) fn validate_points(what: &'static str, dim: usize, data: &[f64]) -> Result<()> {
+    if dim == 0 {
+        return Err(Error::ZeroDimension { what });
+    }
+    if data.is_empty() {
+        return Err(Error::Empty { what });
+    }
+    if data.len() % dim != 0 {
+        return Err(Error::DimensionMismatch {
+            what: "point",
+            index: data.len() / dim,
+            expected: dim,
+            got: data.len() % dim,
+        });
+    }
+    if let Some(k) = data.iter().position(|x| !x.is_finite()) {
+        return Err(Error::NonFinite {
+            what: "control point",
+            index: k / dim,
+        });
+    }
+    Ok(())
+}
+
+/// Flattens `Vec<Vec<f64>>` points, checking that all have the same dimension.
+pub(crate) fn flatten_points(what: &'static str, points: &[Vec<f64>]) -> Result<(usize, Vec<f64>)> {
+    let first = points.first().ok_or(Error::Empty { what })?;
+    let dim = first.len();
+    let mut data = Vec::with_capacity(points.len() * dim);
+    for (index, p) in points.iter().enumerate() {
+        if p.len() != dim {
+            return Err(Error::DimensionMismatch {
+                what: "point",
+                index,
+                expected: dim,
+                got: p.len(),
+            });
+        }
+        data.extend_from_slice(p);
+    }
+    validate_points(what, dim, &data)?;
+    Ok((dim, data))
+}
+
+/// De Casteljau evaluation of the Bézier curve with control points `pts` (row-major,
+/// `dim` per point) at `t`, using `work` as scratch (same length as `pts`).
+pub(crate) fn de_casteljau(pts: &[f64], dim: usize, t: f64, work: &mut [f64], out: &mut [f64]) {
+    work.copy_from_slice(pts);
+    let n = pts.len() / dim - 1;
+    let s = 1.0 - t;
+    for r in 1..=n {
+        for i in 0..=(n - r) {
+            for k in 0..dim {
+                work[i * dim + k] = s * work[i * dim + k] + t * work[(i + 1) * dim + k];
+            }
+        }
+    }
+    out.copy_from_slice(&work[..dim]);
+}
+
+/// A Bézier curve p(t) = Σ b_ni(t) u_i, t ∈ [0, 1], with control points u_0..u_n in R^dim
+/// (formula (1)).
+///
+/// ```
+/// use geomkit::bezier::{BezierCurve, ParamCurve};
+/// let c = BezierCurve::new(vec![vec![0.0, 0.0], vec![1.0, 2.0], vec![2.0, 0.0]]).unwrap();
+/// assert_eq!(c.eval(0.5), vec![1.0, 1.0]);
+/// assert_eq!(c.derivative().eval(0.0), vec![2.0, 4.0]);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct BezierCurve {
+    dim: usize,
+    points: Vec<f64>,
+}
+
+impl BezierCurve {
+    /// A curve from its control points. Errors: no points, points of different dimensions,
+    /// dimension 0, a non-finite coordinate (naming the point).
+    pub fn new(points: Vec<Vec<f64>>) -> Result<Self> {
+        let (dim, points) = flatten_points("control points", &points)?;
+        Ok(BezierCurve { dim, points })
+    }
+
+    /// A curve from row-major control points with `dim` coordinates each.
+    pub fn from_flat(dim: usize, points: Vec<f64>) -> Result<Self> {
+        validate_points("control points", dim, &points)?;
+        Ok(BezierCurve { dim, points })
+    }
+
+    /// Formal degree n.
+    pub fn degree(&self) -> usize {
+        self.points.len() / self.dim - 1
+    }
+
+    /// Control point `i`.
+    pub fn point(&self, i: usize) -> &[f64] {
+        &self.points[i * self.dim..(i + 1) * self.dim]
+    }
+
+    /// All control points, row-major.
+    pub fn points_flat(&self) -> &[f64] {
+        &self.points
+    }
+
+    /// Control points as one vector per point.
+    pub fn points(&self) -> Vec<Vec<f64>> {
+        self.points
+            .chunks_exact(self.dim)
+            .map(<[f64]>::to_vec)
+            .collect()
+    }
+
+    /// Largest Euclidean norm of a control point (the scale that tolerances are relative to).
+    pub fn scale(&self) -> f64 {
+        crate::numeric::max_norm(&self.points, self.dim)
+    }
+
+    /// The derivative curve (hodograph): degree n-1 with control points n (u_(i+1) - u_i).
+    /// A constant curve (n = 0) gives the zero curve of degree 0.
+    pub fn derivative(&self) -> BezierCurve {
+        let n = self.degree();
+        if n == 0 {
+            return BezierCurve {
+                dim: self.dim,
+                points: vec![0.0; self.dim],
+            };
+        }
+        let d = self.dim;
+        let points = (0..n)
+            .flat_map(|i| (0..d).map(move |k| (i, k)))
+            .map(|(i, k)| n as f64 * (self.points[(i + 1) * d + k] - self.points[i * d + k]))
+            .collect();
+        BezierCurve { dim: d, points }
+    }
+
+    /// Power coefficients S_n = U_n H_n (5), computed as s_j = C(n,j) Δ^j u_0, row-major.
+    ///
+    /// The power basis is badly conditioned: above degree ~20 these f64 coefficients lose
+    /// most digits to cancellation. Use [`crate::exact::ExactBezierCurve::to_power`] for exact ones.
+    pub fn to_power(&self) -> Vec<f64> {
+        let n = self.degree();
+        let d = self.dim;
+        let mut diff = self.points.clone();
+        let mut s = vec![0.0; self.points.len()];
+        for j in 0..=n {
+            let c = binomial_f64(n, j);
+            for k in 0..d {
+                s[j * d + k] = c * diff[k];
+            }
+            for i in 0..(n - j) {
+                for k in 0..d {
+                    diff[i * d + k] = diff[(i + 1) * d + k] - diff[i * d + k];
+                }
+            }
+        }
+        s
+    }
+
+    /// The curve with power coefficients `s` (row-major, `dim` each): U_n = S_n H_n^-1 with
+    /// the closed-form inverse (H_n^-1)_ij = C(j,i)/C(n,i), accumulated in double-double.
+    pub fn from_power(dim: usize, s: &[f64]) -> Result<Self> {
+        validate_points("power coefficients", dim, s)?;
+        let n = s.len() / dim - 1;
+        let mut points = vec![0.0; s.len()];
+        for j in 0..=n {
+            for k in 0..dim {
+                let mut acc = Dd::ZERO;
+                for i in 0..=j {
+                    // (H^-1)_ij = C(j,i) / C(n,i)
+                    let w = Dd::from_f64(binomial_f64(j, i)).div(Dd::from_f64(binomial_f64(n, i)));
+                    acc = acc.fma(w, s[i * dim + k]);
+                }
+                points[j * dim + k] = acc.to_f64();
+            }
+        }
+        Self::from_flat(dim, points)
+    }
+
+    /// Splits the curve at `t` into two Bézier curves of the same degree (de Casteljau).
+    pub fn split(&self, t: f64) -> (BezierCurve, BezierCurve) {
+        let (l, r) = split_flat(&self.points, self.dim, t);
+        (
+            BezierCurve {
+                dim: self.dim,
+                points: l,
+            },
+            BezierCurve {
+                dim: self.dim,
+                points: r,
+            },
+        )
+    }
+}
+
+/// De Casteljau subdivision of row-major control points at `t`.
+pub(crate) fn split_flat(pts: &[f64], dim: usize, t: f64) -> (Vec<f64>, Vec<f64>) {
+    let n = pts.len() / dim - 1;
+    let mut work = pts.to_vec();
+    let mut left = vec![0.0; pts.len()];
+    let mut right = vec![0.0; pts.len()];
+    let s = 1.0 - t;
+    left[..dim].copy_from_slice(&work[..dim]);
+    right[n * dim..].copy_from_slice(&work[n * dim..]);
+    for r in 1..=n {
+        for i in 0..=(n - r) {
+            for k in 0..dim {
+                work[i * dim + k] = s * work[i * dim + k] + t * work[(i + 1) * dim + k];
+            }
+        }
+        left[r * dim..(r + 1) * dim].copy_from_slice(&work[..dim]);
+        right[(n - r) * dim..(n - r + 1) * dim]
+            .copy_from_slice(&work[(n - r) * dim..(n - r + 1) * dim]);
+    }
+    (left, right)
+}
+
+impl ParamCurve for BezierCurve {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    fn eval_into(&self, t: f64, out: &mut [f64]) {
+        debug_assert_eq!(out.len(), self.dim);
+        let mut work = self.points.clone();
+        de_casteljau(&self.points, self.dim, t, &mut work, out);
+    }
+
+    fn eval_many(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
+        let d = self.dim;
+        if out.len() != ts.len() * d {
+            return Err(Error::BufferSize {
+                expected: ts.len() * d,
+                got: out.len(),
+            });
+        }
+        if let Some(index) = ts.iter().position(|t| !t.is_finite()) {
+            return Err(Error::NonFinite {
+                what: "parameter",
+                index,
+            });
+        }
+        let mut work = self.points.clone();
+        for (t, o) in ts.iter().zip(out.chunks_exact_mut(d)) {
+            de_casteljau(&self.points, d, *t, &mut work, o);
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_bad_input() {
+        assert_eq!(
+            BezierCurve::new(vec![]),
+            Err(Error::Empty {
+                what: "control points"
+            })
+        );
+        assert_eq!(
+            BezierCurve::new(vec![vec![0.0, 1.0], vec![f64::NAN, 0.0]]),
+            Err(Error::NonFinite {
+                what: "control point",
+                index: 1
+            })
+        );
+        assert!(matches!(
+            BezierCurve::new(vec![vec![0.0, 1.0], vec![0.0]]),
+            Err(Error::DimensionMismatch { index: 1, .. })
+        ));
+        let c = BezierCurve::new(vec![vec![0.0], vec![1.0]]).unwrap();
+        assert!(c.eval_many(&[0.5], &mut [0.0; 2]).is_err());
+        assert!(c.eval_many(&[f64::INFINITY], &mut [0.0]).is_err());
+    }
+
+    #[test]
+    fn power_form_of_example2() {
+        let c = BezierCurve::new(vec![
+            vec![10.0, 0.0],
+            vec![22.0, 6.0],
+            vec![19.0, 12.0],
+            vec![11.0, 15.0],
+            vec![8.0, 12.0],
+            vec![20.0, 0.0],
+        ])
+        .unwrap();
+        let s = c.to_power();
+        assert_eq!(
+            s,
+            vec![10.0, 0.0, 60.0, 30.0, -150.0, 0.0, 100.0, -30.0, 0.0, 0.0, 0.0, 0.0]
+        );
+        let back = BezierCurve::from_power(2, &s).unwrap();
+        assert_eq!(back, c);
+    }
+
+    #[test]
+    fn split_halves_match_curve() {
+        let c = BezierCurve::new(vec![
+            vec![0.0, 0.0],
+            vec![1.0, 3.0],
+            vec![3.0, -1.0],
+            vec![4.0, 0.5],
+        ])
+        .unwrap();
+        let (l, r) = c.split(0.3);
+        for k in 0..=10 {
+            let s = k as f64 / 10.0;
+            let a = l.eval(s);
+            let b = c.eval(0.3 * s);
+            assert!(crate::numeric::distance(&a, &b) < 1e-14);
+            let a = r.eval(s);
+            let b = c.eval(0.3 + 0.7 * s);
+            assert!(crate::numeric::distance(&a, &b) < 1e-14);
+        }
+    }
+}

@@ -1,0 +1,25 @@
+//! Method 1: Bézier curves and surfaces and the unified change of their order (degree),
+//! spec/bezier-order.md (Nikulin, 2011).
+//!
+//! - [`BezierCurve`]: formula (1), de Casteljau evaluation, hodograph, power form (2)-(5).
+//! - [`degree`]: elevation (6)-(8), real degree and defect, exact and approximate reduction
+//!   (9), the unified formula (10).
+//! - [`RationalBezierCurve`]: weights; order change through homogeneous coordinates.
+//! - [`BezierSurface`]: formulas (11)-(16), the eight order-change problems of (14).
+//! - [`edit`]: the paper's hand edits of control points (they change the shape; we say how much).
+
+mod bound;
+mod curve;
+pub mod degree;
+pub mod edit;
+mod rational;
+mod surface;
+
+pub use bound::DeviationBound;
+pub use curve::{BezierCurve, ParamCurve};
+pub use degree::{
+    paper_formula_f64, ApproxOptions, ApproxReduction, DegreeReport, ReductionNorm,
+    DEFAULT_TOLERANCE,
+};
+pub use rational::RationalBezierCurve;
+pub use surface::{BezierSurface, Direction, SurfaceDegreeReport};

@@ -1,0 +1,177 @@
+//! Rational Bézier curves: p(t) = Σ w_i b_ni(t) u_i / Σ w_i b_ni(t). Their order changes
+//! through homogeneous coordinates (w_i u_i, w_i) ∈ R^(r+1), where the curve is polynomial and
+//! everything of [`super::degree`] applies unchanged.
+//!
+//! ```
+//! use geomkit::bezier::{ParamCurve, RationalBezierCurve};
+//! // A quarter of the unit circle.
+//! let arc = RationalBezierCurve::new(
+//!     vec![vec![1.0, 0.0], vec![1.0, 1.0], vec![0.0, 1.0]],
+//!     vec![1.0, std::f64::consts::FRAC_1_SQRT_2, 1.0],
+//! ).unwrap();
+//! let p = arc.elevate_degree(5).unwrap().eval(0.3);
+//! assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-15);
+//! ```
+
+use super::curve::{de_casteljau, flatten_points, BezierCurve, ParamCurve};
+use super::degree::DegreeReport;
+use crate::{Error, Result};
+
+/// A rational Bézier curve with positive weights.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RationalBezierCurve {
+    /// Homogeneous control points (w_i u_i, w_i), dimension r + 1.
+    homogeneous: BezierCurve,
+}
+
+fn check_weights(weights: &[f64]) -> Result<()> {
+    match weights.iter().position(|w| !(w.is_finite() && *w > 0.0)) {
+        Some(index) => Err(Error::InvalidWeight {
+            index,
+            value: weights[index],
+        }),
+        None => Ok(()),
+    }
+}
+
+impl RationalBezierCurve {
+    /// A curve from control points and weights (finite, > 0, one per point).
+    pub fn new(points: Vec<Vec<f64>>, weights: Vec<f64>) -> Result<Self> {
+        let (dim, flat) = flatten_points("control points", &points)?;
+        if weights.len() != points.len() {
+            return Err(Error::WeightCount {
+                expected: points.len(),
+                got: weights.len(),
+            });
+        }
+        check_weights(&weights)?;
+        let mut h = Vec::with_capacity(weights.len() * (dim + 1));
+        for (p, w) in flat.chunks_exact(dim).zip(&weights) {
+            h.extend(p.iter().map(|x| x * w));
+            h.push(*w);
+        }
+        Ok(RationalBezierCurve {
+            homogeneous: BezierCurve::from_flat(dim + 1, h)?,
+        })
+    }
+
+    /// The curve whose homogeneous control points are those of `h` (last coordinate the
+    /// weight). Errors when a weight is not > 0.
+    pub fn from_homogeneous(h: BezierCurve) -> Result<Self> {
+        if h.dim() < 2 {
+            return Err(Error::WrongDimension {
+                operation: "rational curve from homogeneous points",
+                expected: 2,
+                got: h.dim(),
+            });
+        }
+        let d = h.dim();
+        let weights: Vec<f64> = h.points_flat().chunks_exact(d).map(|p| p[d - 1]).collect();
+        check_weights(&weights)?;
+        Ok(RationalBezierCurve { homogeneous: h })
+    }
+
+    /// Formal degree.
+    pub fn degree(&self) -> usize {
+        self.homogeneous.degree()
+    }
+
+    /// The homogeneous (polynomial) curve in R^(r+1).
+    pub fn homogeneous(&self) -> &BezierCurve {
+        &self.homogeneous
+    }
+
+    /// The weights.
+    pub fn weights(&self) -> Vec<f64> {
+        let d = self.homogeneous.dim();
+        self.homogeneous
+            .points_flat()
+            .chunks_exact(d)
+            .map(|p| p[d - 1])
+            .collect()
+    }
+
+    /// The (Cartesian) control points.
+    pub fn points(&self) -> Vec<Vec<f64>> {
+        let d = self.homogeneous.dim();
+        self.homogeneous
+            .points_flat()
+            .chunks_exact(d)
+            .map(|p| p[..d - 1].iter().map(|x| x / p[d - 1]).collect())
+            .collect()
+    }
+
+    /// Elevation to n' >= n (closed form (8) on homogeneous points): the curve is unchanged.
+    pub fn elevate_degree(&self, n_new: usize) -> Result<Self> {
+        Self::from_homogeneous(self.homogeneous.elevate_degree(n_new)?)
+    }
+
+    /// Real degree of the homogeneous curve (the rational curve's degree as a ratio of
+    /// polynomials with this common denominator), by the residual test.
+    pub fn degree_report(&self, tolerance: Option<f64>) -> Result<DegreeReport> {
+        self.homogeneous.degree_report(tolerance)
+    }
+
+    /// Exact reduction through homogeneous coordinates; errors as
+    /// [`BezierCurve::reduce_degree`], or with [`Error::InvalidWeight`] if a reduced weight
+    /// is not positive.
+    pub fn reduce_degree(&self, n_new: usize, tolerance: Option<f64>) -> Result<Self> {
+        Self::from_homogeneous(self.homogeneous.reduce_degree(n_new, tolerance)?)
+    }
+}
+
+impl ParamCurve for RationalBezierCurve {
+    fn dim(&self) -> usize {
+        self.homogeneous.dim() - 1
+    }
+
+    fn eval_into(&self, t: f64, out: &mut [f64]) {
+        let d = self.homogeneous.dim();
+        let pts = self.homogeneous.points_flat();
+        let mut work = pts.to_vec();
+        let mut h = vec![0.0; d];
+        de_casteljau(pts, d, t, &mut work, &mut h);
+        for (o, x) in out.iter_mut().zip(&h[..d - 1]) {
+            *o = x / h[d - 1];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_bad_weights() {
+        let pts = vec![vec![0.0], vec![1.0]];
+        assert_eq!(
+            RationalBezierCurve::new(pts.clone(), vec![1.0, -1.0]),
+            Err(Error::InvalidWeight {
+                index: 1,
+                value: -1.0
+            })
+        );
+        assert_eq!(
+            RationalBezierCurve::new(pts, vec![1.0]),
+            Err(Error::WeightCount {
+                expected: 2,
+                got: 1
+            })
+        );
+    }
+
+    #[test]
+    fn elevated_circle_reduces_back() {
+        let arc = RationalBezierCurve::new(
+            vec![vec![1.0, 0.0], vec![1.0, 1.0], vec![0.0, 1.0]],
+            vec![1.0, std::f64::consts::FRAC_1_SQRT_2, 1.0],
+        )
+        .unwrap();
+        let e = arc.elevate_degree(9).unwrap();
+        assert_eq!(e.degree_report(None).unwrap().real_degree, 2);
+        let back = e.reduce_degree(2, None).unwrap();
+        for (a, b) in back.weights().iter().zip(arc.weights()) {
+            assert!((a - b).abs() < 1e-15);
+        }
+    }
+}

@@ -1,0 +1,464 @@
+//! Tensor-product Bézier surfaces (spec/bezier-order.md §4, formulas (11)-(16)):
+//! p(u, v) = Σ_i Σ_j b_ni(u) b_mj(v) u_ij over an (n+1)×(m+1) characteristic net in R^r
+//! (the paper's t is our u, its τ our v).
+//!
+//! Order change (14) works direction by direction: in u the net is a curve whose "points"
+//! are the rows (each (m+1)·r numbers), in v one whose points are the columns, so every
+//! stable curve algorithm of [`super::degree`] applies and the defect of each direction
+//! (16) is decided jointly for all rows or columns.
+//!
+//! ```
+//! use geomkit::bezier::BezierSurface;
+//! // A bilinear patch, elevated to (3, 2): the same surface.
+//! let s = BezierSurface::new(vec![
+//!     vec![vec![0., 0., 0.], vec![0., 1., 0.]],
+//!     vec![vec![1., 0., 0.], vec![1., 1., 1.]],
+//! ]).unwrap();
+//! let e = s.change_degree(3, 2, None).unwrap();
+//! assert_eq!(e.degrees(), (3, 2));
+//! assert!((e.eval(0.3, 0.6)[2] - 0.18).abs() < 1e-15);
+//! assert_eq!(e.degree_report(None).unwrap().real_degrees(), (1, 1));
+//! ```
+
+use super::bound::DeviationBound;
+use super::curve::{de_casteljau, validate_points};
+use super::degree::{
+    check_tolerance, elevate_flat, paper_change_flat, real_degree_flat, reduce_least_squares,
+    DegreeReport,
+};
+use crate::numeric::{distance, max_norm};
+use crate::{Error, Result};
+
+/// A parametric direction of a surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// u (the paper's t), along the first net index i.
+    U,
+    /// v (the paper's τ), along the second net index j.
+    V,
+}
+
+impl Direction {
+    fn name(self) -> &'static str {
+        match self {
+            Direction::U => "u",
+            Direction::V => "v",
+        }
+    }
+}
+
+/// Real degrees and defects of a surface in both directions (16).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceDegreeReport {
+    /// The u direction (rows of S_(n,m)).
+    pub u: DegreeReport,
+    /// The v direction (columns of S_(n,m)).
+    pub v: DegreeReport,
+}
+
+impl SurfaceDegreeReport {
+    /// (n*, m*).
+    pub fn real_degrees(&self) -> (usize, usize) {
+        (self.u.real_degree, self.v.real_degree)
+    }
+
+    /// (d, δ): formal minus real degree in each direction.
+    pub fn defects(&self) -> (usize, usize) {
+        (self.u.defect, self.v.defect)
+    }
+}
+
+/// A tensor-product Bézier surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BezierSurface {
+    dim: usize,
+    rows: usize,
+    cols: usize,
+    /// net[i][j] at (i * cols + j) * dim.
+    net: Vec<f64>,
+}
+
+impl BezierSurface {
+    /// A surface from its net, `net[i][j]` the control point u_ij. Errors: empty net or row,
+    /// ragged rows, points of different dimensions, non-finite coordinates.
+    pub fn new(net: Vec<Vec<Vec<f64>>>) -> Result<Self> {
+        let first_row = net.first().ok_or(Error::Empty {
+            what: "control net",
+        })?;
+        let cols = first_row.len();
+        if cols == 0 {
+            return Err(Error::Empty {
+                what: "control net row 0",
+            });
+        }
+        let dim = first_row[0].len();
+        let mut data = Vec::with_capacity(net.len() * cols * dim);
+        for (i, row) in net.iter().enumerate() {
+            if row.len() != cols {
+                return Err(Error::RaggedNet {
+                    row: i,
+                    expected: cols,
+                    got: row.len(),
+                });
+            }
+            for (j, p) in row.iter().enumerate() {
+                if p.len() != dim {
+                    return Err(Error::DimensionMismatch {
+                        what: "net point",
+                        index: i * cols + j,
+                        expected: dim,
+                        got: p.len(),
+                    });
+                }
+                data.extend_from_slice(p);
+            }
+        }
+        Self::from_flat(net.len(), cols, dim, data)
+    }
+
+    /// A surface from a row-major net of `rows`×`cols` points with `dim` coordinates.
+    pub fn from_flat(rows: usize, cols: usize, dim: usize, net: Vec<f64>) -> Result<Self> {
+        if rows == 0 || cols == 0 {
+            return Err(Error::Empty {
+                what: "control net",
+            });
+        }
+        validate_points("control net", dim, &net)?;
+        if net.len() != rows * cols * dim {
+            return Err(Error::BufferSize {
+                expected: rows * cols * dim,
+                got: net.len(),
+            });
+        }
+        Ok(BezierSurface {
+            dim,
+            rows,
+            cols,
+            net,
+        })
+    }
+
+    /// Formal degrees (n, m).
+    pub fn degrees(&self) -> (usize, usize) {
+        (self.rows - 1, self.cols - 1)
+    }
+
+    /// Dimension r of the points.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Control point u_ij.
+    pub fn point(&self, i: usize, j: usize) -> &[f64] {
+        let k = (i * self.cols + j) * self.dim;
+        &self.net[k..k + self.dim]
+    }
+
+    /// The net as `net[i][j]`.
+    pub fn net(&self) -> Vec<Vec<Vec<f64>>> {
+        (0..self.rows)
+            .map(|i| (0..self.cols).map(|j| self.point(i, j).to_vec()).collect())
+            .collect()
+    }
+
+    /// The net, row-major.
+    pub fn net_flat(&self) -> &[f64] {
+        &self.net
+    }
+
+    /// Largest Euclidean norm of a net point.
+    pub fn scale(&self) -> f64 {
+        max_norm(&self.net, self.dim)
+    }
+
+    /// The net transposed (columns become rows), row-major.
+    fn transposed(&self) -> Vec<f64> {
+        let mut t = Vec::with_capacity(self.net.len());
+        for j in 0..self.cols {
+            for i in 0..self.rows {
+                t.extend_from_slice(self.point(i, j));
+            }
+        }
+        t
+    }
+
+    fn from_transposed(cols: usize, rows: usize, dim: usize, t: &[f64]) -> Result<Self> {
+        let mut net = vec![0.0; t.len()];
+        for j in 0..cols {
+            for i in 0..rows {
+                let src = (j * rows + i) * dim;
+                let dst = (i * cols + j) * dim;
+                net[dst..dst + dim].copy_from_slice(&t[src..src + dim]);
+            }
+        }
+        Self::from_flat(rows, cols, dim, net)
+    }
+
+    /// The net as a curve in `direction`: (points, point dimension).
+    fn as_curve(&self, direction: Direction) -> (Vec<f64>, usize) {
+        match direction {
+            Direction::U => (self.net.clone(), self.cols * self.dim),
+            Direction::V => (self.transposed(), self.rows * self.dim),
+        }
+    }
+
+    fn from_curve(&self, direction: Direction, pts: &[f64], len: usize) -> Result<Self> {
+        match direction {
+            Direction::U => Self::from_flat(len, self.cols, self.dim, pts.to_vec()),
+            Direction::V => Self::from_transposed(len, self.rows, self.dim, pts),
+        }
+    }
+
+    /// Writes p(u, v) into `out` (length r), using `row` (length (m+1)·r) and `work` (length
+    /// (n+1)·(m+1)·r) as scratch.
+    fn eval_with(&self, u: f64, v: f64, work: &mut [f64], row: &mut [f64], out: &mut [f64]) {
+        let row_dim = self.cols * self.dim;
+        de_casteljau(&self.net, row_dim, u, work, row);
+        de_casteljau(row, self.dim, v, &mut work[..row_dim], out);
+    }
+
+    /// The point p(u, v) (formula (11)), by de Casteljau in u then in v.
+    pub fn eval(&self, u: f64, v: f64) -> Vec<f64> {
+        let mut out = vec![0.0; self.dim];
+        let mut work = vec![0.0; self.net.len()];
+        let mut row = vec![0.0; self.cols * self.dim];
+        self.eval_with(u, v, &mut work, &mut row, &mut out);
+        out
+    }
+
+    /// Evaluates on the grid `us` × `vs`, writing p(us[a], vs[b]) to
+    /// `out[(a * vs.len() + b) * r ..]`. Each row of the grid costs one de Casteljau in u.
+    /// Errors: wrong buffer length, non-finite parameters.
+    pub fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
+        let d = self.dim;
+        if out.len() != us.len() * vs.len() * d {
+            return Err(Error::BufferSize {
+                expected: us.len() * vs.len() * d,
+                got: out.len(),
+            });
+        }
+        for (what, ps) in [("parameter u", us), ("parameter v", vs)] {
+            if let Some(index) = ps.iter().position(|t| !t.is_finite()) {
+                return Err(Error::NonFinite { what, index });
+            }
+        }
+        let row_dim = self.cols * d;
+        let mut work = vec![0.0; self.net.len()];
+        let mut row = vec![0.0; row_dim];
+        for (a, &u) in us.iter().enumerate() {
+            de_casteljau(&self.net, row_dim, u, &mut work, &mut row);
+            for (b, &v) in vs.iter().enumerate() {
+                let k = (a * vs.len() + b) * d;
+                de_casteljau(&row, d, v, &mut work[..row_dim], &mut out[k..k + d]);
+            }
+        }
+        Ok(())
+    }
+
+    /// The partial-derivative surface ∂p/∂u (degree n-1 in u) or ∂p/∂v.
+    pub fn derivative(&self, direction: Direction) -> BezierSurface {
+        let (pts, pd) = self.as_curve(direction);
+        let len = pts.len() / pd;
+        let n = len - 1;
+        let deriv: Vec<f64> = if n == 0 {
+            vec![0.0; pd]
+        } else {
+            (0..n)
+                .flat_map(|i| (0..pd).map(move |k| (i, k)))
+                .map(|(i, k)| n as f64 * (pts[(i + 1) * pd + k] - pts[i * pd + k]))
+                .collect()
+        };
+        self.from_curve(direction, &deriv, n.max(1))
+            .expect("differences of finite points are finite")
+    }
+
+    /// The unit normal (∂p/∂u × ∂p/∂v normalized) of a surface in R^3. `Ok(None)` where the
+    /// partial derivatives are parallel or vanish (a degenerate point, e.g. a collapsed edge).
+    pub fn normal(&self, u: f64, v: f64) -> Result<Option<[f64; 3]>> {
+        if self.dim != 3 {
+            return Err(Error::WrongDimension {
+                operation: "surface normal",
+                expected: 3,
+                got: self.dim,
+            });
+        }
+        let a = self.derivative(Direction::U).eval(u, v);
+        let b = self.derivative(Direction::V).eval(u, v);
+        let n = [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ];
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let scale =
+            (a.iter().map(|x| x * x).sum::<f64>() * b.iter().map(|x| x * x).sum::<f64>()).sqrt();
+        if !(len > 1e-14 * scale) || len == 0.0 {
+            return Ok(None);
+        }
+        Ok(Some([n[0] / len, n[1] / len, n[2] / len]))
+    }
+
+    /// Real degrees and defects in both directions (16), by the residual test with a relative
+    /// tolerance (default [`super::DEFAULT_TOLERANCE`]) on all rows / columns jointly.
+    pub fn degree_report(&self, tolerance: Option<f64>) -> Result<SurfaceDegreeReport> {
+        let tol = check_tolerance(tolerance)?;
+        let report = |dir| {
+            let (pts, pd) = self.as_curve(dir);
+            real_degree_flat(&pts, pd, self.dim, tol)
+        };
+        Ok(SurfaceDegreeReport {
+            u: report(Direction::U)?,
+            v: report(Direction::V)?,
+        })
+    }
+
+    fn change_direction(&self, direction: Direction, target: usize, tol: f64) -> Result<Self> {
+        let (pts, pd) = self.as_curve(direction);
+        let n = pts.len() / pd - 1;
+        let new = if target >= n {
+            elevate_flat(&pts, pd, target)
+        } else {
+            let (x, res) = reduce_least_squares(&pts, pd, self.dim, target)?;
+            if res > tol * self.scale() {
+                let r = real_degree_flat(&pts, pd, self.dim, tol)?;
+                return Err(Error::SurfaceDefectTooSmall {
+                    direction: direction.name(),
+                    real_degree: r.real_degree,
+                    requested: target,
+                    defect: r.defect,
+                });
+            }
+            x
+        };
+        self.from_curve(direction, &new, target + 1)
+    }
+
+    /// Formula (14) done stably: the same surface on an (n'+1)×(m'+1) net, each direction
+    /// elevated or exactly reduced independently (all eight problems of the paper). Errors
+    /// with [`Error::SurfaceDefectTooSmall`] naming the direction when a reduction is
+    /// impossible at this tolerance.
+    pub fn change_degree(
+        &self,
+        n_new: usize,
+        m_new: usize,
+        tolerance: Option<f64>,
+    ) -> Result<Self> {
+        let tol = check_tolerance(tolerance)?;
+        self.change_direction(Direction::U, n_new, tol)?
+            .change_direction(Direction::V, m_new, tol)
+    }
+
+    /// Formula (14) exactly as the paper writes it, with the exact matrices
+    /// H_n E H_(n')^-1 rounded once to f64: for a reduction below the real degree it
+    /// truncates the power form at (0, 0). Errors only if the result overflows.
+    pub fn change_degree_paper(&self, n_new: usize, m_new: usize) -> Result<Self> {
+        let (pts, pd) = self.as_curve(Direction::U);
+        let s = self.from_curve(Direction::U, &paper_change_flat(&pts, pd, n_new), n_new + 1)?;
+        let (pts, pd) = s.as_curve(Direction::V);
+        s.from_curve(Direction::V, &paper_change_flat(&pts, pd, m_new), m_new + 1)
+    }
+
+    /// Manual change (13): inserts a whole row (direction U, a polyline of m+1 points) or
+    /// column (direction V, n+1 points) before `index`. The shape changes.
+    pub fn insert_line(
+        &self,
+        direction: Direction,
+        index: usize,
+        line: &[Vec<f64>],
+    ) -> Result<Self> {
+        let (mut pts, pd) = self.as_curve(direction);
+        let len = pts.len() / pd;
+        if index > len {
+            return Err(Error::IndexOutOfRange {
+                what: "insertion position",
+                index,
+                len: len + 1,
+            });
+        }
+        if line.len() * self.dim != pd {
+            return Err(Error::TooFewPoints {
+                what: "points in the inserted line",
+                got: line.len(),
+                min: pd / self.dim,
+            });
+        }
+        let mut flat = Vec::with_capacity(pd);
+        for (k, p) in line.iter().enumerate() {
+            if p.len() != self.dim {
+                return Err(Error::DimensionMismatch {
+                    what: "inserted point",
+                    index: k,
+                    expected: self.dim,
+                    got: p.len(),
+                });
+            }
+            flat.extend_from_slice(p);
+        }
+        pts.splice(index * pd..index * pd, flat);
+        self.from_curve(direction, &pts, len + 1)
+    }
+
+    /// Manual change (13): removes row (U) or column (V) `index`. The shape changes.
+    pub fn remove_line(&self, direction: Direction, index: usize) -> Result<Self> {
+        let (mut pts, pd) = self.as_curve(direction);
+        let len = pts.len() / pd;
+        if index >= len {
+            return Err(Error::IndexOutOfRange {
+                what: "net line",
+                index,
+                len,
+            });
+        }
+        if len == 1 {
+            return Err(Error::TooFewPoints {
+                what: "net lines after removal",
+                got: 0,
+                min: 1,
+            });
+        }
+        pts.drain(index * pd..(index + 1) * pd);
+        self.from_curve(direction, &pts, len - 1)
+    }
+
+    /// Distance between two surfaces of the same dimension over [0,1]²: the largest distance
+    /// found on a 65×65 grid, and a guaranteed upper bound (both elevated to common degrees;
+    /// the largest difference of net points bounds the difference surface).
+    pub fn deviation_from(&self, other: &BezierSurface) -> Result<DeviationBound> {
+        if self.dim != other.dim {
+            return Err(Error::WrongDimension {
+                operation: "deviation",
+                expected: self.dim,
+                got: other.dim,
+            });
+        }
+        let (n, m) = self.degrees();
+        let (p, q) = other.degrees();
+        let (nn, mm) = (n.max(p), m.max(q));
+        let a = self.change_degree(nn, mm, None)?;
+        let b = other.change_degree(nn, mm, None)?;
+        let diff: Vec<f64> = a.net.iter().zip(&b.net).map(|(x, y)| x - y).collect();
+        let slack = 4.0 * f64::EPSILON * (nn + mm + 2) as f64 * a.scale().max(b.scale());
+        let ts: Vec<f64> = (0..65).map(|k| k as f64 / 64.0).collect();
+        let mut ga = vec![0.0; 65 * 65 * self.dim];
+        let mut gb = ga.clone();
+        self.eval_grid(&ts, &ts, &mut ga)?;
+        other.eval_grid(&ts, &ts, &mut gb)?;
+        let (mut best, mut at) = (0.0, 0.0);
+        for (k, (x, y)) in ga
+            .chunks_exact(self.dim)
+            .zip(gb.chunks_exact(self.dim))
+            .enumerate()
+        {
+            let d = distance(x, y);
+            if d > best {
+                best = d;
+                at = ts[k / 65];
+            }
+        }
+        Ok(DeviationBound {
+            max_found: best,
+            at,
+            upper_bound: max_norm(&diff, self.dim).max(best) + slack,
+        })
+    }
+}
