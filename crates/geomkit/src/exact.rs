@@ -327,7 +327,13 @@ impl ExactBezierCurve {
     /// Formula (10) applied without any check: for n' below the real degree this is the
     /// truncation of the power form at t = 0 (a Taylor truncation, not a best approximation).
     pub fn truncate_power_form(&self, n_new: usize) -> Self {
-        let m = degree_change_matrix(self.degree(), n_new);
+        // For elevation the closed form (8) equals formula (10) and costs O(n n') entries.
+        let n = self.degree();
+        let m = if n_new >= n {
+            elevation_matrix(n, n_new)
+        } else {
+            degree_change_matrix(n, n_new)
+        };
         let mut out = vec![Rational::zero(); (n_new + 1) * self.dim];
         for i in 0..m.rows() {
             for j in 0..m.cols() {
