@@ -13,9 +13,9 @@ fn random_surface(n: usize, m: usize, seed: u64) -> BezierSurface {
             (0..=m)
                 .map(|j| {
                     vec![
-                        i as f64 + 0.3 * rng.next(),
-                        j as f64 + 0.3 * rng.next(),
-                        rng.next(),
+                        i as f64 + 0.3 * rng.uniform(),
+                        j as f64 + 0.3 * rng.uniform(),
+                        rng.uniform(),
                     ]
                 })
                 .collect()

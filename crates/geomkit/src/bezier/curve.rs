@@ -1,6 +1,7 @@
 //! Bézier curves in any dimension: formula (1) of spec/bezier-order.md, evaluated by de
 //! Casteljau; the hodograph; conversion to and from the power form (2) with H_n (4), (5).
 
+use crate::exact::ExactBezierCurve;
 use crate::numeric::{binomial_f64, Dd};
 use crate::{Error, Result};
 
@@ -234,6 +235,12 @@ impl BezierCurve {
             }
         }
         Self::from_flat(dim, points)
+    }
+
+    /// The exact curve: every f64 control point taken as the dyadic rational it is. Use it
+    /// for the exact real degree ([`ExactBezierCurve::real_degree`]) and exact order change.
+    pub fn to_exact(&self) -> ExactBezierCurve {
+        ExactBezierCurve::from_f64(self.dim, &self.points).expect("control points are finite")
     }
 
     /// Splits the curve at `t` into two Bézier curves of the same degree (de Casteljau).

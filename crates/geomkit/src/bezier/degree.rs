@@ -197,9 +197,10 @@ pub(crate) fn real_degree_flat(
     tolerance: f64,
 ) -> Result<DegreeReport> {
     let n = q.len() / dim - 1;
+    // Invariant: residual(hi) <= tolerance, residual(k) > tolerance for every k < lo.
     let (mut lo, mut hi) = (0usize, n);
     let mut res_hi = 0.0;
-    let mut res_below = None;
+    let mut last_failure = None;
     while lo < hi {
         let mid = (lo + hi) / 2;
         let r = relative_residual(q, dim, point_dim, mid)?;
@@ -208,13 +209,11 @@ pub(crate) fn real_degree_flat(
             res_hi = r;
         } else {
             lo = mid + 1;
-            if mid + 1 == lo && mid + 1 <= n {
-                res_below = Some((mid, r));
-            }
+            last_failure = Some((mid, r));
         }
     }
     let real = hi;
-    let rejected_residual = match res_below {
+    let rejected_residual = match last_failure {
         Some((k, r)) if k + 1 == real => Some(r),
         _ if real > 0 => Some(relative_residual(q, dim, point_dim, real - 1)?),
         _ => None,

@@ -202,7 +202,7 @@ impl BezierSurface {
         }
     }
 
-    fn from_curve(&self, direction: Direction, pts: &[f64], len: usize) -> Result<Self> {
+    fn rebuild(&self, direction: Direction, pts: &[f64], len: usize) -> Result<Self> {
         match direction {
             Direction::U => Self::from_flat(len, self.cols, self.dim, pts.to_vec()),
             Direction::V => Self::from_transposed(len, self.rows, self.dim, pts),
@@ -268,7 +268,7 @@ impl BezierSurface {
                 .map(|(i, k)| n as f64 * (pts[(i + 1) * pd + k] - pts[i * pd + k]))
                 .collect()
         };
-        self.from_curve(direction, &deriv, n.max(1))
+        self.rebuild(direction, &deriv, n.max(1))
             .expect("differences of finite points are finite")
     }
 
@@ -292,7 +292,7 @@ impl BezierSurface {
         let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
         let scale =
             (a.iter().map(|x| x * x).sum::<f64>() * b.iter().map(|x| x * x).sum::<f64>()).sqrt();
-        if !(len > 1e-14 * scale) || len == 0.0 {
+        if len == 0.0 || len <= 1e-14 * scale {
             return Ok(None);
         }
         Ok(Some([n[0] / len, n[1] / len, n[2] / len]))
@@ -330,7 +330,7 @@ impl BezierSurface {
             }
             x
         };
-        self.from_curve(direction, &new, target + 1)
+        self.rebuild(direction, &new, target + 1)
     }
 
     /// Formula (14) done stably: the same surface on an (n'+1)×(m'+1) net, each direction
@@ -353,9 +353,9 @@ impl BezierSurface {
     /// truncates the power form at (0, 0). Errors only if the result overflows.
     pub fn change_degree_paper(&self, n_new: usize, m_new: usize) -> Result<Self> {
         let (pts, pd) = self.as_curve(Direction::U);
-        let s = self.from_curve(Direction::U, &paper_change_flat(&pts, pd, n_new), n_new + 1)?;
+        let s = self.rebuild(Direction::U, &paper_change_flat(&pts, pd, n_new), n_new + 1)?;
         let (pts, pd) = s.as_curve(Direction::V);
-        s.from_curve(Direction::V, &paper_change_flat(&pts, pd, m_new), m_new + 1)
+        s.rebuild(Direction::V, &paper_change_flat(&pts, pd, m_new), m_new + 1)
     }
 
     /// Manual change (13): inserts a whole row (direction U, a polyline of m+1 points) or
@@ -395,7 +395,7 @@ impl BezierSurface {
             flat.extend_from_slice(p);
         }
         pts.splice(index * pd..index * pd, flat);
-        self.from_curve(direction, &pts, len + 1)
+        self.rebuild(direction, &pts, len + 1)
     }
 
     /// Manual change (13): removes row (U) or column (V) `index`. The shape changes.
@@ -417,7 +417,7 @@ impl BezierSurface {
             });
         }
         pts.drain(index * pd..(index + 1) * pd);
-        self.from_curve(direction, &pts, len - 1)
+        self.rebuild(direction, &pts, len - 1)
     }
 
     /// Distance between two surfaces of the same dimension over [0,1]²: the largest distance

@@ -1,5 +1,5 @@
 //! Shared helpers for the integration tests.
-#![allow(dead_code)]
+#![allow(dead_code, missing_docs)]
 
 use geomkit::bezier::{BezierCurve, ParamCurve};
 
@@ -7,7 +7,8 @@ use geomkit::bezier::{BezierCurve, ParamCurve};
 pub struct Rng(pub u64);
 
 impl Rng {
-    pub fn next(&mut self) -> f64 {
+    /// The next number in [-1, 1).
+    pub fn uniform(&mut self) -> f64 {
         let x = &mut self.0;
         *x ^= *x << 13;
         *x ^= *x >> 7;
@@ -19,7 +20,7 @@ impl Rng {
 /// A pseudo-random curve of degree `n` in R^dim with coordinates in [-1, 1).
 pub fn random_curve(n: usize, dim: usize, seed: u64) -> BezierCurve {
     let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1);
-    BezierCurve::from_flat(dim, (0..dim * (n + 1)).map(|_| rng.next()).collect()).unwrap()
+    BezierCurve::from_flat(dim, (0..dim * (n + 1)).map(|_| rng.uniform()).collect()).unwrap()
 }
 
 /// max over `count` uniform parameters of |a(t) - b(t)|.
