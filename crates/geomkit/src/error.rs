@@ -163,6 +163,32 @@ pub enum Error {
         /// The dimension given.
         got: usize,
     },
+    /// Two consecutive reference points coincide where the parametrization needs distinct ones.
+    #[error(
+        "reference points {index} and {next} coincide: chord-length and centripetal \
+         parameters need distinct consecutive points (remove the duplicate or use uniform)",
+        next = index + 1
+    )]
+    RepeatedPoint {
+        /// Index of the first of the two points.
+        index: usize,
+    },
+    /// An option value that cannot be used here.
+    #[error("invalid {option}: {reason}")]
+    InvalidOption {
+        /// The option.
+        option: &'static str,
+        /// Why.
+        reason: &'static str,
+    },
+    /// A knot vector that is not valid.
+    #[error("invalid knot vector at knot {index}: {reason}")]
+    InvalidKnots {
+        /// Index of the offending knot.
+        index: usize,
+        /// Why.
+        reason: &'static str,
+    },
     /// A numerical computation failed (singular system, no convergence).
     #[error("numerical failure in {operation}: {reason}")]
     Numerical {

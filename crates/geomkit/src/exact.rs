@@ -235,7 +235,7 @@ impl ExactBezierCurve {
                 what: "control points",
             });
         }
-        if points.len() % dim != 0 {
+        if !points.len().is_multiple_of(dim) {
             return Err(crate::Error::DimensionMismatch {
                 what: "control point",
                 index: points.len() / dim,

@@ -5,6 +5,7 @@
 //!
 //! 1. [`bezier`]: Bézier curves and surfaces and the unified change of their order (degree),
 //!    up and down, keeping the shape.
+//! 2. [`bspline`]: interpolating cubic B-spline curves through reference points.
 //!
 //! The library does no I/O; every operation on user input returns [`Result`] and never
 //! panics on bad input (non-finite numbers, too few points, wrong shapes).
@@ -17,8 +18,10 @@
 //! ```
 
 pub mod bezier;
+pub mod bspline;
 mod error;
 pub mod exact;
 mod numeric;
+mod points;
 
 pub use error::{Error, Result};

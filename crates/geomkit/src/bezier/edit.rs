@@ -104,7 +104,7 @@ impl BezierCurve {
     pub fn remove_middle_vertex(&self) -> Result<EditResult> {
         let n = self.degree();
         let a = self.remove_vertex(n / 2)?;
-        if n % 2 == 0 {
+        if n.is_multiple_of(2) {
             return Ok(a);
         }
         let b = self.remove_vertex(n.div_ceil(2))?;

@@ -1,0 +1,382 @@
+//! B-spline curves of any degree on any non-decreasing knot vector, with a fast path for
+//! uniform knots (the paper's matrix form (1) of spec/bspline-interpolation.md).
+
+use crate::bezier::ParamCurve;
+use crate::points::{flatten_points, validate_points};
+use crate::{Error, Result};
+
+/// A B-spline curve c(t) = Σ_j N_(j,p)(t) c_j over the domain [knots[p], knots[n_c]]
+/// (n_c control points, n_c + p + 1 knots). Evaluation outside the domain extends the end
+/// polynomial pieces.
+///
+/// ```
+/// use geomkit::bspline::BsplineCurve;
+/// use geomkit::bezier::ParamCurve;
+/// // The uniform cubic B-spline of the paper: one segment over four control points.
+/// let c = BsplineCurve::new(3, vec![-3., -2., -1., 0., 1., 2., 3., 4.],
+///     vec![vec![0., 0.], vec![1., 2.], vec![3., 2.], vec![4., 0.]]).unwrap();
+/// assert_eq!(c.domain(), (0.0, 1.0));
+/// // r(0) = (p0 + 4 p1 + p2) / 6
+/// let p = c.eval(0.0);
+/// assert!((p[0] - 7.0 / 6.0).abs() < 1e-15 && (p[1] - 10.0 / 6.0).abs() < 1e-15);
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct BsplineCurve {
+    degree: usize,
+    dim: usize,
+    knots: Vec<f64>,
+    control: Vec<f64>,
+    /// Knot spacing when the knots are uniform (span located by one division).
+    uniform_step: Option<f64>,
+}
+
+/// Index of the knot span [knots[s], knots[s+1]) holding t, clamped to the domain spans
+/// p ..= n_c - 1.
+#[inline]
+pub(crate) fn find_span(knots: &[f64], degree: usize, n_control: usize, t: f64) -> usize {
+    let (lo, hi) = (degree, n_control - 1);
+    if t >= knots[hi] {
+        return hi;
+    }
+    if t <= knots[lo] {
+        return lo;
+    }
+    // Binary search for the last knot <= t within [lo, hi].
+    let slice = &knots[lo..=hi];
+    lo + slice.partition_point(|&k| k <= t) - 1
+}
+
+/// The p+1 nonzero basis functions N_(s-p..=s, p)(t) on span s (NURBS Book A2.2), written to
+/// `out`; `left`/`right` are scratch of length p+1.
+#[inline]
+pub(crate) fn basis_funs(knots: &[f64], span: usize, t: f64, degree: usize, out: &mut [f64]) {
+    let mut left = [0.0f64; 8];
+    let mut right = [0.0f64; 8];
+    debug_assert!(degree < 8);
+    out[0] = 1.0;
+    for j in 1..=degree {
+        left[j] = t - knots[span + 1 - j];
+        right[j] = knots[span + j] - t;
+        let mut saved = 0.0;
+        for r in 0..j {
+            let temp = out[r] / (right[r + 1] + left[j - r]);
+            out[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        out[j] = saved;
+    }
+}
+
+/// Basis functions and their derivatives up to order `nd` on span s (NURBS Book A2.3):
+/// `ders[k][r]` = d^k/dt^k N_(s-p+r, p)(t).
+pub(crate) fn basis_funs_derivs(
+    knots: &[f64],
+    span: usize,
+    t: f64,
+    degree: usize,
+    nd: usize,
+) -> Vec<Vec<f64>> {
+    let p = degree;
+    let mut ndu = vec![vec![0.0; p + 1]; p + 1];
+    let mut left = vec![0.0; p + 1];
+    let mut right = vec![0.0; p + 1];
+    ndu[0][0] = 1.0;
+    for j in 1..=p {
+        left[j] = t - knots[span + 1 - j];
+        right[j] = knots[span + j] - t;
+        let mut saved = 0.0;
+        for r in 0..j {
+            ndu[j][r] = right[r + 1] + left[j - r];
+            let temp = ndu[r][j - 1] / ndu[j][r];
+            ndu[r][j] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        ndu[j][j] = saved;
+    }
+    let mut ders = vec![vec![0.0; p + 1]; nd + 1];
+    for j in 0..=p {
+        ders[0][j] = ndu[j][p];
+    }
+    let mut a = vec![vec![0.0; p + 1]; 2];
+    for r in 0..=p {
+        let (mut s1, mut s2) = (0usize, 1usize);
+        a[0][0] = 1.0;
+        for k in 1..=nd.min(p) {
+            let mut d = 0.0;
+            let rk = r as isize - k as isize;
+            let pk = p - k;
+            if r >= k {
+                a[s2][0] = a[s1][0] / ndu[pk + 1][rk as usize];
+                d = a[s2][0] * ndu[rk as usize][pk];
+            }
+            let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
+            let j2 = if (r as isize - 1) <= pk as isize {
+                k - 1
+            } else {
+                p - r
+            };
+            for j in j1..=j2 {
+                let idx = (rk + j as isize) as usize;
+                a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx];
+                d += a[s2][j] * ndu[idx][pk];
+            }
+            if r <= pk {
+                a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+                d += a[s2][k] * ndu[r][pk];
+            }
+            ders[k][r] = d;
+            std::mem::swap(&mut s1, &mut s2);
+        }
+    }
+    let mut factor = p as f64;
+    for k in 1..=nd.min(p) {
+        for v in ders[k].iter_mut() {
+            *v *= factor;
+        }
+        factor *= (p - k) as f64;
+    }
+    ders
+}
+
+fn detect_uniform_step(knots: &[f64]) -> Option<f64> {
+    let h = knots[1] - knots[0];
+    if h <= 0.0 {
+        return None;
+    }
+    let uniform = knots.iter().enumerate().all(|(k, &x)| {
+        (x - (knots[0] + k as f64 * h)).abs()
+            <= 4.0 * f64::EPSILON * (knots[0].abs() + k as f64 * h)
+    });
+    uniform.then_some(h)
+}
+
+impl BsplineCurve {
+    /// A curve of `degree` (1..=7) from its knots (non-decreasing, finite, n_c + degree + 1
+    /// of them, with a non-empty domain) and control points (all of one dimension, finite).
+    pub fn new(degree: usize, knots: Vec<f64>, control: Vec<Vec<f64>>) -> Result<Self> {
+        let (dim, flat) = flatten_points("control points", &control)?;
+        Self::from_flat(degree, knots, dim, flat)
+    }
+
+    /// As [`BsplineCurve::new`] with row-major control points of `dim` coordinates each.
+    pub fn from_flat(
+        degree: usize,
+        knots: Vec<f64>,
+        dim: usize,
+        control: Vec<f64>,
+    ) -> Result<Self> {
+        if degree == 0 || degree > 7 {
+            return Err(Error::InvalidOption {
+                option: "degree",
+                reason: "B-spline degree must be between 1 and 7",
+            });
+        }
+        validate_points("control points", dim, &control)?;
+        let n_c = control.len() / dim;
+        if n_c < degree + 1 {
+            return Err(Error::TooFewPoints {
+                what: "control points",
+                got: n_c,
+                min: degree + 1,
+            });
+        }
+        if knots.len() != n_c + degree + 1 {
+            return Err(Error::InvalidKnots {
+                index: knots.len().min(n_c + degree + 1),
+                reason: "need (control points + degree + 1) knots",
+            });
+        }
+        if let Some(index) = knots.iter().position(|k| !k.is_finite()) {
+            return Err(Error::NonFinite {
+                what: "knot",
+                index,
+            });
+        }
+        if let Some(index) = knots.windows(2).position(|w| w[1] < w[0]) {
+            return Err(Error::InvalidKnots {
+                index: index + 1,
+                reason: "knots must be non-decreasing",
+            });
+        }
+        if knots[n_c] <= knots[degree] {
+            return Err(Error::InvalidKnots {
+                index: degree,
+                reason: "the domain [knots[p], knots[n]] is empty",
+            });
+        }
+        let uniform_step = detect_uniform_step(&knots);
+        Ok(BsplineCurve {
+            degree,
+            dim,
+            knots,
+            control,
+            uniform_step,
+        })
+    }
+
+    /// Degree p.
+    pub fn degree(&self) -> usize {
+        self.degree
+    }
+
+    /// The knots.
+    pub fn knots(&self) -> &[f64] {
+        &self.knots
+    }
+
+    /// Control points, row-major.
+    pub fn control_flat(&self) -> &[f64] {
+        &self.control
+    }
+
+    /// Control points, one vector each.
+    pub fn control_points(&self) -> Vec<Vec<f64>> {
+        self.control
+            .chunks_exact(self.dim)
+            .map(<[f64]>::to_vec)
+            .collect()
+    }
+
+    /// Number of control points.
+    pub fn n_control(&self) -> usize {
+        self.control.len() / self.dim
+    }
+
+    /// The parameter domain [knots[p], knots[n_c]].
+    pub fn domain(&self) -> (f64, f64) {
+        (self.knots[self.degree], self.knots[self.n_control()])
+    }
+
+    /// Whether the knots are uniform (spans located by one division).
+    pub fn is_uniform(&self) -> bool {
+        self.uniform_step.is_some()
+    }
+
+    /// The knot span holding t (clamped to the domain).
+    #[inline]
+    pub(crate) fn span(&self, t: f64) -> usize {
+        let (p, n_c) = (self.degree, self.n_control());
+        match self.uniform_step {
+            Some(h) => {
+                let s = ((t - self.knots[0]) / h).floor();
+                let s = if s.is_nan() {
+                    p as f64
+                } else {
+                    s.clamp(p as f64, (n_c - 1) as f64)
+                };
+                s as usize
+            }
+            None => find_span(&self.knots, p, n_c, t),
+        }
+    }
+
+    /// The derivative curve (degree p-1). Errors for degree 1 (the derivative is piecewise
+    /// constant: use [`BsplineCurve::eval_derivative`]).
+    pub fn derivative(&self) -> Result<BsplineCurve> {
+        let p = self.degree;
+        if p < 2 {
+            return Err(Error::InvalidOption {
+                option: "degree",
+                reason: "the derivative of a degree-1 B-spline is not a B-spline of degree >= 1",
+            });
+        }
+        let d = self.dim;
+        let n_c = self.n_control();
+        let mut q = Vec::with_capacity((n_c - 1) * d);
+        for j in 0..n_c - 1 {
+            let den = self.knots[j + p + 1] - self.knots[j + 1];
+            for k in 0..d {
+                let diff = self.control[(j + 1) * d + k] - self.control[j * d + k];
+                q.push(if den > 0.0 {
+                    p as f64 * diff / den
+                } else {
+                    0.0
+                });
+            }
+        }
+        BsplineCurve::from_flat(p - 1, self.knots[1..self.knots.len() - 1].to_vec(), d, q)
+    }
+
+    /// The k-th derivative at t (k = 0 is the point), into `out` (length dim).
+    pub fn eval_derivative(&self, t: f64, k: usize, out: &mut [f64]) {
+        let p = self.degree;
+        let s = self.span(t);
+        let ders = basis_funs_derivs(&self.knots, s, t, p, k);
+        out.iter_mut().for_each(|o| *o = 0.0);
+        if k > p {
+            return;
+        }
+        for r in 0..=p {
+            let w = ders[k][r];
+            let row = &self.control[(s - p + r) * self.dim..(s - p + r + 1) * self.dim];
+            for (o, c) in out.iter_mut().zip(row) {
+                *o += w * c;
+            }
+        }
+    }
+}
+
+impl ParamCurve for BsplineCurve {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    #[inline]
+    fn eval_into(&self, t: f64, out: &mut [f64]) {
+        let p = self.degree;
+        let s = self.span(t);
+        let mut basis = [0.0f64; 8];
+        basis_funs(&self.knots, s, t, p, &mut basis[..=p]);
+        out.iter_mut().for_each(|o| *o = 0.0);
+        let d = self.dim;
+        for (r, w) in basis[..=p].iter().enumerate() {
+            let row = &self.control[(s - p + r) * d..(s - p + r + 1) * d];
+            for (o, c) in out.iter_mut().zip(row) {
+                *o += w * c;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn derivative_curve_matches_basis_derivatives() {
+        let knots = vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.5, 1.0, 1.0, 1.0, 1.0];
+        let c = BsplineCurve::new(
+            3,
+            knots,
+            vec![
+                vec![0.0, 0.0],
+                vec![1.0, 2.0],
+                vec![2.0, -1.0],
+                vec![3.0, 0.5],
+                vec![4.0, 1.0],
+                vec![5.0, 0.0],
+            ],
+        )
+        .unwrap();
+        let d = c.derivative().unwrap();
+        let dd = d.derivative().unwrap();
+        for t in [0.0, 0.1, 0.3, 0.42, 0.77, 1.0] {
+            let mut a = [0.0; 2];
+            c.eval_derivative(t, 1, &mut a);
+            let b = d.eval(t);
+            assert!((a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12);
+            c.eval_derivative(t, 2, &mut a);
+            let b = dd.eval(t);
+            assert!((a[0] - b[0]).abs() < 1e-11 && (a[1] - b[1]).abs() < 1e-11);
+        }
+        assert!(!c.is_uniform());
+    }
+
+    #[test]
+    fn rejects_bad_knots() {
+        let pts = vec![vec![0.0]; 4];
+        assert!(BsplineCurve::new(3, vec![0.0; 7], pts.clone()).is_err());
+        assert!(BsplineCurve::new(3, vec![0., 1., 2., 3., 2., 5., 6., 7.], pts.clone()).is_err());
+        assert!(BsplineCurve::new(3, vec![0., 0., 0., 0., 0., 0., 0., 0.], pts).is_err());
+    }
+}

@@ -1,0 +1,511 @@
+//! Interpolating cubic B-spline curves through reference points (spec/bspline-interpolation.md
+//! §2 and §6): the paper's method with its repeated end points, and the end conditions and
+//! parametrizations users expect, all solved as banded systems in O(N).
+//!
+//! Formulation: for parameters t_0 < ... < t_(N-1) the curve is a cubic B-spline on the knots
+//! t_i, extended by three knots beyond each end, with N+2 control points c_0..c_(N+1) (the
+//! paper's p_(-1)..p_N). Interpolation at t_i couples c_i, c_(i+1), c_(i+2) (for uniform
+//! parameters: (p_(i-1) + 4 p_i + p_(i+1)) / 6 = k_i, the paper's rows); the end condition
+//! adds one row at each end. Periodic curves have N control unknowns in a cyclic system.
+//!
+//! ```
+//! use geomkit::bspline::{interpolate_curve, EndCondition, InterpolationOptions, Parametrization};
+//! use geomkit::bezier::ParamCurve;
+//! let pts = vec![vec![0., 0.], vec![1., 2.], vec![3., 3.], vec![4., 0.], vec![6., 1.]];
+//! let opts = InterpolationOptions::default().with_end(EndCondition::Natural);
+//! let fit = interpolate_curve(&pts, &opts).unwrap();
+//! for (p, t) in pts.iter().zip(&fit.parameters) {
+//!     let q = fit.curve.eval(*t);
+//!     assert!((q[0] - p[0]).abs() < 1e-14 && (q[1] - p[1]).abs() < 1e-14);
+//! }
+//! ```
+
+use super::banded::{solve_cyclic, BandMatrix};
+use super::curve::{basis_funs, basis_funs_derivs, BsplineCurve};
+use crate::points::flatten_points;
+use crate::{Error, Result};
+
+/// How the ends of an open interpolating curve are determined.
+#[derive(Debug, Clone, PartialEq, Default)]
+#[non_exhaustive]
+pub enum EndCondition {
+    /// The paper's "multiple points": the first and last reference points are tripled as
+    /// control points (N + 4 control points), the N - 2 inner control points solve the
+    /// tridiagonal system (2). Uniform parametrization only. The curve starts and ends with
+    /// zero speed, and the reference points sit at parameters 0, 2, 3, ..., N-1, N+1.
+    Repeat,
+    /// Zero second derivative at both ends.
+    Natural,
+    /// Given first derivatives dc/dt at the ends (`None`: estimated from the parabola through
+    /// the first / last three points, Bessel's condition).
+    Clamped {
+        /// Tangent at the start, or `None` to estimate it.
+        start: Option<Vec<f64>>,
+        /// Tangent at the end, or `None` to estimate it.
+        end: Option<Vec<f64>>,
+    },
+    /// The third derivative is continuous at the second and the next-to-last knots (SciPy's
+    /// default). With 3 points: the parabola; with 2: the line.
+    #[default]
+    NotAKnot,
+    /// A closed C2 curve (isolines). A last point equal to the first is dropped; at least 3
+    /// distinct points.
+    Periodic,
+}
+
+/// How parameters are assigned to the reference points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum Parametrization {
+    /// t_i = i (the paper).
+    Uniform,
+    /// t_(i+1) - t_i = |k_(i+1) - k_i|.
+    #[default]
+    ChordLength,
+    /// t_(i+1) - t_i = |k_(i+1) - k_i|^(1/2): no cusps or self-intersections inside a span.
+    Centripetal,
+}
+
+/// Options of [`interpolate_curve`].
+#[derive(Debug, Clone, PartialEq, Default)]
+#[non_exhaustive]
+pub struct InterpolationOptions {
+    /// End condition (default not-a-knot).
+    pub end: EndCondition,
+    /// Parametrization (default chord length).
+    pub parametrization: Parametrization,
+}
+
+impl InterpolationOptions {
+    /// Sets the end condition.
+    pub fn with_end(mut self, end: EndCondition) -> Self {
+        self.end = end;
+        self
+    }
+
+    /// Sets the parametrization.
+    pub fn with_parametrization(mut self, p: Parametrization) -> Self {
+        self.parametrization = p;
+        self
+    }
+}
+
+/// An interpolating curve and the parameters at which it passes through each reference point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurveInterpolation {
+    /// The cubic B-spline.
+    pub curve: BsplineCurve,
+    /// parameters[i]: the curve passes through reference point i there.
+    pub parameters: Vec<f64>,
+}
+
+/// Interpolates reference points (each a vector of the same dimension >= 1). Errors: too few
+/// points for the end condition, non-finite coordinates, coinciding consecutive points with
+/// chord/centripetal parameters, wrong tangent dimension, the repeat condition with
+/// non-uniform parameters.
+pub fn interpolate_curve(
+    points: &[Vec<f64>],
+    options: &InterpolationOptions,
+) -> Result<CurveInterpolation> {
+    let (dim, flat) = flatten_points("reference points", points)?;
+    interpolate_curve_flat(dim, &flat, options)
+}
+
+/// [`interpolate_curve`] on row-major points of `dim` coordinates.
+pub fn interpolate_curve_flat(
+    dim: usize,
+    points: &[f64],
+    options: &InterpolationOptions,
+) -> Result<CurveInterpolation> {
+    crate::points::validate_points("reference points", dim, points)?;
+    let mut n = points.len() / dim;
+    if options.end == EndCondition::Periodic && n >= 2 && points[..dim] == points[(n - 1) * dim..] {
+        n -= 1;
+    }
+    let points = &points[..n * dim];
+    let min = if options.end == EndCondition::Periodic {
+        3
+    } else {
+        2
+    };
+    if n < min {
+        return Err(Error::TooFewPoints {
+            what: "reference points",
+            got: n,
+            min,
+        });
+    }
+    let closed = options.end == EndCondition::Periodic;
+    let params = parameters(points, dim, options.parametrization, closed)?;
+    match &options.end {
+        EndCondition::Repeat => {
+            if options.parametrization != Parametrization::Uniform {
+                return Err(Error::InvalidOption {
+                    option: "end condition",
+                    reason: "the paper's repeated end points need the uniform parametrization",
+                });
+            }
+            repeat_ends(points, dim)
+        }
+        EndCondition::Periodic => periodic(points, dim, &params),
+        end => open_curve(points, dim, &params, end),
+    }
+}
+
+/// Parameters t_0 = 0 < t_1 < ... (N values, or N+1 with the closing one for closed curves).
+pub fn parameters(
+    points: &[f64],
+    dim: usize,
+    kind: Parametrization,
+    closed: bool,
+) -> Result<Vec<f64>> {
+    let n = points.len() / dim;
+    let count = if closed { n + 1 } else { n };
+    let mut t = Vec::with_capacity(count);
+    t.push(0.0);
+    for i in 1..count {
+        let (a, b) = (
+            &points[(i - 1) * dim..i * dim],
+            &points[(i % n) * dim..(i % n + 1) * dim],
+        );
+        let step = match kind {
+            Parametrization::Uniform => 1.0,
+            Parametrization::ChordLength | Parametrization::Centripetal => {
+                let d = crate::numeric::distance(a, b);
+                if d == 0.0 {
+                    return Err(Error::RepeatedPoint { index: i - 1 });
+                }
+                if kind == Parametrization::Centripetal {
+                    d.sqrt()
+                } else {
+                    d
+                }
+            }
+        };
+        t.push(t[i - 1] + step);
+    }
+    if let Some(index) = t.iter().position(|v| !v.is_finite()) {
+        return Err(Error::NonFinite {
+            what: "parameter of reference point",
+            index,
+        });
+    }
+    Ok(t)
+}
+
+/// The paper's repeated end points: control [k0 k0 k0 p*_1 .. p*_(N-2) k_(N-1) ×3] with
+/// p*_(i-1) + 4 p*_i + p*_(i+1) = 6 k_i, p*_0 = k_0, p*_(N-1) = k_(N-1).
+fn repeat_ends(points: &[f64], dim: usize) -> Result<CurveInterpolation> {
+    let n = points.len() / dim;
+    let inner = paper_inner_points(points, dim)?;
+    let mut control = Vec::with_capacity((n + 4) * dim);
+    for _ in 0..3 {
+        control.extend_from_slice(&points[..dim]);
+    }
+    control.extend_from_slice(&inner);
+    for _ in 0..3 {
+        control.extend_from_slice(&points[(n - 1) * dim..]);
+    }
+    let knots = (0..n + 8).map(|k| k as f64 - 3.0).collect();
+    let mut parameters: Vec<f64> = (0..n).map(|i| i as f64 + 1.0).collect();
+    parameters[0] = 0.0;
+    parameters[n - 1] = n as f64 + 1.0;
+    Ok(CurveInterpolation {
+        curve: BsplineCurve::from_flat(3, knots, dim, control)?,
+        parameters,
+    })
+}
+
+/// The N-2 new points of the paper's system (2), M1 P* = M2, solved as the tridiagonal
+/// system it is.
+pub(crate) fn paper_inner_points(points: &[f64], dim: usize) -> Result<Vec<f64>> {
+    let n = points.len() / dim;
+    let m = n.saturating_sub(2);
+    if m == 0 {
+        return Ok(Vec::new());
+    }
+    let mut a = BandMatrix::zeros(m, 1, 1);
+    let mut rhs = vec![0.0; m * dim];
+    for r in 0..m {
+        let i = r + 1;
+        a.set(r, r, 4.0);
+        if r > 0 {
+            a.set(r, r - 1, 1.0);
+        }
+        if r + 1 < m {
+            a.set(r, r + 1, 1.0);
+        }
+        for c in 0..dim {
+            let mut v = 6.0 * points[i * dim + c];
+            if r == 0 {
+                v -= points[c];
+            }
+            if r + 1 == m {
+                v -= points[(n - 1) * dim + c];
+            }
+            rhs[r * dim + c] = v;
+        }
+    }
+    a.solve(&mut rhs, dim)?;
+    Ok(rhs)
+}
+
+/// Knots for an open curve: t_0..t_(N-1) with three more beyond each end, spaced like the
+/// first / last interval (uniform parameters give uniform knots).
+fn open_knots(t: &[f64]) -> Vec<f64> {
+    let n = t.len();
+    let (h0, h1) = (t[1] - t[0], t[n - 1] - t[n - 2]);
+    let mut knots = Vec::with_capacity(n + 6);
+    knots.extend((1..=3).rev().map(|k| t[0] - k as f64 * h0));
+    knots.extend_from_slice(t);
+    knots.extend((1..=3).map(|k| t[n - 1] + k as f64 * h1));
+    knots
+}
+
+/// Derivative at t[0] of the parabola through the first three points (or the chord for two).
+fn bessel_tangent(points: &[f64], dim: usize, t: &[f64]) -> Vec<f64> {
+    if t.len() == 2 {
+        return (0..dim)
+            .map(|c| (points[dim + c] - points[c]) / (t[1] - t[0]))
+            .collect();
+    }
+    let (t0, t1, t2) = (t[0], t[1], t[2]);
+    let w0 = (2.0 * t0 - t1 - t2) / ((t0 - t1) * (t0 - t2));
+    let w1 = (t0 - t2) / ((t1 - t0) * (t1 - t2));
+    let w2 = (t0 - t1) / ((t2 - t0) * (t2 - t1));
+    (0..dim)
+        .map(|c| w0 * points[c] + w1 * points[dim + c] + w2 * points[2 * dim + c])
+        .collect()
+}
+
+fn reversed(points: &[f64], dim: usize) -> Vec<f64> {
+    points.chunks_exact(dim).rev().flatten().copied().collect()
+}
+
+/// One end row: coefficients on consecutive control points starting at `first`, and its
+/// right-hand side.
+struct EndRow {
+    first: usize,
+    coeffs: Vec<f64>,
+    rhs: Vec<f64>,
+}
+
+fn open_curve(
+    points: &[f64],
+    dim: usize,
+    t: &[f64],
+    end: &EndCondition,
+) -> Result<CurveInterpolation> {
+    let n = t.len();
+    let knots = open_knots(t);
+    let nc = n + 2;
+    let deriv_row = |span: usize, at: f64, k: usize| -> Vec<f64> {
+        basis_funs_derivs(&knots, span, at, 3, k)[k].clone()
+    };
+    let (t0, t_end) = (t[0], t[n - 1]);
+    let zeros = vec![0.0; dim];
+    let (start, finish): (EndRow, EndRow) = match end {
+        EndCondition::Natural => (
+            EndRow {
+                first: 0,
+                coeffs: deriv_row(3, t0, 2),
+                rhs: zeros.clone(),
+            },
+            EndRow {
+                first: nc - 4,
+                coeffs: deriv_row(nc - 1, t_end, 2),
+                rhs: zeros,
+            },
+        ),
+        EndCondition::Clamped { start, end } => {
+            let est_start = bessel_tangent(points, dim, t);
+            let rev_t: Vec<f64> = t.iter().rev().map(|v| -v).collect();
+            let est_end: Vec<f64> = bessel_tangent(&reversed(points, dim), dim, &rev_t)
+                .iter()
+                .map(|v| -v)
+                .collect();
+            let pick = |given: &Option<Vec<f64>>,
+                        est: Vec<f64>,
+                        which: &'static str|
+             -> Result<Vec<f64>> {
+                match given {
+                    None => Ok(est),
+                    Some(v) if v.len() != dim => Err(Error::DimensionMismatch {
+                        what: which,
+                        index: 0,
+                        expected: dim,
+                        got: v.len(),
+                    }),
+                    Some(v) if v.iter().any(|x| !x.is_finite()) => Err(Error::NonFinite {
+                        what: which,
+                        index: 0,
+                    }),
+                    Some(v) => Ok(v.clone()),
+                }
+            };
+            (
+                EndRow {
+                    first: 0,
+                    coeffs: deriv_row(3, t0, 1),
+                    rhs: pick(start, est_start, "start tangent")?,
+                },
+                EndRow {
+                    first: nc - 4,
+                    coeffs: deriv_row(nc - 1, t_end, 1),
+                    rhs: pick(end, est_end, "end tangent")?,
+                },
+            )
+        }
+        EndCondition::NotAKnot if n == 2 => (
+            EndRow {
+                first: 0,
+                coeffs: deriv_row(3, t0, 2),
+                rhs: zeros.clone(),
+            },
+            EndRow {
+                first: nc - 4,
+                coeffs: deriv_row(nc - 1, t_end, 2),
+                rhs: zeros,
+            },
+        ),
+        EndCondition::NotAKnot => {
+            // Jump of the third derivative at knot t_1 (spans 3 | 4) and t_(N-2) (spans N | N+1).
+            let jump = |left: usize| -> Vec<f64> {
+                let l = deriv_row(left, knots[left + 1], 3);
+                let r = deriv_row(left + 1, knots[left + 1], 3);
+                let mut c = vec![0.0; 5];
+                for k in 0..4 {
+                    c[k] += l[k];
+                    c[k + 1] -= r[k];
+                }
+                c
+            };
+            let first = EndRow {
+                first: 0,
+                coeffs: jump(3),
+                rhs: zeros.clone(),
+            };
+            let last = if n == 3 {
+                // One cubic through three points: make it the parabola (no third derivative).
+                EndRow {
+                    first: 0,
+                    coeffs: deriv_row(3, t0, 3),
+                    rhs: zeros,
+                }
+            } else {
+                EndRow {
+                    first: nc - 5,
+                    coeffs: jump(nc - 2),
+                    rhs: zeros,
+                }
+            };
+            (first, last)
+        }
+        EndCondition::Repeat | EndCondition::Periodic => unreachable!("handled by the caller"),
+    };
+    // Rows: interp t_0, start row, interp t_1..t_(N-2), end row, interp t_(N-1).
+    let mut a = BandMatrix::zeros(nc, 3, 3);
+    let mut rhs = vec![0.0; nc * dim];
+    let mut basis = [0.0; 4];
+    let mut put_row = |a: &mut BandMatrix, row: usize, first: usize, coeffs: &[f64], b: &[f64]| {
+        for (k, &v) in coeffs.iter().enumerate() {
+            if v != 0.0 {
+                a.set(row, first + k, v);
+            }
+        }
+        rhs[row * dim..(row + 1) * dim].copy_from_slice(b);
+    };
+    for i in 0..n {
+        let span = (3 + i).min(nc - 1);
+        basis_funs(&knots, span, t[i], 3, &mut basis);
+        let row = if i == 0 {
+            0
+        } else if i == n - 1 {
+            nc - 1
+        } else {
+            i + 1
+        };
+        put_row(
+            &mut a,
+            row,
+            span - 3,
+            &basis,
+            &points[i * dim..(i + 1) * dim],
+        );
+    }
+    put_row(&mut a, 1, start.first, &start.coeffs, &start.rhs);
+    put_row(&mut a, nc - 2, finish.first, &finish.coeffs, &finish.rhs);
+    a.solve(&mut rhs, dim)?;
+    Ok(CurveInterpolation {
+        curve: BsplineCurve::from_flat(3, knots, dim, rhs)?,
+        parameters: t.to_vec(),
+    })
+}
+
+fn periodic(points: &[f64], dim: usize, t: &[f64]) -> Result<CurveInterpolation> {
+    let n = points.len() / dim;
+    let period = t[n] - t[0];
+    let mut knots = Vec::with_capacity(n + 7);
+    knots.extend((1..=3).rev().map(|k| t[n - k] - period));
+    knots.extend_from_slice(t);
+    knots.extend((1..=3).map(|k| t[k] + period));
+    let (mut lower, mut diag, mut upper) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut basis = [0.0; 4];
+    for i in 0..n {
+        basis_funs(&knots, 3 + i, t[i], 3, &mut basis);
+        lower[i] = basis[0];
+        diag[i] = basis[1];
+        upper[i] = basis[2];
+    }
+    let mut p = points.to_vec();
+    solve_cyclic(&lower, &diag, &upper, &mut p, dim)?;
+    let mut control = Vec::with_capacity((n + 3) * dim);
+    for j in 0..n + 3 {
+        let i = (j + n - 1) % n;
+        control.extend_from_slice(&p[i * dim..(i + 1) * dim]);
+    }
+    Ok(CurveInterpolation {
+        curve: BsplineCurve::from_flat(3, knots, dim, control)?,
+        parameters: t[..n].to_vec(),
+    })
+}
+
+/// The paper's route for reference: the N-2 new points from the dense system (2)-(3) solved
+/// by Gauss elimination (O(N^3) time, O(N^2) memory; N <= 2000). Same result as
+/// [`EndCondition::Repeat`].
+pub fn paper_dense_inner_points(points: &[Vec<f64>]) -> Result<Vec<Vec<f64>>> {
+    let (dim, flat) = flatten_points("reference points", points)?;
+    let n = points.len();
+    if n > 2000 {
+        return Err(Error::InvalidOption {
+            option: "reference route",
+            reason: "the dense Gauss route is kept for N <= 2000 only",
+        });
+    }
+    let m = n.saturating_sub(2);
+    if m == 0 {
+        return Ok(Vec::new());
+    }
+    let m1 = nalgebra::DMatrix::from_fn(m, m, |r, c| match r.abs_diff(c) {
+        0 => 4.0,
+        1 => 1.0,
+        _ => 0.0,
+    });
+    let m2 = nalgebra::DMatrix::from_fn(m, dim, |r, c| {
+        let mut v = 6.0 * flat[(r + 1) * dim + c];
+        if r == 0 {
+            v -= flat[c];
+        }
+        if r + 1 == m {
+            v -= flat[(n - 1) * dim + c];
+        }
+        v
+    });
+    let x = m1.lu().solve(&m2).ok_or(Error::Numerical {
+        operation: "dense Gauss route",
+        reason: "singular matrix",
+    })?;
+    Ok((0..m)
+        .map(|r| (0..dim).map(|c| x[(r, c)]).collect())
+        .collect())
+}

@@ -1,0 +1,18 @@
+//! Method 2: interpolating cubic B-spline curves and surfaces through reference points,
+//! spec/bspline-interpolation.md (Hoang Thai Ho).
+//!
+//! - [`BsplineCurve`]: B-splines of any degree on any knots; uniform knots evaluate by the
+//!   paper's matrix form (1) with the span found by one division.
+//! - [`interpolate_curve`]: the paper's method (repeated end points) and natural, clamped,
+//!   not-a-knot and periodic end conditions; uniform, chord-length and centripetal
+//!   parameters; banded O(N) solves.
+
+mod banded;
+mod curve;
+mod interpolate;
+
+pub use curve::BsplineCurve;
+pub use interpolate::{
+    interpolate_curve, interpolate_curve_flat, paper_dense_inner_points, parameters,
+    CurveInterpolation, EndCondition, InterpolationOptions, Parametrization,
+};

@@ -1,0 +1,244 @@
+//! Interpolating cubic B-spline curves (spec/bspline-interpolation.md).
+
+mod common;
+
+use common::Rng;
+use geomkit::bezier::ParamCurve;
+use geomkit::bspline::{
+    interpolate_curve, paper_dense_inner_points, BsplineCurve, EndCondition, InterpolationOptions,
+    Parametrization,
+};
+use geomkit::Error;
+
+fn wiggly(n: usize, dim: usize, seed: u64) -> Vec<Vec<f64>> {
+    let mut rng = Rng(seed | 1);
+    (0..n)
+        .map(|i| {
+            let mut p: Vec<f64> = (0..dim).map(|_| rng.uniform()).collect();
+            p[0] += 1.5 * i as f64;
+            p
+        })
+        .collect()
+}
+
+fn all_ends() -> Vec<EndCondition> {
+    vec![
+        EndCondition::Natural,
+        EndCondition::Clamped {
+            start: None,
+            end: None,
+        },
+        EndCondition::Clamped {
+            start: Some(vec![1.0, 0.5, 0.0]),
+            end: Some(vec![0.0, -1.0, 2.0]),
+        },
+        EndCondition::NotAKnot,
+        EndCondition::Periodic,
+    ]
+}
+
+fn residual(points: &[Vec<f64>], fit: &geomkit::bspline::CurveInterpolation) -> f64 {
+    let scale = points.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+    points
+        .iter()
+        .zip(&fit.parameters)
+        .map(|(p, &t)| {
+            let q = fit.curve.eval(t);
+            p.iter()
+                .zip(&q)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max)
+        / scale
+}
+
+#[test]
+fn passes_through_every_point_for_every_end_and_parametrization() {
+    for n in [2usize, 3, 4, 5, 8, 50, 1000] {
+        for end in all_ends() {
+            for param in [
+                Parametrization::Uniform,
+                Parametrization::ChordLength,
+                Parametrization::Centripetal,
+            ] {
+                if end == EndCondition::Periodic && n < 3 {
+                    continue;
+                }
+                let pts = wiggly(n, 3, n as u64 * 7 + 3);
+                let opts = InterpolationOptions::default()
+                    .with_end(end.clone())
+                    .with_parametrization(param);
+                let fit = interpolate_curve(&pts, &opts)
+                    .unwrap_or_else(|e| panic!("{n} {end:?} {param:?}: {e}"));
+                let r = residual(&pts, &fit);
+                assert!(r <= 1e-14, "n={n} {end:?} {param:?}: residual {r:e}");
+            }
+        }
+        let pts = wiggly(n, 2, 5);
+        let opts = InterpolationOptions::default()
+            .with_end(EndCondition::Repeat)
+            .with_parametrization(Parametrization::Uniform);
+        let fit = interpolate_curve(&pts, &opts).unwrap();
+        assert!(residual(&pts, &fit) <= 1e-14);
+        assert_eq!(fit.curve.n_control(), n + 4);
+        assert!(fit.curve.is_uniform());
+    }
+}
+
+fn derivative_at(c: &BsplineCurve, t: f64, k: usize) -> Vec<f64> {
+    let mut out = vec![0.0; 3];
+    c.eval_derivative(t, k, &mut out);
+    out
+}
+
+#[test]
+fn end_conditions_hold() {
+    let pts = wiggly(9, 3, 42);
+    for param in [Parametrization::Uniform, Parametrization::ChordLength] {
+        let o = InterpolationOptions::default().with_parametrization(param);
+        let natural = interpolate_curve(&pts, &o.clone().with_end(EndCondition::Natural)).unwrap();
+        let (a, b) = natural.curve.domain();
+        for t in [a, b] {
+            assert!(derivative_at(&natural.curve, t, 2)
+                .iter()
+                .all(|v| v.abs() < 1e-12));
+        }
+        let tangents = EndCondition::Clamped {
+            start: Some(vec![1.0, 0.5, 0.0]),
+            end: Some(vec![0.0, -1.0, 2.0]),
+        };
+        let clamped = interpolate_curve(&pts, &o.clone().with_end(tangents)).unwrap();
+        let d0 = derivative_at(&clamped.curve, a, 1);
+        let d1 = derivative_at(&clamped.curve, clamped.curve.domain().1, 1);
+        assert!((d0[0] - 1.0).abs() < 1e-12 && (d0[1] - 0.5).abs() < 1e-12 && d0[2].abs() < 1e-12);
+        assert!(d1[0].abs() < 1e-12 && (d1[1] + 1.0).abs() < 1e-12 && (d1[2] - 2.0).abs() < 1e-12);
+        // Not-a-knot: third derivative continuous across the second and next-to-last knots.
+        let nak = interpolate_curve(&pts, &o.clone().with_end(EndCondition::NotAKnot)).unwrap();
+        for &t in [nak.parameters[1], nak.parameters[7]].iter() {
+            let h = 1e-7 * (b - a);
+            let l = derivative_at(&nak.curve, t - h, 3);
+            let r = derivative_at(&nak.curve, t + h, 3);
+            for k in 0..3 {
+                assert!(
+                    (l[k] - r[k]).abs() < 1e-9 * (1.0 + l[k].abs()),
+                    "{l:?} {r:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn periodic_curve_is_c2_across_the_seam() {
+    // An isoline: 12 points around an ellipse, the closing point given or not.
+    let mut pts: Vec<Vec<f64>> = (0..12)
+        .map(|i| {
+            let a = i as f64 * std::f64::consts::TAU / 12.0;
+            vec![3.0 * a.cos() + 0.2 * (3.0 * a).sin(), 2.0 * a.sin()]
+        })
+        .collect();
+    for closing in [false, true] {
+        if closing {
+            pts.push(pts[0].clone());
+        }
+        let fit = interpolate_curve(
+            &pts,
+            &InterpolationOptions::default().with_end(EndCondition::Periodic),
+        )
+        .unwrap();
+        assert_eq!(fit.parameters.len(), 12);
+        let (a, b) = fit.curve.domain();
+        for k in 0..3 {
+            let mut s = [0.0; 2];
+            let mut e = [0.0; 2];
+            fit.curve.eval_derivative(a, k, &mut s);
+            fit.curve.eval_derivative(b, k, &mut e);
+            for c in 0..2 {
+                assert!(
+                    (s[c] - e[c]).abs() < 1e-12 * (1.0 + s[c].abs()),
+                    "derivative {k}: {s:?} vs {e:?}"
+                );
+            }
+        }
+    }
+}
+
+/// The paper's 4-point system: 4 k*_1 + k*_2 = 6 k_1 - k_0, k*_1 + 4 k*_2 = 6 k_2 - k_3.
+#[test]
+fn paper_four_point_system_and_dense_route_agree() {
+    let pts = vec![
+        vec![0.0, 0.0],
+        vec![1.0, 2.0],
+        vec![3.0, 2.5],
+        vec![4.0, 0.0],
+    ];
+    let dense = paper_dense_inner_points(&pts).unwrap();
+    for c in 0..2 {
+        let (k0, k1, k2, k3) = (pts[0][c], pts[1][c], pts[2][c], pts[3][c]);
+        let (a, b) = (dense[0][c], dense[1][c]);
+        assert!((4.0 * a + b - (6.0 * k1 - k0)).abs() < 1e-14);
+        assert!((a + 4.0 * b - (6.0 * k2 - k3)).abs() < 1e-14);
+    }
+    let opts = InterpolationOptions::default()
+        .with_end(EndCondition::Repeat)
+        .with_parametrization(Parametrization::Uniform);
+    for n in [4usize, 6, 30, 300] {
+        let pts = wiggly(n, 3, n as u64);
+        let fit = interpolate_curve(&pts, &opts).unwrap();
+        let dense = paper_dense_inner_points(&pts).unwrap();
+        let banded = fit.curve.control_points();
+        for (d, b) in dense.iter().zip(&banded[3..]) {
+            for c in 0..3 {
+                assert!((d[c] - b[c]).abs() < 1e-13, "n={n}");
+            }
+        }
+    }
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let o = InterpolationOptions::default();
+    assert!(matches!(
+        interpolate_curve(&[vec![1.0, 2.0]], &o),
+        Err(Error::TooFewPoints { got: 1, min: 2, .. })
+    ));
+    let dup = vec![
+        vec![0.0, 0.0],
+        vec![1.0, 1.0],
+        vec![1.0, 1.0],
+        vec![2.0, 0.0],
+    ];
+    assert_eq!(
+        interpolate_curve(&dup, &o).unwrap_err(),
+        Error::RepeatedPoint { index: 1 }
+    );
+    // Uniform parameters accept repeated points (the curve stops there).
+    let u = o.clone().with_parametrization(Parametrization::Uniform);
+    assert!(interpolate_curve(&dup, &u).is_ok());
+    let nan = vec![vec![0.0, 0.0], vec![f64::NAN, 1.0]];
+    assert!(matches!(
+        interpolate_curve(&nan, &o),
+        Err(Error::NonFinite { index: 1, .. })
+    ));
+    let tri = vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![0.0, 0.0]];
+    assert!(matches!(
+        interpolate_curve(&tri, &o.clone().with_end(EndCondition::Periodic)),
+        Err(Error::TooFewPoints { got: 2, min: 3, .. })
+    ));
+    assert!(matches!(
+        interpolate_curve(&tri, &o.clone().with_end(EndCondition::Repeat)),
+        Err(Error::InvalidOption { .. })
+    ));
+    let bad_tangent = EndCondition::Clamped {
+        start: Some(vec![1.0]),
+        end: None,
+    };
+    assert!(matches!(
+        interpolate_curve(&tri, &o.with_end(bad_tangent)),
+        Err(Error::DimensionMismatch {
+            what: "start tangent",
+            ..
+        })
+    ));
+}
