@@ -49,13 +49,20 @@ impl BandMatrix {
 
     /// Solves A X = B in place (B row-major n × cols), destroying A. Errors when A is
     /// singular to working precision.
-    pub fn solve(mut self, b: &mut [f64], cols: usize) -> Result<()> {
+    #[cfg(test)]
+    pub fn solve(self, b: &mut [f64], cols: usize) -> Result<()> {
+        self.factor()?.solve(b, cols);
+        Ok(())
+    }
+
+    /// LU factorization with partial pivoting (row exchanges within the band). Errors when A
+    /// is singular to working precision.
+    pub fn factor(mut self) -> Result<BandLu> {
         let (n, kl, ku) = (self.n, self.kl, self.ku);
-        debug_assert_eq!(b.len(), n * cols);
         let scale = self.data.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let tiny = scale * f64::EPSILON * n as f64 * 1e-3;
+        let mut pivots = Vec::with_capacity(n);
         for k in 0..n {
-            // Partial pivoting among rows k ..= k+kl.
             let last = (k + kl).min(n - 1);
             let mut piv = k;
             let mut best = self.data[self.idx(k, k)].abs();
@@ -78,62 +85,93 @@ impl BandMatrix {
                     let (a, c) = (self.idx(k, j), self.idx(piv, j));
                     self.data.swap(a, c);
                 }
-                for c in 0..cols {
-                    b.swap(k * cols + c, piv * cols + c);
-                }
             }
+            pivots.push(piv);
             let pivot = self.data[self.idx(k, k)];
             for r in k + 1..=last {
-                let l = self.data[self.idx(r, k)] / pivot;
+                let at = self.idx(r, k);
+                let l = self.data[at] / pivot;
+                // Keep the multiplier where the eliminated entry was.
+                self.data[at] = l;
                 if l == 0.0 {
                     continue;
                 }
-                for j in k..=jmax {
+                for j in k + 1..=jmax {
                     let v = self.data[self.idx(k, j)];
                     let t = self.idx(r, j);
                     self.data[t] -= l * v;
                 }
-                for c in 0..cols {
-                    b[r * cols + c] -= l * b[k * cols + c];
-                }
             }
         }
-        // Back substitution over the upper band of width ku + kl.
-        for k in (0..n).rev() {
-            let jmax = (k + ku + kl).min(n - 1);
-            for j in k + 1..=jmax {
-                let a = self.data[self.idx(k, j)];
-                if a != 0.0 {
+        Ok(BandLu { a: self, pivots })
+    }
+}
+
+/// The LU factors of a [`BandMatrix`]; solves any number of right-hand sides.
+#[derive(Debug, Clone)]
+pub(crate) struct BandLu {
+    a: BandMatrix,
+    pivots: Vec<usize>,
+}
+
+impl BandLu {
+    /// Solves in place for B row-major n × cols.
+    pub fn solve(&self, b: &mut [f64], cols: usize) {
+        let a = &self.a;
+        let (n, kl, ku) = (a.n, a.kl, a.ku);
+        debug_assert_eq!(b.len(), n * cols);
+        for k in 0..n {
+            let piv = self.pivots[k];
+            if piv != k {
+                for c in 0..cols {
+                    b.swap(k * cols + c, piv * cols + c);
+                }
+            }
+            for r in k + 1..=(k + kl).min(n - 1) {
+                let l = a.data[a.idx(r, k)];
+                if l != 0.0 {
                     for c in 0..cols {
-                        b[k * cols + c] -= a * b[j * cols + c];
+                        b[r * cols + c] -= l * b[k * cols + c];
                     }
                 }
             }
-            let d = self.data[self.idx(k, k)];
+        }
+        for k in (0..n).rev() {
+            for j in k + 1..=(k + ku + kl).min(n - 1) {
+                let v = a.data[a.idx(k, j)];
+                if v != 0.0 {
+                    for c in 0..cols {
+                        b[k * cols + c] -= v * b[j * cols + c];
+                    }
+                }
+            }
+            let d = a.data[a.idx(k, k)];
             for c in 0..cols {
                 b[k * cols + c] /= d;
             }
         }
-        Ok(())
     }
 }
 
-/// Solves the cyclic tridiagonal system
+/// A cyclic tridiagonal system
 /// lower[i] x[i-1] + diag[i] x[i] + upper[i] x[i+1] = b[i] with indices taken mod n
-/// (so lower[0] couples x[n-1] and upper[n-1] couples x[0]), n >= 3, by Sherman–Morrison
-/// over a banded solve. `b` is row-major n × cols and is overwritten with x.
-pub(crate) fn solve_cyclic(
-    lower: &[f64],
-    diag: &[f64],
-    upper: &[f64],
-    b: &mut [f64],
-    cols: usize,
-) -> Result<()> {
-    let n = diag.len();
-    debug_assert!(n >= 3);
-    // A = T + u v^T with u = (gamma, 0, ..., 0, upper[n-1]), v = (1, 0, ..., 0, lower[0]/gamma).
-    let gamma = -diag[0];
-    let build = || {
+/// (lower[0] couples x[n-1], upper[n-1] couples x[0]), n >= 3, factored once for
+/// Sherman–Morrison solves over a banded LU.
+#[derive(Debug, Clone)]
+pub(crate) struct CyclicLu {
+    lu: BandLu,
+    z: Vec<f64>,
+    v_last: f64,
+    denom: f64,
+}
+
+impl CyclicLu {
+    pub fn new(lower: &[f64], diag: &[f64], upper: &[f64]) -> Result<Self> {
+        let n = diag.len();
+        debug_assert!(n >= 3);
+        // A = T + u v^T with u = (gamma, 0, ..., 0, upper[n-1]), v = (1, 0, ..., 0, lower[0]/gamma).
+        let gamma = -diag[0];
+        let v_last = lower[0] / gamma;
         let mut t = BandMatrix::zeros(n, 1, 1);
         for i in 0..n {
             let mut d = diag[i];
@@ -141,7 +179,7 @@ pub(crate) fn solve_cyclic(
                 d -= gamma;
             }
             if i == n - 1 {
-                d -= upper[n - 1] * lower[0] / gamma;
+                d -= upper[n - 1] * v_last;
             }
             t.set(i, i, d);
             if i > 0 {
@@ -151,28 +189,36 @@ pub(crate) fn solve_cyclic(
                 t.set(i, i + 1, upper[i]);
             }
         }
-        t
-    };
-    build().solve(b, cols)?;
-    let mut z = vec![0.0; n];
-    z[0] = gamma;
-    z[n - 1] = upper[n - 1];
-    build().solve(&mut z, 1)?;
-    let vz = z[0] + lower[0] / gamma * z[n - 1];
-    if vz == -1.0 {
-        return Err(Error::Numerical {
-            operation: "cyclic solve",
-            reason: "the periodic interpolation system is singular",
-        });
+        let lu = t.factor()?;
+        let mut z = vec![0.0; n];
+        z[0] = gamma;
+        z[n - 1] = upper[n - 1];
+        lu.solve(&mut z, 1);
+        let denom = 1.0 + z[0] + v_last * z[n - 1];
+        if denom == 0.0 || !denom.is_finite() {
+            return Err(Error::Numerical {
+                operation: "cyclic solve",
+                reason: "the periodic interpolation system is singular",
+            });
+        }
+        Ok(CyclicLu {
+            lu,
+            z,
+            v_last,
+            denom,
+        })
     }
-    for c in 0..cols {
-        let vy = b[c] + lower[0] / gamma * b[(n - 1) * cols + c];
-        let f = vy / (1.0 + vz);
-        for i in 0..n {
-            b[i * cols + c] -= f * z[i];
+
+    pub fn solve(&self, b: &mut [f64], cols: usize) {
+        let n = self.z.len();
+        self.lu.solve(b, cols);
+        for c in 0..cols {
+            let f = (b[c] + self.v_last * b[(n - 1) * cols + c]) / self.denom;
+            for i in 0..n {
+                b[i * cols + c] -= f * self.z[i];
+            }
         }
     }
-    Ok(())
 }
 
 #[cfg(test)]
@@ -227,7 +273,9 @@ mod tests {
         let mut b: Vec<f64> = (0..n)
             .map(|i| x[(i + n - 1) % n] + 4.0 * x[i] + x[(i + 1) % n])
             .collect();
-        solve_cyclic(&lower, &diag, &upper, &mut b, 1).unwrap();
+        CyclicLu::new(&lower, &diag, &upper)
+            .unwrap()
+            .solve(&mut b, 1);
         for (got, want) in b.iter().zip(&x) {
             assert!((got - want).abs() < 1e-14);
         }

@@ -20,7 +20,7 @@
 //! }
 //! ```
 
-use super::banded::{solve_cyclic, BandMatrix};
+use super::banded::{BandLu, BandMatrix, CyclicLu};
 use super::curve::{basis_funs, basis_funs_derivs, BsplineCurve};
 use crate::points::flatten_points;
 use crate::{Error, Result};
@@ -48,6 +48,14 @@ pub enum EndCondition {
     /// default). With 3 points: the parabola; with 2: the line.
     #[default]
     NotAKnot,
+    /// The paper's surface boundary (§3), for curves too: one extra control point just
+    /// outside each end, extrapolated `offset` times the first / last interval beyond the end
+    /// point (k_0 + offset·(k_0 - k_1)); the N inner control points solve the tridiagonal
+    /// system. For a surface this gives the paper's (M+2)×(N+2) net.
+    OuterPoints {
+        /// Distance of the extra points, as a fraction of the end interval (> 0).
+        offset: f64,
+    },
     /// A closed C2 curve (isolines). A last point equal to the first is dropped; at least 3
     /// distinct points.
     Periodic,
@@ -123,33 +131,19 @@ pub fn interpolate_curve_flat(
         n -= 1;
     }
     let points = &points[..n * dim];
-    let min = if options.end == EndCondition::Periodic {
-        3
-    } else {
-        2
-    };
-    if n < min {
-        return Err(Error::TooFewPoints {
-            what: "reference points",
-            got: n,
-            min,
-        });
-    }
-    let closed = options.end == EndCondition::Periodic;
-    let params = parameters(points, dim, options.parametrization, closed)?;
-    match &options.end {
-        EndCondition::Repeat => {
-            if options.parametrization != Parametrization::Uniform {
-                return Err(Error::InvalidOption {
-                    option: "end condition",
-                    reason: "the paper's repeated end points need the uniform parametrization",
-                });
-            }
-            repeat_ends(points, dim)
-        }
-        EndCondition::Periodic => periodic(points, dim, &params),
-        end => open_curve(points, dim, &params, end),
-    }
+    let t = parameters(
+        points,
+        dim,
+        options.parametrization,
+        options.end == EndCondition::Periodic,
+    )?;
+    let system = Solver1d::new(&t, &options.end, options.parametrization)?;
+    let mut control = vec![0.0; system.n_control() * dim];
+    system.solve(points, dim, &mut control)?;
+    Ok(CurveInterpolation {
+        curve: BsplineCurve::from_flat(3, system.knots.clone(), dim, control)?,
+        parameters: system.parameters.clone(),
+    })
 }
 
 /// Parameters t_0 = 0 < t_1 < ... (N values, or N+1 with the closing one for closed curves).
@@ -193,61 +187,327 @@ pub fn parameters(
     Ok(t)
 }
 
-/// The paper's repeated end points: control [k0 k0 k0 p*_1 .. p*_(N-2) k_(N-1) ×3] with
-/// p*_(i-1) + 4 p*_i + p*_(i+1) = 6 k_i, p*_0 = k_0, p*_(N-1) = k_(N-1).
-fn repeat_ends(points: &[f64], dim: usize) -> Result<CurveInterpolation> {
-    let n = points.len() / dim;
-    let inner = paper_inner_points(points, dim)?;
-    let mut control = Vec::with_capacity((n + 4) * dim);
-    for _ in 0..3 {
-        control.extend_from_slice(&points[..dim]);
-    }
-    control.extend_from_slice(&inner);
-    for _ in 0..3 {
-        control.extend_from_slice(&points[(n - 1) * dim..]);
-    }
-    let knots = (0..n + 8).map(|k| k as f64 - 3.0).collect();
-    let mut parameters: Vec<f64> = (0..n).map(|i| i as f64 + 1.0).collect();
-    parameters[0] = 0.0;
-    parameters[n - 1] = n as f64 + 1.0;
-    Ok(CurveInterpolation {
-        curve: BsplineCurve::from_flat(3, knots, dim, control)?,
-        parameters,
-    })
+/// What the end rows of an open system ask for.
+#[derive(Debug, Clone)]
+enum EndRhs {
+    /// Zero (natural, not-a-knot).
+    Zero,
+    /// A given tangent.
+    Given(Vec<f64>),
+    /// Bessel's estimate from the data.
+    Estimated,
+    /// The end point extrapolated by this fraction of the end interval.
+    Outer(f64),
 }
 
-/// The N-2 new points of the paper's system (2), M1 P* = M2, solved as the tridiagonal
-/// system it is.
-pub(crate) fn paper_inner_points(points: &[f64], dim: usize) -> Result<Vec<f64>> {
-    let n = points.len() / dim;
-    let m = n.saturating_sub(2);
-    if m == 0 {
-        return Ok(Vec::new());
-    }
-    let mut a = BandMatrix::zeros(m, 1, 1);
-    let mut rhs = vec![0.0; m * dim];
-    for r in 0..m {
-        let i = r + 1;
-        a.set(r, r, 4.0);
-        if r > 0 {
-            a.set(r, r - 1, 1.0);
+#[derive(Debug, Clone)]
+enum Kind {
+    /// Open curve: rows [interp t_0, start row, interp t_1..t_(N-2), end row, interp t_(N-1)].
+    Open {
+        lu: BandLu,
+        start: EndRhs,
+        end: EndRhs,
+    },
+    /// Periodic: N unknowns p_0..p_(N-1), control [p_(N-1) p_0 .. p_(N-1) p_0 p_1].
+    Periodic { lu: CyclicLu },
+    /// The paper's repeated ends: N-2 inner unknowns, control [k0 ×3, p*, k_(N-1) ×3].
+    Repeat { lu: Option<BandLu> },
+}
+
+/// A factored 1-D interpolation system for one set of parameters and one end condition:
+/// solves any number of data rows (the rows and columns of a surface) without refactoring.
+#[derive(Debug, Clone)]
+pub(crate) struct Solver1d {
+    /// Knots of the resulting cubic B-spline.
+    pub knots: Vec<f64>,
+    /// Parameters of the reference points.
+    pub parameters: Vec<f64>,
+    /// Data parameters t (with the closing one for periodic), for Bessel tangents.
+    t: Vec<f64>,
+    kind: Kind,
+}
+
+impl Solver1d {
+    /// Builds and factors the system for parameters `t` (N values; N+1 for periodic, the
+    /// last closing the curve).
+    pub fn new(t: &[f64], end: &EndCondition, param: Parametrization) -> Result<Self> {
+        let closed = *end == EndCondition::Periodic;
+        let n = if closed { t.len() - 1 } else { t.len() };
+        let min = if closed { 3 } else { 2 };
+        if n < min {
+            return Err(Error::TooFewPoints {
+                what: "reference points",
+                got: n,
+                min,
+            });
         }
-        if r + 1 < m {
-            a.set(r, r + 1, 1.0);
-        }
-        for c in 0..dim {
-            let mut v = 6.0 * points[i * dim + c];
-            if r == 0 {
-                v -= points[c];
+        match end {
+            EndCondition::Repeat => {
+                if param != Parametrization::Uniform {
+                    return Err(Error::InvalidOption {
+                        option: "end condition",
+                        reason: "the paper's repeated end points need the uniform parametrization",
+                    });
+                }
+                Self::repeat(n)
             }
-            if r + 1 == m {
-                v -= points[(n - 1) * dim + c];
-            }
-            rhs[r * dim + c] = v;
+            EndCondition::Periodic => Self::periodic(t),
+            _ => Self::open(t, end),
         }
     }
-    a.solve(&mut rhs, dim)?;
-    Ok(rhs)
+
+    /// Number of control points of the result.
+    pub fn n_control(&self) -> usize {
+        self.knots.len() - 4
+    }
+
+    fn repeat(n: usize) -> Result<Self> {
+        let m = n - 2;
+        let lu = if m == 0 {
+            None
+        } else {
+            let mut a = BandMatrix::zeros(m, 1, 1);
+            for r in 0..m {
+                a.set(r, r, 4.0);
+                if r > 0 {
+                    a.set(r, r - 1, 1.0);
+                }
+                if r + 1 < m {
+                    a.set(r, r + 1, 1.0);
+                }
+            }
+            Some(a.factor()?)
+        };
+        let mut parameters: Vec<f64> = (0..n).map(|i| i as f64 + 1.0).collect();
+        parameters[0] = 0.0;
+        parameters[n - 1] = n as f64 + 1.0;
+        Ok(Solver1d {
+            knots: (0..n + 8).map(|k| k as f64 - 3.0).collect(),
+            parameters,
+            t: Vec::new(),
+            kind: Kind::Repeat { lu },
+        })
+    }
+
+    fn periodic(t: &[f64]) -> Result<Self> {
+        let n = t.len() - 1;
+        let period = t[n] - t[0];
+        let mut knots = Vec::with_capacity(n + 7);
+        knots.extend((1..=3).rev().map(|k| t[n - k] - period));
+        knots.extend_from_slice(t);
+        knots.extend((1..=3).map(|k| t[k] + period));
+        let (mut lower, mut diag, mut upper) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let mut basis = [0.0; 4];
+        for i in 0..n {
+            basis_funs(&knots, 3 + i, t[i], 3, &mut basis);
+            lower[i] = basis[0];
+            diag[i] = basis[1];
+            upper[i] = basis[2];
+        }
+        Ok(Solver1d {
+            knots,
+            parameters: t[..n].to_vec(),
+            t: t.to_vec(),
+            kind: Kind::Periodic {
+                lu: CyclicLu::new(&lower, &diag, &upper)?,
+            },
+        })
+    }
+
+    fn open(t: &[f64], end: &EndCondition) -> Result<Self> {
+        let n = t.len();
+        let knots = open_knots(t);
+        let nc = n + 2;
+        let deriv = |span: usize, at: f64, k: usize| -> Vec<f64> {
+            basis_funs_derivs(&knots, span, at, 3, k)[k].clone()
+        };
+        let (t0, t_end) = (t[0], t[n - 1]);
+        // Each end row: (first column, coefficients, right-hand side).
+        let (start, finish) = match end {
+            EndCondition::Natural => (
+                (0, deriv(3, t0, 2), EndRhs::Zero),
+                (nc - 4, deriv(nc - 1, t_end, 2), EndRhs::Zero),
+            ),
+            EndCondition::Clamped { start, end } => {
+                let rhs = |v: &Option<Vec<f64>>| v.clone().map_or(EndRhs::Estimated, EndRhs::Given);
+                (
+                    (0, deriv(3, t0, 1), rhs(start)),
+                    (nc - 4, deriv(nc - 1, t_end, 1), rhs(end)),
+                )
+            }
+            EndCondition::OuterPoints { offset } => {
+                if !(offset.is_finite() && *offset > 0.0) {
+                    return Err(Error::InvalidOption {
+                        option: "outer point offset",
+                        reason: "must be finite and > 0",
+                    });
+                }
+                (
+                    (0, vec![1.0], EndRhs::Outer(*offset)),
+                    (nc - 1, vec![1.0], EndRhs::Outer(*offset)),
+                )
+            }
+            EndCondition::NotAKnot if n == 2 => (
+                (0, deriv(3, t0, 2), EndRhs::Zero),
+                (nc - 4, deriv(nc - 1, t_end, 2), EndRhs::Zero),
+            ),
+            EndCondition::NotAKnot => {
+                // Jump of the third derivative at knot t_1 (spans 3 | 4) and t_(N-2) (N | N+1).
+                let jump = |left: usize| -> Vec<f64> {
+                    let l = deriv(left, knots[left + 1], 3);
+                    let r = deriv(left + 1, knots[left + 1], 3);
+                    let mut c = vec![0.0; 5];
+                    for k in 0..4 {
+                        c[k] += l[k];
+                        c[k + 1] -= r[k];
+                    }
+                    c
+                };
+                let last = if n == 3 {
+                    // One cubic through three points: the parabola (no third derivative).
+                    (0, deriv(3, t0, 3), EndRhs::Zero)
+                } else {
+                    (nc - 5, jump(nc - 2), EndRhs::Zero)
+                };
+                ((0, jump(3), EndRhs::Zero), last)
+            }
+            EndCondition::Repeat | EndCondition::Periodic => {
+                unreachable!("built by their own constructors")
+            }
+        };
+        let mut a = BandMatrix::zeros(nc, 3, 3);
+        let mut put_row = |row: usize, first: usize, coeffs: &[f64]| {
+            for (k, &v) in coeffs.iter().enumerate() {
+                if v != 0.0 {
+                    a.set(row, first + k, v);
+                }
+            }
+        };
+        let mut basis = [0.0; 4];
+        for i in 0..n {
+            let span = (3 + i).min(nc - 1);
+            basis_funs(&knots, span, t[i], 3, &mut basis);
+            put_row(Self::open_row(i, n), span - 3, &basis);
+        }
+        put_row(1, start.0, &start.1);
+        put_row(nc - 2, finish.0, &finish.1);
+        Ok(Solver1d {
+            knots,
+            parameters: t.to_vec(),
+            t: t.to_vec(),
+            kind: Kind::Open {
+                lu: a.factor()?,
+                start: start.2,
+                end: finish.2,
+            },
+        })
+    }
+
+    /// Row of the open system holding the interpolation condition at t_i.
+    #[inline]
+    fn open_row(i: usize, n: usize) -> usize {
+        if i == 0 {
+            0
+        } else if i == n - 1 {
+            n + 1
+        } else {
+            i + 1
+        }
+    }
+
+    /// Control points (row-major, `n_control() * dim`) interpolating `points` (N × dim).
+    /// Errors: a given tangent of the wrong dimension or not finite.
+    pub fn solve(&self, points: &[f64], dim: usize, out: &mut [f64]) -> Result<()> {
+        let n = points.len() / dim;
+        debug_assert_eq!(out.len(), self.n_control() * dim);
+        match &self.kind {
+            Kind::Open { lu, start, end } => {
+                for i in 0..n {
+                    let r = Self::open_row(i, n);
+                    out[r * dim..(r + 1) * dim].copy_from_slice(&points[i * dim..(i + 1) * dim]);
+                }
+                for (row, rhs, which) in [(1, start, "start tangent"), (n, end, "end tangent")] {
+                    let v: Vec<f64> = match rhs {
+                        EndRhs::Zero => vec![0.0; dim],
+                        EndRhs::Given(v) => {
+                            if v.len() != dim {
+                                return Err(Error::DimensionMismatch {
+                                    what: which,
+                                    index: 0,
+                                    expected: dim,
+                                    got: v.len(),
+                                });
+                            }
+                            if v.iter().any(|x| !x.is_finite()) {
+                                return Err(Error::NonFinite {
+                                    what: which,
+                                    index: 0,
+                                });
+                            }
+                            v.clone()
+                        }
+                        EndRhs::Outer(f) => {
+                            let (e, nb) = if row == 1 { (0, 1) } else { (n - 1, n - 2) };
+                            (0..dim)
+                                .map(|c| {
+                                    points[e * dim + c]
+                                        + f * (points[e * dim + c] - points[nb * dim + c])
+                                })
+                                .collect()
+                        }
+                        EndRhs::Estimated if row == 1 => bessel_tangent(points, dim, &self.t),
+                        EndRhs::Estimated => {
+                            let rev_t: Vec<f64> = self.t.iter().rev().map(|v| -v).collect();
+                            bessel_tangent(&reversed(points, dim), dim, &rev_t)
+                                .iter()
+                                .map(|v| -v)
+                                .collect()
+                        }
+                    };
+                    out[row * dim..(row + 1) * dim].copy_from_slice(&v);
+                }
+                lu.solve(out, dim);
+            }
+            Kind::Periodic { lu } => {
+                let mut p = points.to_vec();
+                lu.solve(&mut p, dim);
+                for j in 0..n + 3 {
+                    let i = (j + n - 1) % n;
+                    out[j * dim..(j + 1) * dim].copy_from_slice(&p[i * dim..(i + 1) * dim]);
+                }
+            }
+            Kind::Repeat { lu } => {
+                let (first, last) = (&points[..dim], &points[(n - 1) * dim..]);
+                for j in 0..3 {
+                    out[j * dim..(j + 1) * dim].copy_from_slice(first);
+                    out[(n + 1 + j) * dim..(n + 2 + j) * dim].copy_from_slice(last);
+                }
+                if let Some(lu) = lu {
+                    let inner = &mut out[3 * dim..(n + 1) * dim];
+                    for r in 0..n - 2 {
+                        for c in 0..dim {
+                            let mut v = 6.0 * points[(r + 1) * dim + c];
+                            if r == 0 {
+                                v -= first[c];
+                            }
+                            if r + 3 == n {
+                                v -= last[c];
+                            }
+                            inner[r * dim + c] = v;
+                        }
+                    }
+                    lu.solve(inner, dim);
+                }
+            }
+        }
+        if let Some(index) = out.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFinite {
+                what: "computed control point",
+                index: index / dim,
+            });
+        }
+        Ok(())
+    }
 }
 
 /// Knots for an open curve: t_0..t_(N-1) with three more beyond each end, spaced like the
@@ -264,7 +524,7 @@ fn open_knots(t: &[f64]) -> Vec<f64> {
 
 /// Derivative at t[0] of the parabola through the first three points (or the chord for two).
 fn bessel_tangent(points: &[f64], dim: usize, t: &[f64]) -> Vec<f64> {
-    if t.len() == 2 {
+    if t.len() == 2 || points.len() / dim == 2 {
         return (0..dim)
             .map(|c| (points[dim + c] - points[c]) / (t[1] - t[0]))
             .collect();
@@ -280,194 +540,6 @@ fn bessel_tangent(points: &[f64], dim: usize, t: &[f64]) -> Vec<f64> {
 
 fn reversed(points: &[f64], dim: usize) -> Vec<f64> {
     points.chunks_exact(dim).rev().flatten().copied().collect()
-}
-
-/// One end row: coefficients on consecutive control points starting at `first`, and its
-/// right-hand side.
-struct EndRow {
-    first: usize,
-    coeffs: Vec<f64>,
-    rhs: Vec<f64>,
-}
-
-fn open_curve(
-    points: &[f64],
-    dim: usize,
-    t: &[f64],
-    end: &EndCondition,
-) -> Result<CurveInterpolation> {
-    let n = t.len();
-    let knots = open_knots(t);
-    let nc = n + 2;
-    let deriv_row = |span: usize, at: f64, k: usize| -> Vec<f64> {
-        basis_funs_derivs(&knots, span, at, 3, k)[k].clone()
-    };
-    let (t0, t_end) = (t[0], t[n - 1]);
-    let zeros = vec![0.0; dim];
-    let (start, finish): (EndRow, EndRow) = match end {
-        EndCondition::Natural => (
-            EndRow {
-                first: 0,
-                coeffs: deriv_row(3, t0, 2),
-                rhs: zeros.clone(),
-            },
-            EndRow {
-                first: nc - 4,
-                coeffs: deriv_row(nc - 1, t_end, 2),
-                rhs: zeros,
-            },
-        ),
-        EndCondition::Clamped { start, end } => {
-            let est_start = bessel_tangent(points, dim, t);
-            let rev_t: Vec<f64> = t.iter().rev().map(|v| -v).collect();
-            let est_end: Vec<f64> = bessel_tangent(&reversed(points, dim), dim, &rev_t)
-                .iter()
-                .map(|v| -v)
-                .collect();
-            let pick = |given: &Option<Vec<f64>>,
-                        est: Vec<f64>,
-                        which: &'static str|
-             -> Result<Vec<f64>> {
-                match given {
-                    None => Ok(est),
-                    Some(v) if v.len() != dim => Err(Error::DimensionMismatch {
-                        what: which,
-                        index: 0,
-                        expected: dim,
-                        got: v.len(),
-                    }),
-                    Some(v) if v.iter().any(|x| !x.is_finite()) => Err(Error::NonFinite {
-                        what: which,
-                        index: 0,
-                    }),
-                    Some(v) => Ok(v.clone()),
-                }
-            };
-            (
-                EndRow {
-                    first: 0,
-                    coeffs: deriv_row(3, t0, 1),
-                    rhs: pick(start, est_start, "start tangent")?,
-                },
-                EndRow {
-                    first: nc - 4,
-                    coeffs: deriv_row(nc - 1, t_end, 1),
-                    rhs: pick(end, est_end, "end tangent")?,
-                },
-            )
-        }
-        EndCondition::NotAKnot if n == 2 => (
-            EndRow {
-                first: 0,
-                coeffs: deriv_row(3, t0, 2),
-                rhs: zeros.clone(),
-            },
-            EndRow {
-                first: nc - 4,
-                coeffs: deriv_row(nc - 1, t_end, 2),
-                rhs: zeros,
-            },
-        ),
-        EndCondition::NotAKnot => {
-            // Jump of the third derivative at knot t_1 (spans 3 | 4) and t_(N-2) (spans N | N+1).
-            let jump = |left: usize| -> Vec<f64> {
-                let l = deriv_row(left, knots[left + 1], 3);
-                let r = deriv_row(left + 1, knots[left + 1], 3);
-                let mut c = vec![0.0; 5];
-                for k in 0..4 {
-                    c[k] += l[k];
-                    c[k + 1] -= r[k];
-                }
-                c
-            };
-            let first = EndRow {
-                first: 0,
-                coeffs: jump(3),
-                rhs: zeros.clone(),
-            };
-            let last = if n == 3 {
-                // One cubic through three points: make it the parabola (no third derivative).
-                EndRow {
-                    first: 0,
-                    coeffs: deriv_row(3, t0, 3),
-                    rhs: zeros,
-                }
-            } else {
-                EndRow {
-                    first: nc - 5,
-                    coeffs: jump(nc - 2),
-                    rhs: zeros,
-                }
-            };
-            (first, last)
-        }
-        EndCondition::Repeat | EndCondition::Periodic => unreachable!("handled by the caller"),
-    };
-    // Rows: interp t_0, start row, interp t_1..t_(N-2), end row, interp t_(N-1).
-    let mut a = BandMatrix::zeros(nc, 3, 3);
-    let mut rhs = vec![0.0; nc * dim];
-    let mut basis = [0.0; 4];
-    let mut put_row = |a: &mut BandMatrix, row: usize, first: usize, coeffs: &[f64], b: &[f64]| {
-        for (k, &v) in coeffs.iter().enumerate() {
-            if v != 0.0 {
-                a.set(row, first + k, v);
-            }
-        }
-        rhs[row * dim..(row + 1) * dim].copy_from_slice(b);
-    };
-    for i in 0..n {
-        let span = (3 + i).min(nc - 1);
-        basis_funs(&knots, span, t[i], 3, &mut basis);
-        let row = if i == 0 {
-            0
-        } else if i == n - 1 {
-            nc - 1
-        } else {
-            i + 1
-        };
-        put_row(
-            &mut a,
-            row,
-            span - 3,
-            &basis,
-            &points[i * dim..(i + 1) * dim],
-        );
-    }
-    put_row(&mut a, 1, start.first, &start.coeffs, &start.rhs);
-    put_row(&mut a, nc - 2, finish.first, &finish.coeffs, &finish.rhs);
-    a.solve(&mut rhs, dim)?;
-    Ok(CurveInterpolation {
-        curve: BsplineCurve::from_flat(3, knots, dim, rhs)?,
-        parameters: t.to_vec(),
-    })
-}
-
-fn periodic(points: &[f64], dim: usize, t: &[f64]) -> Result<CurveInterpolation> {
-    let n = points.len() / dim;
-    let period = t[n] - t[0];
-    let mut knots = Vec::with_capacity(n + 7);
-    knots.extend((1..=3).rev().map(|k| t[n - k] - period));
-    knots.extend_from_slice(t);
-    knots.extend((1..=3).map(|k| t[k] + period));
-    let (mut lower, mut diag, mut upper) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let mut basis = [0.0; 4];
-    for i in 0..n {
-        basis_funs(&knots, 3 + i, t[i], 3, &mut basis);
-        lower[i] = basis[0];
-        diag[i] = basis[1];
-        upper[i] = basis[2];
-    }
-    let mut p = points.to_vec();
-    solve_cyclic(&lower, &diag, &upper, &mut p, dim)?;
-    let mut control = Vec::with_capacity((n + 3) * dim);
-    for j in 0..n + 3 {
-        let i = (j + n - 1) % n;
-        control.extend_from_slice(&p[i * dim..(i + 1) * dim]);
-    }
-    Ok(CurveInterpolation {
-        curve: BsplineCurve::from_flat(3, knots, dim, control)?,
-        parameters: t[..n].to_vec(),
-    })
 }
 
 /// The paper's route for reference: the N-2 new points from the dense system (2)-(3) solved

@@ -6,13 +6,20 @@
 //! - [`interpolate_curve`]: the paper's method (repeated end points) and natural, clamped,
 //!   not-a-knot and periodic end conditions; uniform, chord-length and centripetal
 //!   parameters; banded O(N) solves.
+//! - [`BsplineSurface`], [`interpolate_surface`], [`interpolate_heights`]: bicubic surfaces
+//!   through M×N grids, separable solves (rows, then columns) in parallel.
 
 mod banded;
 mod curve;
 mod interpolate;
+mod surface;
 
 pub use curve::BsplineCurve;
 pub use interpolate::{
     interpolate_curve, interpolate_curve_flat, paper_dense_inner_points, parameters,
     CurveInterpolation, EndCondition, InterpolationOptions, Parametrization,
+};
+pub use surface::{
+    interpolate_heights, interpolate_surface, interpolate_surface_flat, BsplineSurface,
+    SurfaceInterpolation, SurfaceInterpolationOptions,
 };

@@ -1,0 +1,580 @@
+//! Bicubic B-spline surfaces and their interpolation through an M×N grid of reference
+//! points (spec/bspline-interpolation.md §3, formula (4)), solved separably: every row, then
+//! every column, each a banded 1-D system factored once and applied to all rows in parallel.
+//!
+//! ```
+//! use geomkit::bspline::{interpolate_surface, SurfaceInterpolationOptions};
+//! // Heights z = x·y on a 5×4 grid, as points (x, y, z).
+//! let grid: Vec<Vec<Vec<f64>>> = (0..5)
+//!     .map(|i| (0..4).map(|j| vec![i as f64, j as f64, (i * j) as f64]).collect())
+//!     .collect();
+//! let fit = interpolate_surface(&grid, &SurfaceInterpolationOptions::default()).unwrap();
+//! let p = fit.surface.eval(fit.params_u[2], fit.params_v[3]);
+//! assert!((p[2] - 6.0).abs() < 1e-13);
+//! ```
+
+use super::curve::{basis_funs, basis_funs_derivs, find_span};
+use super::interpolate::{EndCondition, Parametrization, Solver1d};
+use crate::points::validate_points;
+use crate::{Error, Result};
+use rayon::prelude::*;
+
+/// A tensor-product B-spline surface S(u, v) = Σ_i Σ_j N_i(u) N_j(v) c_ij of degrees (p, q),
+/// control net c_ij at (i * n_v + j) * dim.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BsplineSurface {
+    degree: (usize, usize),
+    dim: usize,
+    knots_u: Vec<f64>,
+    knots_v: Vec<f64>,
+    n_u: usize,
+    n_v: usize,
+    control: Vec<f64>,
+}
+
+fn check_knots(knots: &[f64], degree: usize, n: usize) -> Result<()> {
+    if knots.len() != n + degree + 1 {
+        return Err(Error::InvalidKnots {
+            index: knots.len().min(n + degree + 1),
+            reason: "need (control points + degree + 1) knots",
+        });
+    }
+    if let Some(index) = knots.iter().position(|k| !k.is_finite()) {
+        return Err(Error::NonFinite {
+            what: "knot",
+            index,
+        });
+    }
+    if let Some(index) = knots.windows(2).position(|w| w[1] < w[0]) {
+        return Err(Error::InvalidKnots {
+            index: index + 1,
+            reason: "knots must be non-decreasing",
+        });
+    }
+    if knots[n] <= knots[degree] {
+        return Err(Error::InvalidKnots {
+            index: degree,
+            reason: "the domain [knots[p], knots[n]] is empty",
+        });
+    }
+    Ok(())
+}
+
+impl BsplineSurface {
+    /// A surface from its degrees (each 1..=7), knots in u and v, and a row-major net of
+    /// `n_u × n_v` control points with `dim` coordinates.
+    pub fn from_flat(
+        degree: (usize, usize),
+        knots_u: Vec<f64>,
+        knots_v: Vec<f64>,
+        n_u: usize,
+        n_v: usize,
+        dim: usize,
+        control: Vec<f64>,
+    ) -> Result<Self> {
+        for p in [degree.0, degree.1] {
+            if p == 0 || p > 7 {
+                return Err(Error::InvalidOption {
+                    option: "degree",
+                    reason: "B-spline degree must be between 1 and 7",
+                });
+            }
+        }
+        validate_points("control net", dim, &control)?;
+        if control.len() != n_u * n_v * dim {
+            return Err(Error::BufferSize {
+                expected: n_u * n_v * dim,
+                got: control.len(),
+            });
+        }
+        if n_u <= degree.0 || n_v <= degree.1 {
+            return Err(Error::TooFewPoints {
+                what: "control net rows or columns",
+                got: n_u.min(n_v),
+                min: degree.0.max(degree.1) + 1,
+            });
+        }
+        check_knots(&knots_u, degree.0, n_u)?;
+        check_knots(&knots_v, degree.1, n_v)?;
+        Ok(BsplineSurface {
+            degree,
+            dim,
+            knots_u,
+            knots_v,
+            n_u,
+            n_v,
+            control,
+        })
+    }
+
+    /// Degrees (p, q).
+    pub fn degrees(&self) -> (usize, usize) {
+        self.degree
+    }
+
+    /// Dimension of the points.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Knots in u and in v.
+    pub fn knots(&self) -> (&[f64], &[f64]) {
+        (&self.knots_u, &self.knots_v)
+    }
+
+    /// Net size (n_u, n_v).
+    pub fn net_size(&self) -> (usize, usize) {
+        (self.n_u, self.n_v)
+    }
+
+    /// The control net, row-major.
+    pub fn control_flat(&self) -> &[f64] {
+        &self.control
+    }
+
+    /// Parameter domains ((u0, u1), (v0, v1)).
+    pub fn domain(&self) -> ((f64, f64), (f64, f64)) {
+        (
+            (self.knots_u[self.degree.0], self.knots_u[self.n_u]),
+            (self.knots_v[self.degree.1], self.knots_v[self.n_v]),
+        )
+    }
+
+    fn basis_u(&self, u: f64) -> (usize, [f64; 8]) {
+        let s = find_span(&self.knots_u, self.degree.0, self.n_u, u);
+        let mut b = [0.0; 8];
+        basis_funs(&self.knots_u, s, u, self.degree.0, &mut b[..=self.degree.0]);
+        (s, b)
+    }
+
+    fn basis_v(&self, v: f64) -> (usize, [f64; 8]) {
+        let s = find_span(&self.knots_v, self.degree.1, self.n_v, v);
+        let mut b = [0.0; 8];
+        basis_funs(&self.knots_v, s, v, self.degree.1, &mut b[..=self.degree.1]);
+        (s, b)
+    }
+
+    /// Writes S(u, v) into `out` (length dim).
+    pub fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
+        let (p, q) = self.degree;
+        let (su, bu) = self.basis_u(u);
+        let (sv, bv) = self.basis_v(v);
+        out.iter_mut().for_each(|o| *o = 0.0);
+        let d = self.dim;
+        for a in 0..=p {
+            let row = (su - p + a) * self.n_v;
+            for b in 0..=q {
+                let w = bu[a] * bv[b];
+                let c = &self.control[(row + sv - q + b) * d..(row + sv - q + b + 1) * d];
+                for (o, x) in out.iter_mut().zip(c) {
+                    *o += w * x;
+                }
+            }
+        }
+    }
+
+    /// S(u, v).
+    pub fn eval(&self, u: f64, v: f64) -> Vec<f64> {
+        let mut out = vec![0.0; self.dim];
+        self.eval_into(u, v, &mut out);
+        out
+    }
+
+    /// ∂^(ku+kv) S / ∂u^ku ∂v^kv at (u, v), into `out`.
+    pub fn eval_derivative(&self, u: f64, v: f64, ku: usize, kv: usize, out: &mut [f64]) {
+        let (p, q) = self.degree;
+        out.iter_mut().for_each(|o| *o = 0.0);
+        if ku > p || kv > q {
+            return;
+        }
+        let su = find_span(&self.knots_u, p, self.n_u, u);
+        let sv = find_span(&self.knots_v, q, self.n_v, v);
+        let du = basis_funs_derivs(&self.knots_u, su, u, p, ku);
+        let dv = basis_funs_derivs(&self.knots_v, sv, v, q, kv);
+        let d = self.dim;
+        for a in 0..=p {
+            for b in 0..=q {
+                let w = du[ku][a] * dv[kv][b];
+                let k = ((su - p + a) * self.n_v + sv - q + b) * d;
+                for (o, x) in out.iter_mut().zip(&self.control[k..k + d]) {
+                    *o += w * x;
+                }
+            }
+        }
+    }
+
+    /// Evaluates on the grid `us` × `vs` (point (a, b) at `(a * vs.len() + b) * dim`), in
+    /// parallel over rows. Each row contracts the net in u once; each point then costs
+    /// (q+1)·dim multiply-adds. Errors: wrong buffer length, non-finite parameters.
+    pub fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
+        let d = self.dim;
+        if out.len() != us.len() * vs.len() * d {
+            return Err(Error::BufferSize {
+                expected: us.len() * vs.len() * d,
+                got: out.len(),
+            });
+        }
+        for (what, ps) in [("parameter u", us), ("parameter v", vs)] {
+            if let Some(index) = ps.iter().position(|t| !t.is_finite()) {
+                return Err(Error::NonFinite { what, index });
+            }
+        }
+        if vs.is_empty() {
+            return Ok(());
+        }
+        let (p, q) = self.degree;
+        let vb: Vec<(usize, [f64; 8])> = vs.iter().map(|&v| self.basis_v(v)).collect();
+        let row_len = self.n_v * d;
+        out.par_chunks_mut(vs.len() * d)
+            .zip(us.par_iter())
+            .for_each_init(
+                || vec![0.0; row_len],
+                |row, (chunk, &u)| {
+                    let (su, bu) = self.basis_u(u);
+                    row.iter_mut().for_each(|x| *x = 0.0);
+                    for a in 0..=p {
+                        let src = &self.control[(su - p + a) * row_len..(su - p + a + 1) * row_len];
+                        for (r, s) in row.iter_mut().zip(src) {
+                            *r += bu[a] * s;
+                        }
+                    }
+                    for ((sv, bv), o) in vb.iter().zip(chunk.chunks_exact_mut(d)) {
+                        o.iter_mut().for_each(|x| *x = 0.0);
+                        for b in 0..=q {
+                            let c = &row[(sv - q + b) * d..(sv - q + b + 1) * d];
+                            for (x, y) in o.iter_mut().zip(c) {
+                                *x += bv[b] * y;
+                            }
+                        }
+                    }
+                },
+            );
+        Ok(())
+    }
+
+    /// The unit normal of a surface in R^3 (Su × Sv normalized); `Ok(None)` where it is
+    /// degenerate.
+    pub fn normal(&self, u: f64, v: f64) -> Result<Option<[f64; 3]>> {
+        if self.dim != 3 {
+            return Err(Error::WrongDimension {
+                operation: "surface normal",
+                expected: 3,
+                got: self.dim,
+            });
+        }
+        let (mut a, mut b) = ([0.0; 3], [0.0; 3]);
+        self.eval_derivative(u, v, 1, 0, &mut a);
+        self.eval_derivative(u, v, 0, 1, &mut b);
+        let n = [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ];
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let scale =
+            (a.iter().map(|x| x * x).sum::<f64>() * b.iter().map(|x| x * x).sum::<f64>()).sqrt();
+        if len == 0.0 || len <= 1e-14 * scale {
+            return Ok(None);
+        }
+        Ok(Some([n[0] / len, n[1] / len, n[2] / len]))
+    }
+}
+
+/// Options of [`interpolate_surface`].
+#[derive(Debug, Clone, PartialEq, Default)]
+#[non_exhaustive]
+pub struct SurfaceInterpolationOptions {
+    /// End condition across the rows (along u, the first grid index).
+    pub end_u: EndCondition,
+    /// End condition along the rows (along v, the second grid index).
+    pub end_v: EndCondition,
+    /// Parametrization in both directions (chord-based ones averaged over the grid lines and
+    /// scaled to the uniform domain [0, M-1] × [0, N-1]).
+    pub parametrization: Parametrization,
+}
+
+impl SurfaceInterpolationOptions {
+    /// Sets the same end condition in both directions.
+    pub fn with_end(mut self, end: EndCondition) -> Self {
+        self.end_u = end.clone();
+        self.end_v = end;
+        self
+    }
+
+    /// Sets the end conditions of each direction.
+    pub fn with_ends(mut self, end_u: EndCondition, end_v: EndCondition) -> Self {
+        self.end_u = end_u;
+        self.end_v = end_v;
+        self
+    }
+
+    /// Sets the parametrization.
+    pub fn with_parametrization(mut self, p: Parametrization) -> Self {
+        self.parametrization = p;
+        self
+    }
+}
+
+/// An interpolating surface and the grid parameters of the reference points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceInterpolation {
+    /// The bicubic B-spline surface.
+    pub surface: BsplineSurface,
+    /// Parameter of grid row i.
+    pub params_u: Vec<f64>,
+    /// Parameter of grid column j.
+    pub params_v: Vec<f64>,
+}
+
+/// Interpolates a grid of reference points `grid[i][j]` (M rows of N points of one
+/// dimension). Errors: empty or ragged grid, non-finite numbers, too few rows or columns for
+/// an end condition, given tangents (a surface needs a tangent per boundary point: use
+/// estimated ones), coinciding grid lines with chord parameters.
+pub fn interpolate_surface(
+    grid: &[Vec<Vec<f64>>],
+    options: &SurfaceInterpolationOptions,
+) -> Result<SurfaceInterpolation> {
+    let rows = grid.len();
+    let cols = grid.first().map_or(0, Vec::len);
+    if rows == 0 || cols == 0 {
+        return Err(Error::Empty {
+            what: "reference grid",
+        });
+    }
+    let dim = grid[0][0].len();
+    let mut flat = Vec::with_capacity(rows * cols * dim);
+    for (i, row) in grid.iter().enumerate() {
+        if row.len() != cols {
+            return Err(Error::RaggedNet {
+                row: i,
+                expected: cols,
+                got: row.len(),
+            });
+        }
+        for (j, p) in row.iter().enumerate() {
+            if p.len() != dim {
+                return Err(Error::DimensionMismatch {
+                    what: "reference point",
+                    index: i * cols + j,
+                    expected: dim,
+                    got: p.len(),
+                });
+            }
+            flat.extend_from_slice(p);
+        }
+    }
+    interpolate_surface_flat(rows, cols, dim, &flat, options)
+}
+
+/// Averaged parameters along the first index of a rows × cols × dim grid (closing value
+/// included when `closed`), scaled to [0, count-1].
+fn grid_parameters(
+    grid: &[f64],
+    rows: usize,
+    cols: usize,
+    dim: usize,
+    kind: Parametrization,
+    closed: bool,
+) -> Result<Vec<f64>> {
+    let count = if closed { rows + 1 } else { rows };
+    if kind == Parametrization::Uniform {
+        return Ok((0..count).map(|i| i as f64).collect());
+    }
+    let mut acc = vec![0.0; count];
+    let mut lines = 0usize;
+    let mut steps = vec![0.0; count];
+    for j in 0..cols {
+        let mut total = 0.0;
+        for i in 1..count {
+            let a = &grid[((i - 1) * cols + j) * dim..((i - 1) * cols + j + 1) * dim];
+            let b = &grid[((i % rows) * cols + j) * dim..((i % rows) * cols + j + 1) * dim];
+            let d = crate::numeric::distance(a, b);
+            steps[i] = if kind == Parametrization::Centripetal {
+                d.sqrt()
+            } else {
+                d
+            };
+            total += steps[i];
+        }
+        if total > 0.0 {
+            lines += 1;
+            let mut s = 0.0;
+            for i in 1..count {
+                s += steps[i] / total;
+                acc[i] += s;
+            }
+        }
+    }
+    if lines == 0 {
+        return Err(Error::RepeatedPoint { index: 0 });
+    }
+    let scale = (count - 1) as f64 / lines as f64;
+    let t: Vec<f64> = acc.iter().map(|a| a * scale).collect();
+    if let Some(i) = t.windows(2).position(|w| w[1] <= w[0]) {
+        return Err(Error::RepeatedPoint { index: i });
+    }
+    Ok(t)
+}
+
+fn transpose(data: &[f64], rows: usize, cols: usize, dim: usize) -> Vec<f64> {
+    let mut out = vec![0.0; data.len()];
+    out.par_chunks_mut(rows * dim)
+        .enumerate()
+        .for_each(|(j, col)| {
+            for i in 0..rows {
+                col[i * dim..(i + 1) * dim]
+                    .copy_from_slice(&data[(i * cols + j) * dim..(i * cols + j + 1) * dim]);
+            }
+        });
+    out
+}
+
+/// Solves every row of a rows × cols × dim array with one factored system (in parallel).
+fn solve_rows(
+    system: &Solver1d,
+    data: &[f64],
+    rows: usize,
+    cols: usize,
+    dim: usize,
+) -> Result<Vec<f64>> {
+    let nc = system.n_control();
+    let mut out = vec![0.0; rows * nc * dim];
+    out.par_chunks_mut(nc * dim)
+        .zip(data.par_chunks(cols * dim))
+        .try_for_each(|(o, row)| system.solve(row, dim, o))?;
+    Ok(out)
+}
+
+fn closed_rows(grid: &[f64], rows: usize, cols: usize, dim: usize, end: &EndCondition) -> usize {
+    let line = cols * dim;
+    if *end == EndCondition::Periodic
+        && rows >= 2
+        && grid[..line] == grid[(rows - 1) * line..rows * line]
+    {
+        rows - 1
+    } else {
+        rows
+    }
+}
+
+/// [`interpolate_surface`] on a row-major rows × cols × dim grid.
+pub fn interpolate_surface_flat(
+    rows: usize,
+    cols: usize,
+    dim: usize,
+    grid: &[f64],
+    options: &SurfaceInterpolationOptions,
+) -> Result<SurfaceInterpolation> {
+    validate_points("reference grid", dim, grid)?;
+    if grid.len() != rows * cols * dim {
+        return Err(Error::BufferSize {
+            expected: rows * cols * dim,
+            got: grid.len(),
+        });
+    }
+    for end in [&options.end_u, &options.end_v] {
+        if let EndCondition::Clamped { start, end } = end {
+            if start.is_some() || end.is_some() {
+                return Err(Error::InvalidOption {
+                    option: "surface end condition",
+                    reason: "a surface needs a tangent per boundary point; use clamped with estimated tangents",
+                });
+            }
+        }
+    }
+    // Drop a closing row / column equal to the first one for periodic directions.
+    let m = closed_rows(grid, rows, cols, dim, &options.end_u);
+    let grid_t = transpose(&grid[..m * cols * dim], m, cols, dim);
+    let n = closed_rows(&grid_t, cols, m, dim, &options.end_v);
+    let grid_t = &grid_t[..n * m * dim];
+    let grid: Vec<f64> = transpose(grid_t, n, m, dim);
+    for (count, end) in [(m, &options.end_u), (n, &options.end_v)] {
+        let min = if *end == EndCondition::Periodic { 3 } else { 2 };
+        if count < min {
+            return Err(Error::TooFewPoints {
+                what: "grid rows or columns",
+                got: count,
+                min,
+            });
+        }
+    }
+    let p = options.parametrization;
+    let tu = grid_parameters(&grid, m, n, dim, p, options.end_u == EndCondition::Periodic)?;
+    let tv = grid_parameters(
+        grid_t,
+        n,
+        m,
+        dim,
+        p,
+        options.end_v == EndCondition::Periodic,
+    )?;
+    let sys_u = Solver1d::new(&tu, &options.end_u, p)?;
+    let sys_v = Solver1d::new(&tv, &options.end_v, p)?;
+    // Rows along v, then (transposed) along u.
+    let r = solve_rows(&sys_v, &grid, m, n, dim)?;
+    let nv = sys_v.n_control();
+    let rt = transpose(&r, m, nv, dim);
+    let ct = solve_rows(&sys_u, &rt, nv, m, dim)?;
+    let nu = sys_u.n_control();
+    let control = transpose(&ct, nv, nu, dim);
+    Ok(SurfaceInterpolation {
+        surface: BsplineSurface::from_flat(
+            (3, 3),
+            sys_u.knots.clone(),
+            sys_v.knots.clone(),
+            nu,
+            nv,
+            dim,
+            control,
+        )?,
+        params_u: sys_u.parameters.clone(),
+        params_v: sys_v.parameters.clone(),
+    })
+}
+
+/// Interpolates heights z[i][j] given over the regular grid x_i = x0 + i·dx, y_j = y0 + j·dy
+/// (row-major, `rows × cols`): the result is a scalar surface z(x, y) with S(x_i, y_j) = z_ij.
+/// Errors as [`interpolate_surface`], plus non-positive or non-finite spacing.
+pub fn interpolate_heights(
+    z: &[f64],
+    rows: usize,
+    cols: usize,
+    origin: (f64, f64),
+    spacing: (f64, f64),
+    end: &EndCondition,
+) -> Result<BsplineSurface> {
+    let (dx, dy) = spacing;
+    if !(dx.is_finite()
+        && dy.is_finite()
+        && dx > 0.0
+        && dy > 0.0
+        && origin.0.is_finite()
+        && origin.1.is_finite())
+    {
+        return Err(Error::InvalidOption {
+            option: "grid spacing",
+            reason: "origin must be finite and spacing finite and > 0",
+        });
+    }
+    if *end == EndCondition::Periodic || *end == EndCondition::Repeat {
+        return Err(Error::InvalidOption {
+            option: "height end condition",
+            reason: "heights over a grid take natural, clamped, not-a-knot or outer-points ends",
+        });
+    }
+    let opts = SurfaceInterpolationOptions::default()
+        .with_end(end.clone())
+        .with_parametrization(Parametrization::Uniform);
+    let fit = interpolate_surface_flat(rows, cols, 1, z, &opts)?;
+    let s = fit.surface;
+    let map = |k: &[f64], o: f64, h: f64| k.iter().map(|t| o + t * h).collect::<Vec<_>>();
+    BsplineSurface::from_flat(
+        s.degree,
+        map(&s.knots_u, origin.0, dx),
+        map(&s.knots_v, origin.1, dy),
+        s.n_u,
+        s.n_v,
+        1,
+        s.control,
+    )
+}

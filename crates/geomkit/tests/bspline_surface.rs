@@ -1,0 +1,249 @@
+//! Interpolating bicubic B-spline surfaces (spec/bspline-interpolation.md §3).
+
+mod common;
+
+use common::Rng;
+use geomkit::bspline::{
+    interpolate_heights, interpolate_surface, EndCondition, Parametrization,
+    SurfaceInterpolationOptions,
+};
+use geomkit::Error;
+
+fn terrain(rows: usize, cols: usize, seed: u64) -> Vec<Vec<Vec<f64>>> {
+    let mut rng = Rng(seed | 1);
+    (0..rows)
+        .map(|i| {
+            (0..cols)
+                .map(|j| {
+                    let (x, y) = (
+                        i as f64 + 0.2 * rng.uniform(),
+                        j as f64 + 0.2 * rng.uniform(),
+                    );
+                    vec![
+                        x,
+                        y,
+                        (0.4 * x).sin() * (0.3 * y).cos() + 0.1 * rng.uniform(),
+                    ]
+                })
+                .collect()
+        })
+        .collect()
+}
+
+fn grid_residual(grid: &[Vec<Vec<f64>>], fit: &geomkit::bspline::SurfaceInterpolation) -> f64 {
+    let scale = grid
+        .iter()
+        .flatten()
+        .flatten()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut worst = 0.0f64;
+    for (i, row) in grid.iter().enumerate().take(fit.params_u.len()) {
+        for (j, p) in row.iter().enumerate().take(fit.params_v.len()) {
+            let q = fit.surface.eval(fit.params_u[i], fit.params_v[j]);
+            for (a, b) in p.iter().zip(&q) {
+                worst = worst.max((a - b).abs());
+            }
+        }
+    }
+    worst / scale
+}
+
+#[test]
+fn passes_through_every_grid_point() {
+    let ends = [
+        EndCondition::Natural,
+        EndCondition::NotAKnot,
+        EndCondition::Clamped {
+            start: None,
+            end: None,
+        },
+        EndCondition::OuterPoints { offset: 0.1 },
+    ];
+    for (rows, cols) in [(2usize, 2usize), (3, 5), (14, 14), (40, 23)] {
+        for end in &ends {
+            for param in [
+                Parametrization::Uniform,
+                Parametrization::ChordLength,
+                Parametrization::Centripetal,
+            ] {
+                let grid = terrain(rows, cols, (rows * 100 + cols) as u64);
+                let opts = SurfaceInterpolationOptions::default()
+                    .with_end(end.clone())
+                    .with_parametrization(param);
+                let fit = interpolate_surface(&grid, &opts).unwrap();
+                let r = grid_residual(&grid, &fit);
+                assert!(r <= 1e-14, "{rows}x{cols} {end:?} {param:?}: {r:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn paper_boundary_gives_m_plus_2_by_n_plus_2_net() {
+    let grid = terrain(14, 14, 3);
+    let opts = SurfaceInterpolationOptions::default()
+        .with_end(EndCondition::OuterPoints { offset: 0.1 })
+        .with_parametrization(Parametrization::Uniform);
+    let fit = interpolate_surface(&grid, &opts).unwrap();
+    assert_eq!(fit.surface.net_size(), (16, 16));
+    // The corner of the outer ring is the diagonal extrapolation of the corner point:
+    // 1.21 k00 - 0.11 k01 - 0.11 k10 + 0.01 k11.
+    let corner = &fit.surface.control_flat()[..3];
+    for c in 0..3 {
+        let want = 1.21 * grid[0][0][c] - 0.11 * grid[0][1][c] - 0.11 * grid[1][0][c]
+            + 0.01 * grid[1][1][c];
+        assert!(
+            (corner[c] - want).abs() < 1e-13,
+            "{c}: {} vs {want}",
+            corner[c]
+        );
+    }
+}
+
+#[test]
+fn torus_is_periodic_in_both_directions() {
+    let (m, n) = (12usize, 16usize);
+    let grid: Vec<Vec<Vec<f64>>> = (0..m)
+        .map(|i| {
+            let a = i as f64 * std::f64::consts::TAU / m as f64;
+            (0..n)
+                .map(|j| {
+                    let b = j as f64 * std::f64::consts::TAU / n as f64;
+                    let r = 3.0 + b.cos();
+                    vec![r * a.cos(), r * a.sin(), b.sin()]
+                })
+                .collect()
+        })
+        .collect();
+    let opts = SurfaceInterpolationOptions::default().with_end(EndCondition::Periodic);
+    let fit = interpolate_surface(&grid, &opts).unwrap();
+    assert!(grid_residual(&grid, &fit) < 1e-14);
+    let ((u0, u1), (v0, v1)) = fit.surface.domain();
+    for v in [v0, 0.37 * (v1 - v0) + v0] {
+        for (ku, kv) in [(0, 0), (1, 0), (2, 0), (0, 1), (0, 2), (1, 1)] {
+            let (mut a, mut b) = ([0.0; 3], [0.0; 3]);
+            fit.surface.eval_derivative(u0, v, ku, kv, &mut a);
+            fit.surface.eval_derivative(u1, v, ku, kv, &mut b);
+            for c in 0..3 {
+                assert!(
+                    (a[c] - b[c]).abs() < 1e-10 * (1.0 + a[c].abs()),
+                    "d({ku},{kv}) {a:?} {b:?}"
+                );
+            }
+        }
+    }
+    assert!(fit.surface.normal(u0, v0).unwrap().is_some());
+}
+
+#[test]
+fn heights_over_a_regular_grid() {
+    let (rows, cols) = (30usize, 20usize);
+    let z: Vec<f64> = (0..rows * cols)
+        .map(|k| {
+            let (x, y) = (
+                10.0 + 0.5 * (k / cols) as f64,
+                -3.0 + 0.25 * (k % cols) as f64,
+            );
+            (x * 0.3).sin() + y * y * 0.1
+        })
+        .collect();
+    let s = interpolate_heights(
+        &z,
+        rows,
+        cols,
+        (10.0, -3.0),
+        (0.5, 0.25),
+        &EndCondition::NotAKnot,
+    )
+    .unwrap();
+    for k in (0..rows * cols).step_by(7) {
+        let (x, y) = (
+            10.0 + 0.5 * (k / cols) as f64,
+            -3.0 + 0.25 * (k % cols) as f64,
+        );
+        assert!((s.eval(x, y)[0] - z[k]).abs() < 1e-14 * 2.0);
+    }
+    // A grid evaluation equals point evaluation.
+    let xs = [10.0, 12.3, 24.5];
+    let ys = [-3.0, -1.1, 1.75];
+    let mut out = vec![0.0; 9];
+    s.eval_grid(&xs, &ys, &mut out).unwrap();
+    for (a, x) in xs.iter().enumerate() {
+        for (b, y) in ys.iter().enumerate() {
+            assert!((out[a * 3 + b] - s.eval(*x, *y)[0]).abs() < 1e-14);
+        }
+    }
+    // Bicubic polynomials are reproduced exactly by not-a-knot.
+    let zp: Vec<f64> = (0..rows * cols)
+        .map(|k| {
+            let (x, y) = ((k / cols) as f64, (k % cols) as f64);
+            0.01 * x * x * x - 0.2 * x * y * y + y + 1.0
+        })
+        .collect();
+    let sp = interpolate_heights(
+        &zp,
+        rows,
+        cols,
+        (0.0, 0.0),
+        (1.0, 1.0),
+        &EndCondition::NotAKnot,
+    )
+    .unwrap();
+    let (x, y) = (7.3, 11.6);
+    assert!((sp.eval(x, y)[0] - (0.01 * x * x * x - 0.2 * x * y * y + y + 1.0)).abs() < 1e-11);
+    assert!(matches!(
+        interpolate_heights(
+            &z,
+            rows,
+            cols,
+            (0.0, 0.0),
+            (0.0, 1.0),
+            &EndCondition::Natural
+        ),
+        Err(Error::InvalidOption { .. })
+    ));
+    assert!(matches!(
+        interpolate_heights(
+            &z[1..],
+            rows,
+            cols,
+            (0.0, 0.0),
+            (1.0, 1.0),
+            &EndCondition::Natural
+        ),
+        Err(Error::BufferSize { .. })
+    ));
+}
+
+#[test]
+fn bad_grids_are_clear_errors() {
+    let opts = SurfaceInterpolationOptions::default();
+    assert!(matches!(
+        interpolate_surface(&[], &opts),
+        Err(Error::Empty { .. })
+    ));
+    let ragged = vec![vec![vec![0.0, 0.0, 0.0]; 3], vec![vec![0.0, 0.0, 0.0]; 2]];
+    assert!(matches!(
+        interpolate_surface(&ragged, &opts),
+        Err(Error::RaggedNet { row: 1, .. })
+    ));
+    let mut g = terrain(4, 4, 1);
+    g[2][3][1] = f64::NAN;
+    assert!(matches!(
+        interpolate_surface(&g, &opts),
+        Err(Error::NonFinite { index: 11, .. })
+    ));
+    let one_row = terrain(1, 5, 2);
+    assert!(matches!(
+        interpolate_surface(&one_row, &opts),
+        Err(Error::TooFewPoints { got: 1, .. })
+    ));
+    let given = opts.with_end(EndCondition::Clamped {
+        start: Some(vec![1.0, 0.0, 0.0]),
+        end: None,
+    });
+    assert!(matches!(
+        interpolate_surface(&terrain(4, 4, 1), &given),
+        Err(Error::InvalidOption { .. })
+    ));
+}
