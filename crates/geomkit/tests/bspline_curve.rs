@@ -242,3 +242,82 @@ fn bad_input_is_a_clear_error() {
         })
     ));
 }
+
+#[test]
+fn tiles_equal_the_global_solve() {
+    use geomkit::bspline::{interpolate_curve_flat, interpolate_curve_tiled, TileOptions};
+    let n = 100_000;
+    let mut rng = Rng(77);
+    let pts: Vec<f64> = (0..n)
+        .flat_map(|i| {
+            let t = i as f64 * 1e-3;
+            [
+                t.cos() * 50.0 + rng.uniform(),
+                t.sin() * 30.0 + rng.uniform(),
+                rng.uniform(),
+            ]
+        })
+        .collect();
+    let scale = pts.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for param in [
+        Parametrization::Uniform,
+        Parametrization::ChordLength,
+        Parametrization::Centripetal,
+    ] {
+        for end in [
+            EndCondition::NotAKnot,
+            EndCondition::Natural,
+            EndCondition::Clamped {
+                start: None,
+                end: None,
+            },
+        ] {
+            let opts = InterpolationOptions::default()
+                .with_end(end.clone())
+                .with_parametrization(param);
+            let global = interpolate_curve_flat(3, &pts, &opts).unwrap();
+            let tiled = interpolate_curve_tiled(
+                3,
+                &pts,
+                &opts,
+                &TileOptions::default().with_tile_size(4096),
+            )
+            .unwrap();
+            assert_eq!(global.curve.knots(), tiled.curve.knots());
+            let err = global
+                .curve
+                .control_flat()
+                .iter()
+                .zip(tiled.curve.control_flat())
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                err <= 4.0 * f64::EPSILON * scale,
+                "{param:?} {end:?}: {err:e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn paper_averaged_fragments_do_not_converge() {
+    use geomkit::bspline::paper_fragments_averaged;
+    let n = 400;
+    let pts: Vec<f64> = (0..n)
+        .flat_map(|i| [i as f64, (i as f64 * 0.3).sin() * 5.0])
+        .collect();
+    let exact = paper_fragments_averaged(2, &pts, n, 0).unwrap();
+    let mut errors = Vec::new();
+    for overlap in [2usize, 8, 16, 32] {
+        let avg = paper_fragments_averaged(2, &pts, 100, overlap).unwrap();
+        let err = avg
+            .iter()
+            .zip(&exact)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        errors.push(err);
+    }
+    // The error stays near 1% of the data (amplitude 5), however wide the overlap.
+    assert!(errors.iter().all(|&e| e > 0.02), "{errors:?}");
+    assert!(errors[3] > 0.9 * errors[1], "{errors:?}");
+}

@@ -153,10 +153,22 @@ pub fn parameters(
     kind: Parametrization,
     closed: bool,
 ) -> Result<Vec<f64>> {
+    parameters_from(points, dim, kind, closed, 0.0)
+}
+
+/// [`parameters`] starting at `t0` instead of 0: a stretch of points gets exactly (bit for
+/// bit) the values the whole sequence gets when `t0` is its parameter there.
+pub(crate) fn parameters_from(
+    points: &[f64],
+    dim: usize,
+    kind: Parametrization,
+    closed: bool,
+    t0: f64,
+) -> Result<Vec<f64>> {
     let n = points.len() / dim;
     let count = if closed { n + 1 } else { n };
     let mut t = Vec::with_capacity(count);
-    t.push(0.0);
+    t.push(t0);
     for i in 1..count {
         let (a, b) = (
             &points[(i - 1) * dim..i * dim],
@@ -252,7 +264,7 @@ impl Solver1d {
                 Self::repeat(n)
             }
             EndCondition::Periodic => Self::periodic(t),
-            _ => Self::open(t, end),
+            _ => Self::open(t, end, end),
         }
     }
 
@@ -314,67 +326,83 @@ impl Solver1d {
         })
     }
 
-    fn open(t: &[f64], end: &EndCondition) -> Result<Self> {
+    /// An open system with (possibly different) conditions at its two ends.
+    pub(crate) fn new_mixed(t: &[f64], start: &EndCondition, end: &EndCondition) -> Result<Self> {
+        if t.len() < 2 {
+            return Err(Error::TooFewPoints {
+                what: "reference points",
+                got: t.len(),
+                min: 2,
+            });
+        }
+        Self::open(t, start, end)
+    }
+
+    fn open(t: &[f64], start_cond: &EndCondition, end_cond: &EndCondition) -> Result<Self> {
         let n = t.len();
         let knots = open_knots(t);
         let nc = n + 2;
         let deriv = |span: usize, at: f64, k: usize| -> Vec<f64> {
             basis_funs_derivs(&knots, span, at, 3, k)[k].clone()
         };
-        let (t0, t_end) = (t[0], t[n - 1]);
-        // Each end row: (first column, coefficients, right-hand side).
-        let (start, finish) = match end {
-            EndCondition::Natural => (
-                (0, deriv(3, t0, 2), EndRhs::Zero),
-                (nc - 4, deriv(nc - 1, t_end, 2), EndRhs::Zero),
-            ),
-            EndCondition::Clamped { start, end } => {
-                let rhs = |v: &Option<Vec<f64>>| v.clone().map_or(EndRhs::Estimated, EndRhs::Given);
-                (
-                    (0, deriv(3, t0, 1), rhs(start)),
-                    (nc - 4, deriv(nc - 1, t_end, 1), rhs(end)),
-                )
+        // Jump of the third derivative at the knot after span `left`.
+        let jump = |left: usize| -> Vec<f64> {
+            let l = deriv(left, knots[left + 1], 3);
+            let r = deriv(left + 1, knots[left + 1], 3);
+            let mut c = vec![0.0; 5];
+            for k in 0..4 {
+                c[k] += l[k];
+                c[k + 1] -= r[k];
             }
-            EndCondition::OuterPoints { offset } => {
-                if !(offset.is_finite() && *offset > 0.0) {
-                    return Err(Error::InvalidOption {
-                        option: "outer point offset",
-                        reason: "must be finite and > 0",
-                    });
-                }
-                (
-                    (0, vec![1.0], EndRhs::Outer(*offset)),
-                    (nc - 1, vec![1.0], EndRhs::Outer(*offset)),
-                )
-            }
-            EndCondition::NotAKnot if n == 2 => (
-                (0, deriv(3, t0, 2), EndRhs::Zero),
-                (nc - 4, deriv(nc - 1, t_end, 2), EndRhs::Zero),
-            ),
-            EndCondition::NotAKnot => {
-                // Jump of the third derivative at knot t_1 (spans 3 | 4) and t_(N-2) (N | N+1).
-                let jump = |left: usize| -> Vec<f64> {
-                    let l = deriv(left, knots[left + 1], 3);
-                    let r = deriv(left + 1, knots[left + 1], 3);
-                    let mut c = vec![0.0; 5];
-                    for k in 0..4 {
-                        c[k] += l[k];
-                        c[k + 1] -= r[k];
-                    }
-                    c
-                };
-                let last = if n == 3 {
-                    // One cubic through three points: the parabola (no third derivative).
-                    (0, deriv(3, t0, 3), EndRhs::Zero)
-                } else {
-                    (nc - 5, jump(nc - 2), EndRhs::Zero)
-                };
-                ((0, jump(3), EndRhs::Zero), last)
-            }
-            EndCondition::Repeat | EndCondition::Periodic => {
-                unreachable!("built by their own constructors")
-            }
+            c
         };
+        // One end row: (first column, coefficients, right-hand side).
+        let row_for = |cond: &EndCondition, at_start: bool| -> Result<(usize, Vec<f64>, EndRhs)> {
+            let (span, at, first) = if at_start {
+                (3, t[0], 0)
+            } else {
+                (nc - 1, t[n - 1], nc - 4)
+            };
+            Ok(match cond {
+                EndCondition::Natural => (first, deriv(span, at, 2), EndRhs::Zero),
+                EndCondition::NotAKnot if n == 2 => (first, deriv(span, at, 2), EndRhs::Zero),
+                EndCondition::Clamped { start, end } => {
+                    let given = if at_start { start } else { end };
+                    let rhs = given.clone().map_or(EndRhs::Estimated, EndRhs::Given);
+                    (first, deriv(span, at, 1), rhs)
+                }
+                EndCondition::OuterPoints { offset } => {
+                    if !(offset.is_finite() && *offset > 0.0) {
+                        return Err(Error::InvalidOption {
+                            option: "outer point offset",
+                            reason: "must be finite and > 0",
+                        });
+                    }
+                    (
+                        if at_start { 0 } else { nc - 1 },
+                        vec![1.0],
+                        EndRhs::Outer(*offset),
+                    )
+                }
+                // With 3 points both not-a-knot rows would name the same knot: the second
+                // makes the single cubic a parabola instead.
+                EndCondition::NotAKnot
+                    if n == 3 && !at_start && *start_cond == EndCondition::NotAKnot =>
+                {
+                    (0, deriv(3, t[0], 3), EndRhs::Zero)
+                }
+                EndCondition::NotAKnot if at_start => (0, jump(3), EndRhs::Zero),
+                EndCondition::NotAKnot => (nc - 5, jump(nc - 2), EndRhs::Zero),
+                EndCondition::Repeat | EndCondition::Periodic => {
+                    return Err(Error::InvalidOption {
+                        option: "end condition",
+                        reason: "repeat and periodic ends apply to both ends at once",
+                    })
+                }
+            })
+        };
+        let start = row_for(start_cond, true)?;
+        let finish = row_for(end_cond, false)?;
         let mut a = BandMatrix::zeros(nc, 3, 3);
         let mut put_row = |row: usize, first: usize, coeffs: &[f64]| {
             for (k, &v) in coeffs.iter().enumerate() {
@@ -512,7 +540,7 @@ impl Solver1d {
 
 /// Knots for an open curve: t_0..t_(N-1) with three more beyond each end, spaced like the
 /// first / last interval (uniform parameters give uniform knots).
-fn open_knots(t: &[f64]) -> Vec<f64> {
+pub(crate) fn open_knots(t: &[f64]) -> Vec<f64> {
     let n = t.len();
     let (h0, h1) = (t[1] - t[0], t[n - 1] - t[n - 2]);
     let mut knots = Vec::with_capacity(n + 6);

@@ -8,11 +8,15 @@
 //!   parameters; banded O(N) solves.
 //! - [`BsplineSurface`], [`interpolate_surface`], [`interpolate_heights`]: bicubic surfaces
 //!   through M×N grids, separable solves (rows, then columns) in parallel.
+//! - [`interpolate_curve_tiled`], [`CurveTiler`]: tiles with halos, equal to the global solve
+//!   within rounding, parallel and streamable; [`paper_fragments_averaged`]: the paper's
+//!   averaged fragments, for comparison.
 
 mod banded;
 mod curve;
 mod interpolate;
 mod surface;
+mod tiles;
 
 pub use curve::BsplineCurve;
 pub use interpolate::{
@@ -22,4 +26,8 @@ pub use interpolate::{
 pub use surface::{
     interpolate_heights, interpolate_surface, interpolate_surface_flat, BsplineSurface,
     SurfaceInterpolation, SurfaceInterpolationOptions,
+};
+pub use tiles::{
+    interpolate_curve_tiled, paper_fragments_averaged, CurveTiler, TileOptions, TilePlan,
+    TileSolution,
 };
