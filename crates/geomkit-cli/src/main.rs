@@ -1,1 +1,33 @@
-fn main() {}
+//! `geomkit`: the command-line tool over the geomkit library.
+//!
+//! Errors become one line `error: ...` on stderr (the causes joined with ": ") and exit code 1;
+//! usage errors are clap's (exit code 2). Output files are written atomically.
+
+mod cli;
+mod commands;
+mod demo;
+mod figures;
+mod model;
+mod output;
+mod svg;
+
+use clap::Parser;
+use std::io::Write;
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let cli = cli::Cli::parse();
+    let result = match cli.command {
+        cli::Command::Bezier(command) => commands::bezier::run(command),
+        cli::Command::Demo(args) => demo::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) if output::is_broken_pipe(&err) => ExitCode::SUCCESS,
+        Err(err) => {
+            let message = format!("{err:#}").replace(['\n', '\r'], " ");
+            let _ = writeln!(std::io::stderr(), "error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

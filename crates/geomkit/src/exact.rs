@@ -11,12 +11,14 @@
 //! assert_eq!(k.get(1, 1), &BigRational::new(2.into(), 3.into()));
 //! ```
 
-use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 
 /// Exact rational number used throughout.
 pub type Rational = BigRational;
+
+/// The big integer type of [`Rational`]'s numerator and denominator.
+pub use num_bigint::BigInt;
 
 /// A dense matrix of exact rationals, row-major.
 #[derive(Debug, Clone, PartialEq)]

@@ -169,17 +169,33 @@ pub(crate) fn gauss_chebyshev(k: usize) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// Largest Euclidean norm among the `dim`-dimensional points stored row-major in `data`.
+/// Scaled so that coordinates near the overflow limit (1e200 and up) do not overflow.
 pub(crate) fn max_norm(data: &[f64], dim: usize) -> f64 {
-    data.chunks_exact(dim)
-        .map(|p| p.iter().map(|x| x * x).sum::<f64>().sqrt())
-        .fold(0.0, f64::max)
+    data.chunks_exact(dim).map(norm).fold(0.0, f64::max)
 }
 
-/// Euclidean distance between two points.
+/// Euclidean norm, scaled (hypot-like) so that squares cannot overflow or underflow.
+pub(crate) fn norm(v: &[f64]) -> f64 {
+    let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * v.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
+}
+
+/// Euclidean distance between two points (scaled like [`norm`]).
 pub(crate) fn distance(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
+    let m = a
+        .iter()
         .zip(b)
-        .map(|(x, y)| (x - y) * (x - y))
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| ((x - y) / m) * ((x - y) / m))
         .sum::<f64>()
         .sqrt()
 }
@@ -223,6 +239,13 @@ mod tests {
         let third = Dd::from_f64(1.0).div(Dd::from_f64(3.0));
         let back = third.mul_f64(3.0);
         assert!((back.hi - 1.0).abs() + back.lo.abs() < 1e-30);
+    }
+
+    #[test]
+    fn norms_do_not_overflow() {
+        assert!((norm(&[3e200, 4e200]) / 5e200 - 1.0).abs() < 4.0 * f64::EPSILON);
+        assert!((distance(&[3e200, 0.0], &[0.0, -4e200]) / 5e200 - 1.0).abs() < 4.0 * f64::EPSILON);
+        assert_eq!(max_norm(&[0.0, 0.0, 1e-200, 0.0], 2), 1e-200);
     }
 
     #[test]

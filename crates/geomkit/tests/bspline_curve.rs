@@ -321,3 +321,45 @@ fn paper_averaged_fragments_do_not_converge() {
     assert!(errors.iter().all(|&e| e > 0.02), "{errors:?}");
     assert!(errors[3] > 0.9 * errors[1], "{errors:?}");
 }
+
+#[test]
+fn forward_differences_stay_within_their_bound() {
+    let pts = wiggly(200, 3, 9);
+    for param in [Parametrization::Uniform, Parametrization::ChordLength] {
+        let fit = interpolate_curve(
+            &pts,
+            &InterpolationOptions::default().with_parametrization(param),
+        )
+        .unwrap();
+        for count in [2usize, 7, 1000, 200_001] {
+            let mut fd = vec![0.0; count * 3];
+            let report = fit.curve.sample_uniform_fd(count, &mut fd).unwrap();
+            let (a, b) = fit.curve.domain();
+            let ts: Vec<f64> = (0..count)
+                .map(|k| a + k as f64 * (b - a) / (count - 1) as f64)
+                .collect();
+            let mut direct = vec![0.0; count * 3];
+            fit.curve.eval_many_par(&ts, &mut direct).unwrap();
+            let err = fd
+                .iter()
+                .zip(&direct)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
+            // The direct evaluation has its own rounding (a few eps of the scale).
+            let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            assert!(
+                err <= report.bound + 8.0 * f64::EPSILON * scale,
+                "{param:?} {count}: {err:e} > {:e}",
+                report.bound
+            );
+            assert!(
+                report.bound < 1e-9 * scale,
+                "{count}: bound {:e}",
+                report.bound
+            );
+        }
+    }
+    let fit = interpolate_curve(&pts, &InterpolationOptions::default()).unwrap();
+    assert!(fit.curve.sample_uniform_fd(1, &mut [0.0; 3]).is_err());
+    assert!(fit.curve.sample_uniform_fd(3, &mut [0.0; 3]).is_err());
+}

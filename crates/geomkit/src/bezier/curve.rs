@@ -103,6 +103,11 @@ impl BezierCurve {
         Ok(BezierCurve { dim, points })
     }
 
+    /// Dimension of the points.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
     /// Formal degree n.
     pub fn degree(&self) -> usize {
         self.points.len() / self.dim - 1

@@ -29,7 +29,7 @@
 //! ```
 
 use super::bound::{deviation_bound, DeviationBound};
-use super::curve::{de_casteljau, BezierCurve, ParamCurve};
+use super::curve::{de_casteljau, BezierCurve};
 use crate::numeric::{bernstein_all, gauss_chebyshev, gauss_legendre, max_norm, Dd};
 use crate::{Error, Result};
 use nalgebra::DMatrix;

@@ -12,7 +12,7 @@
 //! ```
 
 use super::bound::DeviationBound;
-use super::curve::{BezierCurve, ParamCurve};
+use super::curve::BezierCurve;
 use crate::numeric::binomial_f64;
 use crate::{Error, Result};
 

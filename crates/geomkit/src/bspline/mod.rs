@@ -15,6 +15,7 @@
 mod banded;
 mod curve;
 mod interpolate;
+mod sample;
 mod surface;
 mod tiles;
 
@@ -23,6 +24,7 @@ pub use interpolate::{
     interpolate_curve, interpolate_curve_flat, paper_dense_inner_points, parameters,
     CurveInterpolation, EndCondition, InterpolationOptions, Parametrization,
 };
+pub use sample::FdReport;
 pub use surface::{
     interpolate_heights, interpolate_surface, interpolate_surface_flat, BsplineSurface,
     SurfaceInterpolation, SurfaceInterpolationOptions,

@@ -1,0 +1,3 @@
+//! Implementations of the subcommands, one file per method.
+
+pub mod bezier;

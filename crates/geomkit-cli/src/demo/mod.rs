@@ -1,0 +1,430 @@
+//! `geomkit demo`: every method contributes items; each item writes its pictures and model
+//! files into the output directory and returns a caption and a list of checks. The demo
+//! writes `index.html` showing everything, prints a table of all checks, and fails (exit
+//! code 1) if any check fails.
+//!
+//! Adding a method: write `demo/NAME.rs` with `pub fn items() -> Vec<Item>` and add
+//! `NAME::items` to [`MODULES`].
+
+mod bezier;
+
+use crate::cli::DemoArgs;
+use crate::model::{to_json, ErrorReport, Model};
+use crate::output::{ensure_dir, write_atomic, write_stdout};
+use crate::svg::escape;
+use anyhow::{bail, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::fmt::Write as _;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Every method's list of demo items, in the order shown.
+const MODULES: &[fn() -> Vec<Item>] = &[bezier::items];
+
+/// One demo item: a figure or table of a paper, reproduced.
+pub struct Item {
+    /// Short id, also the prefix of its files ("fig1a").
+    pub id: &'static str,
+    /// Title shown in index.html.
+    pub title: &'static str,
+    /// Computes, writes the item's files and reports.
+    pub run: fn(&Context) -> Result<Report>,
+}
+
+/// Where an item writes its files.
+pub struct Context {
+    dir: PathBuf,
+}
+
+impl Context {
+    /// Writes `contents` to the file `name` of the output directory, atomically.
+    pub fn write(&self, name: &str, contents: &str) -> Result<()> {
+        write_atomic(&self.dir.join(name), contents.as_bytes())
+    }
+}
+
+/// One check of a demo item: what was checked, the measured value, the limit, pass or fail.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Check {
+    /// What was checked.
+    pub name: String,
+    /// The measured value, formatted.
+    pub measured: String,
+    /// The limit it was held to ("≤ 4.4e-16").
+    pub limit: String,
+    /// Whether it passed.
+    pub passed: bool,
+}
+
+/// A number in the checks table.
+pub fn sci(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else if x.is_nan() {
+        "NaN".into()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf" } else { "-inf" }.into()
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+impl Check {
+    /// Passes when `value <= limit` (NaN fails).
+    pub fn at_most(name: impl Into<String>, value: f64, limit: f64) -> Self {
+        Check {
+            name: name.into(),
+            measured: sci(value),
+            limit: format!("≤ {}", sci(limit)),
+            passed: value <= limit,
+        }
+    }
+
+    /// Passes when `value >= limit` (NaN fails).
+    pub fn at_least(name: impl Into<String>, value: f64, limit: f64) -> Self {
+        Check {
+            name: name.into(),
+            measured: sci(value),
+            limit: format!("≥ {}", sci(limit)),
+            passed: value >= limit,
+        }
+    }
+
+    /// Passes when `got == want`.
+    pub fn equal<T: PartialEq + std::fmt::Display>(
+        name: impl Into<String>,
+        got: T,
+        want: T,
+    ) -> Self {
+        Check {
+            name: name.into(),
+            measured: got.to_string(),
+            limit: format!("= {want}"),
+            passed: got == want,
+        }
+    }
+}
+
+/// A picture of an item.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Picture {
+    /// File name in the output directory.
+    pub file: String,
+    /// Caption under the picture.
+    pub caption: String,
+}
+
+/// What an item reports.
+#[derive(Debug, Clone, Default)]
+pub struct Report {
+    /// Paper, figure and what it shows (plain text).
+    pub caption: String,
+    /// Pictures written.
+    pub pictures: Vec<Picture>,
+    /// Model files written, with a description.
+    pub files: Vec<(String, String)>,
+    /// Extra HTML (tables, matrices) shown after the pictures.
+    pub html: String,
+    /// Extra text printed to stdout before the checks table.
+    pub text: String,
+    /// The checks.
+    pub checks: Vec<Check>,
+}
+
+impl Report {
+    /// A report with a caption.
+    pub fn new(caption: impl Into<String>) -> Self {
+        Report {
+            caption: caption.into(),
+            ..Report::default()
+        }
+    }
+
+    /// Writes an SVG picture and shows it with `caption`.
+    pub fn picture(&mut self, ctx: &Context, file: &str, svg: &str, caption: &str) -> Result<()> {
+        ctx.write(file, svg)?;
+        self.pictures.push(Picture {
+            file: file.into(),
+            caption: caption.into(),
+        });
+        Ok(())
+    }
+
+    /// Writes a model file (readable by `geomkit bezier ...`) and links it.
+    pub fn model(
+        &mut self,
+        ctx: &Context,
+        file: &str,
+        model: &Model,
+        error: Option<&ErrorReport>,
+        what: &str,
+    ) -> Result<()> {
+        ctx.write(file, &to_json(model, error))?;
+        self.files.push((file.into(), what.into()));
+        Ok(())
+    }
+
+    /// Adds a check.
+    pub fn check(&mut self, check: Check) {
+        self.checks.push(check);
+    }
+}
+
+struct Outcome {
+    id: &'static str,
+    title: &'static str,
+    report: Report,
+    time: Duration,
+}
+
+/// Runs the demo into `args.out`.
+pub fn run(args: &DemoArgs) -> Result<()> {
+    let started = Instant::now();
+    let dir = args.out.clone();
+    ensure_dir(&dir)?;
+    let ctx = Context { dir: dir.clone() };
+    let items: Vec<Item> = MODULES.iter().flat_map(|m| m()).collect();
+
+    let bar = if std::io::stderr().is_terminal() {
+        let bar = ProgressBar::new(items.len() as u64);
+        if let Ok(style) = ProgressStyle::with_template("{bar:32.cyan/blue} {pos}/{len} {msg}") {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let mut outcomes = Vec::with_capacity(items.len());
+    for item in &items {
+        bar.set_message(item.title);
+        let t0 = Instant::now();
+        let report = match (item.run)(&ctx) {
+            Ok(r) => r,
+            Err(e) => {
+                let mut r = Report::new("The item failed to run.");
+                r.check(Check {
+                    name: "item runs without error".into(),
+                    measured: format!("{e:#}"),
+                    limit: "no error".into(),
+                    passed: false,
+                });
+                r
+            }
+        };
+        outcomes.push(Outcome {
+            id: item.id,
+            title: item.title,
+            report,
+            time: t0.elapsed(),
+        });
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+
+    let elapsed = started.elapsed();
+    let total: usize = outcomes.iter().map(|o| o.report.checks.len()).sum();
+    let failed: usize = outcomes
+        .iter()
+        .flat_map(|o| &o.report.checks)
+        .filter(|c| !c.passed)
+        .count();
+    write_atomic(
+        &dir.join("index.html"),
+        index_html(&outcomes, total, failed, elapsed).as_bytes(),
+    )?;
+    write_stdout(text_summary(&outcomes, total, failed, elapsed, &dir).as_bytes())?;
+    if failed > 0 {
+        bail!("{failed} of {total} demo checks failed (see the table above)");
+    }
+    Ok(())
+}
+
+fn text_summary(
+    outcomes: &[Outcome],
+    total: usize,
+    failed: usize,
+    elapsed: Duration,
+    dir: &Path,
+) -> String {
+    let mut s = String::new();
+    for o in outcomes {
+        if !o.report.text.is_empty() {
+            let _ = writeln!(s, "{} — {}\n{}", o.id, o.title, o.report.text);
+        }
+    }
+    let rows: Vec<[String; 5]> = outcomes
+        .iter()
+        .flat_map(|o| {
+            o.report.checks.iter().map(move |c| {
+                [
+                    o.id.to_string(),
+                    c.name.clone(),
+                    c.measured.clone(),
+                    c.limit.clone(),
+                    if c.passed { "pass" } else { "FAIL" }.to_string(),
+                ]
+            })
+        })
+        .collect();
+    let header = ["item", "check", "measured", "limit", "result"].map(String::from);
+    let mut widths = [0usize; 5];
+    for row in std::iter::once(&header).chain(&rows) {
+        for (w, cell) in widths.iter_mut().zip(row) {
+            *w = (*w).max(cell.chars().count());
+        }
+    }
+    let line = |row: &[String; 5]| {
+        let cells: Vec<String> = row
+            .iter()
+            .zip(widths)
+            .map(|(c, w)| format!("{c}{}", " ".repeat(w - c.chars().count())))
+            .collect();
+        cells.join("  ").trim_end().to_string()
+    };
+    let _ = writeln!(s, "{}", line(&header));
+    let _ = writeln!(s, "{}", "-".repeat(widths.iter().sum::<usize>() + 8));
+    for row in &rows {
+        let _ = writeln!(s, "{}", line(row));
+    }
+    let _ = writeln!(
+        s,
+        "\n{} items, {total} checks: {} in {:.2} s; open {}",
+        outcomes.len(),
+        if failed == 0 {
+            "all passed".to_string()
+        } else {
+            format!("{failed} FAILED")
+        },
+        elapsed.as_secs_f64(),
+        dir.join("index.html").display()
+    );
+    s
+}
+
+const CSS: &str = "body{font-family:system-ui,-apple-system,'Segoe UI',Helvetica,Arial,sans-serif;\
+max-width:1340px;margin:2em auto;padding:0 1.2em;color:#222;line-height:1.45}\
+h1{margin-bottom:.2em}h2{margin-top:2.2em;border-bottom:1px solid #ddd;padding-bottom:.2em}\
+.summary{font-size:1.05em}.ok{color:#1d7a3a;font-weight:600}.bad{color:#b3261e;font-weight:600}\
+nav a{margin-right:1em;white-space:nowrap}\
+.pics{display:flex;flex-wrap:wrap;gap:1.2em;align-items:flex-start}\
+figure{margin:0;max-width:640px}figure img{max-width:100%;height:auto;border:1px solid #e4e4e4}\
+figcaption{font-size:.9em;color:#555}\
+table{border-collapse:collapse;margin:.8em 0;font-size:.92em}\
+th,td{border:1px solid #ddd;padding:.25em .6em;text-align:left}th{background:#f5f5f5}\
+td.num{font-family:ui-monospace,Menlo,Consolas,monospace;text-align:right}\
+pre{background:#f7f7f7;padding:.6em;overflow-x:auto;font-size:.9em}\
+.files{font-size:.9em;color:#555}";
+
+fn index_html(outcomes: &[Outcome], total: usize, failed: usize, elapsed: Duration) -> String {
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <title>geomkit demo</title>\n<style>{CSS}</style>\n</head>\n<body>\n\
+         <h1>geomkit demo</h1>\n"
+    );
+    let status = if failed == 0 {
+        format!("<span class=\"ok\">all {total} checks passed</span>")
+    } else {
+        format!("<span class=\"bad\">{failed} of {total} checks FAILED</span>")
+    };
+    let _ = writeln!(
+        h,
+        "<p class=\"summary\">{} items, {status} ({:.2} s). Generated by <code>geomkit demo</code> \
+         {}; every model file here can be fed back to <code>geomkit bezier …</code>.</p>",
+        outcomes.len(),
+        elapsed.as_secs_f64(),
+        env!("CARGO_PKG_VERSION")
+    );
+    let _ = writeln!(h, "<nav>");
+    for o in outcomes {
+        let _ = writeln!(h, "<a href=\"#{}\">{}</a>", o.id, escape(o.title));
+    }
+    let _ = writeln!(h, "</nav>");
+    for o in outcomes {
+        let r = &o.report;
+        let _ = writeln!(
+            h,
+            "<section id=\"{}\">\n<h2>{}</h2>\n<p>{}</p>",
+            o.id,
+            escape(o.title),
+            escape(&r.caption)
+        );
+        if !r.pictures.is_empty() {
+            let _ = writeln!(h, "<div class=\"pics\">");
+            for p in &r.pictures {
+                let _ = writeln!(
+                    h,
+                    "<figure><a href=\"{f}\"><img src=\"{f}\" alt=\"{c}\"></a>\
+                     <figcaption>{c}</figcaption></figure>",
+                    f = escape(&p.file),
+                    c = escape(&p.caption)
+                );
+            }
+            let _ = writeln!(h, "</div>");
+        }
+        h.push_str(&r.html);
+        if !r.files.is_empty() {
+            let links: Vec<String> = r
+                .files
+                .iter()
+                .map(|(f, what)| {
+                    format!(
+                        "<a href=\"{}\">{}</a> ({})",
+                        escape(f),
+                        escape(f),
+                        escape(what)
+                    )
+                })
+                .collect();
+            let _ = writeln!(
+                h,
+                "<p class=\"files\">Model files: {}</p>",
+                links.join(", ")
+            );
+        }
+        let _ = writeln!(
+            h,
+            "<table class=\"checks\"><tr><th>check</th><th>measured</th><th>limit</th>\
+             <th>result</th></tr>"
+        );
+        for c in &r.checks {
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td>\
+                 <td class=\"{}\">{}</td></tr>",
+                escape(&c.name),
+                escape(&c.measured),
+                escape(&c.limit),
+                if c.passed { "ok" } else { "bad" },
+                if c.passed { "pass" } else { "FAIL" }
+            );
+        }
+        let _ = writeln!(
+            h,
+            "</table>\n<p class=\"files\">{:.0} ms</p>\n</section>",
+            o.time.as_secs_f64() * 1e3
+        );
+    }
+    h.push_str("</body>\n</html>\n");
+    h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn checks_compare_and_format() {
+        assert!(Check::at_most("a", 1e-16, 2e-16).passed);
+        assert!(!Check::at_most("a", f64::NAN, 2e-16).passed);
+        assert!(Check::at_least("a", 0.5, 0.1).passed);
+        let c = Check::equal("degrees", "(5, 3, 2)", "(5, 3, 2)");
+        assert!(c.passed);
+        assert_eq!(c.limit, "= (5, 3, 2)");
+        assert_eq!(sci(0.0), "0");
+        assert_eq!(sci(1.5e-16), "1.50e-16");
+    }
+}

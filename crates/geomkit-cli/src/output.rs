@@ -1,0 +1,170 @@
+//! Writing results: files atomically (a temporary file in the target's directory, then a
+//! rename), so a failed or interrupted run never leaves a half-written file; and stdout
+//! without panicking when the reader goes away.
+//!
+//! Commands compute everything first and write last: when a command fails, no output file
+//! appears at all.
+
+use anyhow::{Context, Result};
+use std::fs;
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Where a command's main output goes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Destination {
+    /// Standard output.
+    Stdout,
+    /// A file, written atomically.
+    File(PathBuf),
+}
+
+impl Destination {
+    /// `-o PATH` given or not.
+    pub fn from_option(path: Option<&Path>) -> Self {
+        match path {
+            Some(p) => Destination::File(p.to_path_buf()),
+            None => Destination::Stdout,
+        }
+    }
+
+    /// Writes `contents` there.
+    pub fn write(&self, contents: &[u8]) -> Result<()> {
+        match self {
+            Destination::Stdout => write_stdout(contents),
+            Destination::File(path) => write_atomic(path, contents),
+        }
+    }
+
+    /// Streams output produced by `write` there (for large outputs such as CSV samples).
+    pub fn write_with(&self, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
+        match self {
+            Destination::Stdout => {
+                let stdout = io::stdout();
+                let mut out = BufWriter::new(stdout.lock());
+                write(&mut out)
+                    .and_then(|()| out.flush())
+                    .context("cannot write to standard output")
+            }
+            Destination::File(path) => write_atomic_with(path, write),
+        }
+    }
+}
+
+/// Writes `contents` to `path` atomically: the file either keeps its old contents (or stays
+/// absent) or has exactly the new ones.
+pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<()> {
+    write_atomic_with(path, |w| w.write_all(contents))
+}
+
+/// Like [`write_atomic`], with the contents produced by `write` into a buffered writer.
+pub fn write_atomic_with(
+    path: &Path,
+    write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+) -> Result<()> {
+    let what = || format!("cannot write {}", path.display());
+    if path.as_os_str().is_empty() {
+        anyhow::bail!("cannot write an output file with an empty name");
+    }
+    if path.is_dir() {
+        anyhow::bail!("cannot write {}: it is a directory", path.display());
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        anyhow::bail!(
+            "cannot write {}: directory {} does not exist",
+            path.display(),
+            dir.display()
+        );
+    }
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".geomkit-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        // Like a plain `File::create`: 0o666 minus the umask (tempfile's default is 0o600).
+        builder.permissions(fs::Permissions::from_mode(0o666));
+    }
+    let temp = builder.tempfile_in(dir).with_context(what)?;
+    let mut out = BufWriter::new(temp);
+    write(&mut out).with_context(what)?;
+    let temp = out
+        .into_inner()
+        .map_err(|e| e.into_error())
+        .with_context(what)?;
+    temp.as_file().sync_all().with_context(what)?;
+    temp.persist(path).map_err(|e| e.error).with_context(what)?;
+    Ok(())
+}
+
+/// Writes `contents` to standard output.
+pub fn write_stdout(contents: &[u8]) -> Result<()> {
+    let stdout = io::stdout();
+    let mut lock = stdout.lock();
+    lock.write_all(contents)
+        .and_then(|()| lock.flush())
+        .context("cannot write to standard output")
+}
+
+/// Creates `dir` (and its parents) if missing.
+pub fn ensure_dir(dir: &Path) -> Result<()> {
+    fs::create_dir_all(dir).with_context(|| format!("cannot create directory {}", dir.display()))
+}
+
+/// True when the error (or one of its causes) is a broken pipe: the reader of our standard
+/// output went away (`geomkit ... | head`), which is not worth an error message.
+pub fn is_broken_pipe(error: &anyhow::Error) -> bool {
+    error.chain().any(|e| {
+        e.downcast_ref::<io::Error>()
+            .is_some_and(|io| io.kind() == io::ErrorKind::BrokenPipe)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writes_and_replaces() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.txt");
+        write_atomic(&path, b"one").unwrap();
+        write_atomic(&path, b"two").unwrap();
+        assert_eq!(fs::read_to_string(&path).unwrap(), "two");
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn failed_write_leaves_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("b.txt");
+        let err = write_atomic_with(&path, |w| {
+            w.write_all(b"partial")?;
+            Err(io::Error::other("boom"))
+        })
+        .unwrap_err();
+        assert!(format!("{err:#}").contains("boom"));
+        assert!(!path.exists());
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn failed_write_keeps_old_contents() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("c.txt");
+        write_atomic(&path, b"old").unwrap();
+        let _ = write_atomic_with(&path, |_| Err(io::Error::other("boom")));
+        assert_eq!(fs::read_to_string(&path).unwrap(), "old");
+    }
+
+    #[test]
+    fn missing_directory_is_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("no/such/dir/d.txt");
+        let err = write_atomic(&path, b"x").unwrap_err();
+        assert!(format!("{err:#}").contains("does not exist"), "{err:#}");
+    }
+}
