@@ -157,10 +157,14 @@ pub(crate) fn reduce_least_squares(
     }
     let res = residual(&x).transpose();
     let worst = max_norm(res.as_slice(), point_dim);
+    // Entries below the accuracy floor eps·max|u| are zero within what the data determine
+    // (refinement otherwise leaves noise like 1e-33 where the exact answer is 0).
+    let floor = f64::EPSILON * max_norm(q, point_dim);
     let mut out = vec![0.0; (n_new + 1) * dim];
     for i in 0..=n_new {
         for k in 0..dim {
-            out[i * dim + k] = x[(i, k)];
+            let v = x[(i, k)];
+            out[i * dim + k] = if v.abs() < floor { 0.0 } else { v };
         }
     }
     Ok((out, worst))
@@ -522,7 +526,8 @@ impl BezierCurve {
 
     /// Exact reduction to degree `n_new` <= n: the curve of degree n' whose elevation
     /// reproduces these control points within `tolerance · max|u_i|` (default
-    /// [`DEFAULT_TOLERANCE`]). Errors with [`Error::DegreeDefectTooSmall`], naming the real
+    /// [`DEFAULT_TOLERANCE`]). Coordinates below eps·max|u_i| (the accuracy floor) are
+    /// returned as 0. Errors with [`Error::DegreeDefectTooSmall`], naming the real
     /// degree, when the defect does not allow it.
     pub fn reduce_degree(&self, n_new: usize, tolerance: Option<f64>) -> Result<BezierCurve> {
         let n = self.degree();
