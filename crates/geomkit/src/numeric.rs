@@ -45,6 +45,24 @@ impl Dd {
     }
 
     #[inline]
+    pub fn mul(self, o: Dd) -> Dd {
+        let (p, e) = two_prod(self.hi, o.hi);
+        let e = e + (self.hi * o.lo + self.lo * o.hi);
+        let (hi, lo) = quick_two_sum(p, e);
+        Dd { hi, lo }
+    }
+
+    /// Division by a double (cheaper than [`Dd::div`]).
+    #[inline]
+    pub fn div_f64(self, b: f64) -> Dd {
+        let q1 = self.hi / b;
+        let (p, e) = two_prod(q1, b);
+        let r = (self.hi - p - e + self.lo) / b;
+        let (hi, lo) = quick_two_sum(q1, r);
+        Dd { hi, lo }
+    }
+
+    #[inline]
     pub fn mul_f64(self, b: f64) -> Dd {
         let (p, e) = two_prod(self.hi, b);
         let (hi, lo) = quick_two_sum(p, e + self.lo * b);
@@ -239,6 +257,8 @@ mod tests {
         let third = Dd::from_f64(1.0).div(Dd::from_f64(3.0));
         let back = third.mul_f64(3.0);
         assert!((back.hi - 1.0).abs() + back.lo.abs() < 1e-30);
+        let seventh = Dd::from_f64(1.0).div_f64(7.0).mul(Dd::from_f64(7.0));
+        assert!((seventh.hi - 1.0).abs() + seventh.lo.abs() < 1e-30);
     }
 
     #[test]

@@ -58,6 +58,44 @@ pub trait ParamCurve {
     }
 }
 
+/// Highest degree evaluated by [`eval_horner`] (its binomials stay exact integers in u128 and
+/// its powers far from underflow); above it, de Casteljau.
+const HORNER_MAX_DEGREE: usize = 60;
+
+/// Evaluation in O(n) by the Bernstein–Horner scheme (Volk–Schumaker): for t <= 1/2,
+/// p(t) = Σ C(n,i) t^i (1-t)^(n-i) u_i accumulated by powers of (1-t) with exact binomials;
+/// for t > 1/2 the same on the reversed polygon, so every weight stays a convex combination.
+pub(crate) fn eval_horner(pts: &[f64], dim: usize, t: f64, out: &mut [f64]) {
+    let n = pts.len() / dim - 1;
+    let (t, rev) = if t > 0.5 { (1.0 - t, true) } else { (t, false) };
+    let point = |i: usize| {
+        let i = if rev { n - i } else { i };
+        &pts[i * dim..(i + 1) * dim]
+    };
+    if n == 0 {
+        out.copy_from_slice(point(0));
+        return;
+    }
+    let s = 1.0 - t;
+    for (o, p) in out.iter_mut().zip(point(0)) {
+        *o = p * s;
+    }
+    let mut tn = 1.0;
+    let mut bc: u128 = 1;
+    for i in 1..n {
+        tn *= t;
+        bc = bc * (n - i + 1) as u128 / i as u128;
+        let w = tn * bc as f64;
+        for (o, p) in out.iter_mut().zip(point(i)) {
+            *o = (*o + w * p) * s;
+        }
+    }
+    let w = tn * t;
+    for (o, p) in out.iter_mut().zip(point(n)) {
+        *o += w * p;
+    }
+}
+
 /// De Casteljau evaluation of the Bézier curve with control points `pts` (row-major,
 /// `dim` per point) at `t`, using `work` as scratch (same length as `pts`).
 pub(crate) fn de_casteljau(pts: &[f64], dim: usize, t: f64, work: &mut [f64], out: &mut [f64]) {
@@ -248,8 +286,12 @@ impl ParamCurve for BezierCurve {
 
     fn eval_into(&self, t: f64, out: &mut [f64]) {
         debug_assert_eq!(out.len(), self.dim);
-        let mut work = self.points.clone();
-        de_casteljau(&self.points, self.dim, t, &mut work, out);
+        if self.degree() <= HORNER_MAX_DEGREE {
+            eval_horner(&self.points, self.dim, t, out);
+        } else {
+            let mut work = self.points.clone();
+            de_casteljau(&self.points, self.dim, t, &mut work, out);
+        }
     }
 
     fn eval_many(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
@@ -266,9 +308,15 @@ impl ParamCurve for BezierCurve {
                 index,
             });
         }
-        let mut work = self.points.clone();
-        for (t, o) in ts.iter().zip(out.chunks_exact_mut(d)) {
-            de_casteljau(&self.points, d, *t, &mut work, o);
+        if self.degree() <= HORNER_MAX_DEGREE {
+            for (t, o) in ts.iter().zip(out.chunks_exact_mut(d)) {
+                eval_horner(&self.points, d, *t, o);
+            }
+        } else {
+            let mut work = self.points.clone();
+            for (t, o) in ts.iter().zip(out.chunks_exact_mut(d)) {
+                de_casteljau(&self.points, d, *t, &mut work, o);
+            }
         }
         Ok(())
     }
@@ -320,6 +368,20 @@ mod tests {
         );
         let back = BezierCurve::from_power(2, &s).unwrap();
         assert_eq!(back, c);
+    }
+
+    #[test]
+    fn horner_matches_de_casteljau() {
+        for n in [0usize, 1, 2, 7, 30, 60] {
+            let pts: Vec<f64> = (0..2 * (n + 1)).map(|k| ((k * 37 % 11) as f64 - 5.0) / 3.0).collect();
+            let mut work = pts.clone();
+            for t in [0.0, 1e-9, 0.25, 0.5, 0.5000001, 0.9, 1.0] {
+                let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+                eval_horner(&pts, 2, t, &mut a);
+                de_casteljau(&pts, 2, t, &mut work, &mut b);
+                assert!((a[0] - b[0]).abs() < 1e-14 && (a[1] - b[1]).abs() < 1e-14, "n={n} t={t}");
+            }
+        }
     }
 
     #[test]

@@ -56,7 +56,7 @@ pub(crate) fn elevation_weights(n: usize, n_new: usize) -> Vec<(usize, Vec<Dd>)>
                 if i > i0 {
                     let num = ((n - i + 1) * (j - i + 1)) as f64;
                     let den = (i * (m + i - j)) as f64;
-                    cur = cur.mul_f64(num).div(Dd::from_f64(den));
+                    cur = cur.mul_f64(num).div_f64(den);
                     if cur.hi > 1e200 {
                         let s = 2f64.powi(-600);
                         cur = cur.mul_f64(s);
@@ -67,8 +67,9 @@ pub(crate) fn elevation_weights(n: usize, n_new: usize) -> Vec<(usize, Vec<Dd>)>
                 w.push(cur);
                 total = total.add(cur);
             }
+            let inv = Dd::from_f64(1.0).div(total);
             for x in &mut w {
-                *x = x.div(total);
+                *x = x.mul(inv);
             }
             (i0, w)
         })
