@@ -414,7 +414,8 @@ GROUPS = [
     ("eval", "Evaluation at 10⁴ parameters t = k/9999",
      "Error measured on 101 of the parameters against the exact value of the polynomial at "
      "the float t (Fractions); time per call for all 10⁴ points, and per point. Algorithms: "
-     "geomkit `eval_many` de Casteljau, O(n²) per point; bezier (compiled) the VS "
+     "geomkit `eval_many` the Bernstein-Horner (Volk-Schumaker) scheme, O(n) per point, "
+     "8 parameters at a time (de Casteljau above degree 60); bezier (compiled) the VS "
      "(Volk-Schumaker) algorithm, O(n) per point, for up to 55 control points; geomdl "
      "Cox-de Boor basis functions in pure Python, called once per parameter by "
      "`evaluate_list`."),
