@@ -181,6 +181,14 @@ pub enum Error {
         /// Why.
         reason: &'static str,
     },
+    /// Given parameters that are not finite and strictly increasing, or of the wrong count.
+    #[error("invalid parameter {index}: {reason}")]
+    InvalidParameter {
+        /// Index of the offending parameter.
+        index: usize,
+        /// Why.
+        reason: &'static str,
+    },
     /// A knot vector that is not valid.
     #[error("invalid knot vector at knot {index}: {reason}")]
     InvalidKnots {

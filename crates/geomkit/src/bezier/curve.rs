@@ -108,7 +108,12 @@ const LANES: usize = 8;
 /// [`eval_horner`] at LANES parameters at once (points of dimension `D`), written so that the
 /// compiler vectorizes across the parameters.
 #[inline]
-fn eval_horner_block<const D: usize>(pts: &[f64], binom: &[f64], ts: &[f64; LANES], out: &mut [f64]) {
+fn eval_horner_block<const D: usize>(
+    pts: &[f64],
+    binom: &[f64],
+    ts: &[f64; LANES],
+    out: &mut [f64],
+) {
     let n = pts.len() / D - 1;
     let mut s = [0.0; LANES];
     let mut tn = [1.0; LANES];
@@ -149,9 +154,15 @@ fn eval_horner_block<const D: usize>(pts: &[f64], binom: &[f64], ts: &[f64; LANE
 fn eval_horner_many(pts: &[f64], dim: usize, ts: &[f64], out: &mut [f64]) {
     let n = pts.len() / dim - 1;
     let binom = binomial_row(n);
-    let blocks = if n >= 1 && (1..=4).contains(&dim) { ts.len() / LANES } else { 0 };
+    let blocks = if n >= 1 && (1..=4).contains(&dim) {
+        ts.len() / LANES
+    } else {
+        0
+    };
     for b in 0..blocks {
-        let tb: &[f64; LANES] = ts[b * LANES..(b + 1) * LANES].try_into().expect("block of LANES");
+        let tb: &[f64; LANES] = ts[b * LANES..(b + 1) * LANES]
+            .try_into()
+            .expect("block of LANES");
         let ob = &mut out[b * LANES * dim..(b + 1) * LANES * dim];
         match dim {
             1 => eval_horner_block::<1>(pts, &binom, tb, ob),
@@ -440,13 +451,18 @@ mod tests {
     #[test]
     fn horner_matches_de_casteljau() {
         for n in [0usize, 1, 2, 7, 30, 60] {
-            let pts: Vec<f64> = (0..2 * (n + 1)).map(|k| ((k * 37 % 11) as f64 - 5.0) / 3.0).collect();
+            let pts: Vec<f64> = (0..2 * (n + 1))
+                .map(|k| ((k * 37 % 11) as f64 - 5.0) / 3.0)
+                .collect();
             let mut work = pts.clone();
             for t in [0.0, 1e-9, 0.25, 0.5, 0.5000001, 0.9, 1.0] {
                 let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
                 eval_horner(&pts, 2, &binomial_row(n), t, &mut a);
                 de_casteljau(&pts, 2, t, &mut work, &mut b);
-                assert!((a[0] - b[0]).abs() < 1e-14 && (a[1] - b[1]).abs() < 1e-14, "n={n} t={t}");
+                assert!(
+                    (a[0] - b[0]).abs() < 1e-14 && (a[1] - b[1]).abs() < 1e-14,
+                    "n={n} t={t}"
+                );
             }
         }
     }
@@ -455,7 +471,9 @@ mod tests {
     fn blocked_horner_matches_single() {
         for dim in 1..=5 {
             for n in [1usize, 3, 20] {
-                let pts: Vec<f64> = (0..dim * (n + 1)).map(|k| ((k * 37 % 11) as f64 - 5.0) / 3.0).collect();
+                let pts: Vec<f64> = (0..dim * (n + 1))
+                    .map(|k| ((k * 37 % 11) as f64 - 5.0) / 3.0)
+                    .collect();
                 let ts: Vec<f64> = (0..19).map(|k| k as f64 / 18.0).collect();
                 let mut many = vec![0.0; 19 * dim];
                 eval_horner_many(&pts, dim, &ts, &mut many);
@@ -463,7 +481,11 @@ mod tests {
                 for (k, t) in ts.iter().enumerate() {
                     let mut one = vec![0.0; dim];
                     eval_horner(&pts, dim, &binom, *t, &mut one);
-                    assert_eq!(&many[k * dim..(k + 1) * dim], &one[..], "dim {dim} n {n} t {t}");
+                    assert_eq!(
+                        &many[k * dim..(k + 1) * dim],
+                        &one[..],
+                        "dim {dim} n {n} t {t}"
+                    );
                 }
             }
         }

@@ -146,6 +146,68 @@ pub fn interpolate_curve_flat(
     })
 }
 
+/// Interpolates row-major points at given parameters (SciPy's `make_interp_spline(x, y)`):
+/// the curve passes through point i at `parameters[i]`. Open curves take N strictly increasing
+/// finite parameters; periodic ones N+1, the last closing the curve (or N with a last point
+/// equal to the first, which is dropped, as SciPy expects). Errors: as
+/// [`interpolate_curve_flat`], parameters not finite or not increasing or of the wrong count,
+/// and the paper's repeat condition (it fixes its own parameters).
+///
+/// ```
+/// use geomkit::bspline::{interpolate_curve_at, EndCondition};
+/// use geomkit::bezier::ParamCurve;
+/// let x = [0.0, 0.5, 2.0, 2.5, 4.0];
+/// let y = [1.0, 3.0, 2.0, 0.0, 1.0];
+/// let fit = interpolate_curve_at(1, &y, &x, &EndCondition::NotAKnot).unwrap();
+/// assert!((fit.curve.eval(2.0)[0] - 2.0).abs() < 1e-15);
+/// ```
+pub fn interpolate_curve_at(
+    dim: usize,
+    points: &[f64],
+    parameters: &[f64],
+    end: &EndCondition,
+) -> Result<CurveInterpolation> {
+    crate::points::validate_points("reference points", dim, points)?;
+    if *end == EndCondition::Repeat {
+        return Err(Error::InvalidOption {
+            option: "end condition",
+            reason: "the paper's repeated end points fix their own parameters",
+        });
+    }
+    let mut n = points.len() / dim;
+    let closed = *end == EndCondition::Periodic;
+    if closed && parameters.len() == n && n >= 2 && points[..dim] == points[(n - 1) * dim..] {
+        n -= 1;
+    }
+    let want = if closed { n + 1 } else { n };
+    if parameters.len() != want {
+        return Err(Error::InvalidParameter {
+            index: parameters.len().min(want),
+            reason: "need one parameter per point (periodic: plus the closing one)",
+        });
+    }
+    if let Some(index) = parameters.iter().position(|t| !t.is_finite()) {
+        return Err(Error::NonFinite {
+            what: "parameter",
+            index,
+        });
+    }
+    if let Some(i) = parameters.windows(2).position(|w| w[1] <= w[0]) {
+        return Err(Error::InvalidParameter {
+            index: i + 1,
+            reason: "parameters must be strictly increasing",
+        });
+    }
+    let points = &points[..n * dim];
+    let system = Solver1d::new(parameters, end, Parametrization::ChordLength)?;
+    let mut control = vec![0.0; system.n_control() * dim];
+    system.solve(points, dim, &mut control)?;
+    Ok(CurveInterpolation {
+        curve: BsplineCurve::from_flat(3, system.knots.clone(), dim, control)?,
+        parameters: system.parameters.clone(),
+    })
+}
+
 /// Parameters t_0 = 0 < t_1 < ... (N values, or N+1 with the closing one for closed curves).
 pub fn parameters(
     points: &[f64],

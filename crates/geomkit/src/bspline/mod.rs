@@ -21,13 +21,13 @@ mod tiles;
 
 pub use curve::BsplineCurve;
 pub use interpolate::{
-    interpolate_curve, interpolate_curve_flat, paper_dense_inner_points, parameters,
-    CurveInterpolation, EndCondition, InterpolationOptions, Parametrization,
+    interpolate_curve, interpolate_curve_at, interpolate_curve_flat, paper_dense_inner_points,
+    parameters, CurveInterpolation, EndCondition, InterpolationOptions, Parametrization,
 };
 pub use sample::FdReport;
 pub use surface::{
-    interpolate_heights, interpolate_surface, interpolate_surface_flat, BsplineSurface,
-    SurfaceInterpolation, SurfaceInterpolationOptions,
+    interpolate_heights, interpolate_heights_at, interpolate_surface, interpolate_surface_flat,
+    BsplineSurface, SurfaceInterpolation, SurfaceInterpolationOptions,
 };
 pub use tiles::{
     interpolate_curve_tiled, paper_fragments_averaged, CurveTiler, TileOptions, TilePlan,

@@ -510,11 +510,22 @@ pub fn interpolate_surface_flat(
     )?;
     let sys_u = Solver1d::new(&tu, &options.end_u, p)?;
     let sys_v = Solver1d::new(&tv, &options.end_v, p)?;
-    // Rows along v, then (transposed) along u.
-    let r = solve_rows(&sys_v, &grid, m, n, dim)?;
+    separable(&grid, m, n, dim, &sys_u, &sys_v)
+}
+
+/// The separable solve: rows along v, then (transposed) along u.
+fn separable(
+    grid: &[f64],
+    m: usize,
+    n: usize,
+    dim: usize,
+    sys_u: &Solver1d,
+    sys_v: &Solver1d,
+) -> Result<SurfaceInterpolation> {
+    let r = solve_rows(sys_v, grid, m, n, dim)?;
     let nv = sys_v.n_control();
     let rt = transpose(&r, m, nv, dim);
-    let ct = solve_rows(&sys_u, &rt, nv, m, dim)?;
+    let ct = solve_rows(sys_u, &rt, nv, m, dim)?;
     let nu = sys_u.n_control();
     let control = transpose(&ct, nv, nu, dim);
     Ok(SurfaceInterpolation {
@@ -577,4 +588,55 @@ pub fn interpolate_heights(
         1,
         s.control,
     )
+}
+
+/// Interpolates heights z[i][j] (row-major, `xs.len() × ys.len()`) given at the grid
+/// (xs[i], ys[j]) with any strictly increasing coordinates (SciPy's
+/// `RectBivariateSpline(x, y, z, s=0)` is the not-a-knot case): a scalar surface z(x, y).
+/// Errors: coordinates not finite or not increasing, fewer than 2 per direction, a `z` of
+/// the wrong length or with non-finite values, periodic or repeat ends.
+pub fn interpolate_heights_at(
+    z: &[f64],
+    xs: &[f64],
+    ys: &[f64],
+    end: &EndCondition,
+) -> Result<BsplineSurface> {
+    if *end == EndCondition::Periodic || *end == EndCondition::Repeat {
+        return Err(Error::InvalidOption {
+            option: "height end condition",
+            reason: "heights over a grid take natural, clamped, not-a-knot or outer-points ends",
+        });
+    }
+    validate_points("heights", 1, z)?;
+    if z.len() != xs.len() * ys.len() {
+        return Err(Error::BufferSize {
+            expected: xs.len() * ys.len(),
+            got: z.len(),
+        });
+    }
+    for axis in [xs, ys] {
+        if axis.len() < 2 {
+            return Err(Error::TooFewPoints {
+                what: "grid coordinates",
+                got: axis.len(),
+                min: 2,
+            });
+        }
+        if let Some(index) = axis.iter().position(|t| !t.is_finite()) {
+            return Err(Error::NonFinite {
+                what: "grid coordinate",
+                index,
+            });
+        }
+        if let Some(i) = axis.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(Error::InvalidParameter {
+                index: i + 1,
+                reason: "grid coordinates must be strictly increasing",
+            });
+        }
+    }
+    let p = Parametrization::ChordLength;
+    let sys_u = Solver1d::new(xs, end, p)?;
+    let sys_v = Solver1d::new(ys, end, p)?;
+    Ok(separable(z, xs.len(), ys.len(), 1, &sys_u, &sys_v)?.surface)
 }
