@@ -39,41 +39,71 @@ use nalgebra::DMatrix;
 /// `DEFAULT_TOLERANCE · max|u_i|`.
 pub const DEFAULT_TOLERANCE: f64 = 1e-12;
 
-/// Column j of the elevation matrix n -> n': the first index i0 and the weights
-/// w_ji = C(n,i) C(n'-n,j-i) / C(n',j) for i = i0.. (double-double, correctly rounded).
-pub(crate) fn elevation_weights(n: usize, n_new: usize) -> Vec<(usize, Vec<Dd>)> {
+/// The elevation matrix n -> n' by columns: column j holds the weights
+/// w_ji = C(n,i) C(n'-n,j-i) / C(n',j) for i = first[j].. (double-double, correctly rounded),
+/// stored contiguously in one buffer.
+pub(crate) struct ElevationWeights {
+    first: Vec<usize>,
+    offset: Vec<usize>,
+    w: Vec<Dd>,
+}
+
+impl ElevationWeights {
+    /// First row index and weights of column j.
+    #[inline]
+    pub fn column(&self, j: usize) -> (usize, &[Dd]) {
+        (self.first[j], &self.w[self.offset[j]..self.offset[j + 1]])
+    }
+}
+
+pub(crate) fn elevation_weights(n: usize, n_new: usize) -> ElevationWeights {
     let m = n_new - n;
-    (0..=n_new)
-        .map(|j| {
-            let i0 = j.saturating_sub(m);
-            let i1 = n.min(j);
-            // Unnormalized weights by the ratio recurrence, then divide by their sum
-            // (Vandermonde: Σ_i C(n,i) C(m,j-i) = C(n',j)), which avoids under/overflow.
-            let mut w = Vec::with_capacity(i1 - i0 + 1);
-            let mut cur = Dd::from_f64(1.0);
-            let mut total = Dd::ZERO;
-            for i in i0..=i1 {
-                if i > i0 {
-                    let num = ((n - i + 1) * (j - i + 1)) as f64;
-                    let den = (i * (m + i - j)) as f64;
-                    cur = cur.mul_f64(num).div_f64(den);
-                    if cur.hi > 1e200 {
-                        let s = 2f64.powi(-600);
-                        cur = cur.mul_f64(s);
-                        total = total.mul_f64(s);
-                        w.iter_mut().for_each(|x: &mut Dd| *x = x.mul_f64(s));
-                    }
+    let mut first = Vec::with_capacity(n_new + 1);
+    let mut offset = Vec::with_capacity(n_new + 2);
+    let mut w: Vec<Dd> = Vec::with_capacity((n_new + 1) * (n.min(m) + 1));
+    offset.push(0);
+    for j in 0..=n_new {
+        let i0 = j.saturating_sub(m);
+        let i1 = n.min(j);
+        let start = w.len();
+        if m == 1 {
+            // Elevation by one, formula (6): weights j/(n+1) and (n+1-j)/(n+1).
+            let np1 = (n + 1) as f64;
+            if j > 0 {
+                w.push(Dd::from_f64(j as f64).div_f64(np1));
+            }
+            if j <= n {
+                w.push(Dd::from_f64((n + 1 - j) as f64).div_f64(np1));
+            }
+            first.push(i0);
+            offset.push(w.len());
+            continue;
+        }
+        // Unnormalized weights by the ratio recurrence, then divide by their sum
+        // (Vandermonde: Σ_i C(n,i) C(m,j-i) = C(n',j)), which avoids under/overflow.
+        let mut cur = Dd::from_f64(1.0);
+        let mut total = Dd::ZERO;
+        for i in i0..=i1 {
+            if i > i0 {
+                let num = ((n - i + 1) * (j - i + 1)) as f64;
+                let den = (i * (m + i - j)) as f64;
+                cur = cur.mul_f64(num).div_f64(den);
+                if cur.hi > 1e200 {
+                    let s = 2f64.powi(-600);
+                    cur = cur.mul_f64(s);
+                    total = total.mul_f64(s);
+                    w[start..].iter_mut().for_each(|x| *x = x.mul_f64(s));
                 }
-                w.push(cur);
-                total = total.add(cur);
             }
-            let inv = Dd::from_f64(1.0).div(total);
-            for x in &mut w {
-                *x = x.mul(inv);
-            }
-            (i0, w)
-        })
-        .collect()
+            w.push(cur);
+            total = total.add(cur);
+        }
+        let inv = Dd::from_f64(1.0).div(total);
+        w[start..].iter_mut().for_each(|x| *x = x.mul(inv));
+        first.push(i0);
+        offset.push(w.len());
+    }
+    ElevationWeights { first, offset, w }
 }
 
 /// Elevates row-major control points (`dim` each) to degree `n_new` >= n with the closed
@@ -85,7 +115,8 @@ pub(crate) fn elevate_flat(pts: &[f64], dim: usize, n_new: usize) -> Vec<f64> {
     }
     let weights = elevation_weights(n, n_new);
     let mut out = vec![0.0; (n_new + 1) * dim];
-    for (j, (i0, w)) in weights.iter().enumerate() {
+    for j in 0..=n_new {
+        let (i0, w) = weights.column(j);
         for k in 0..dim {
             let mut acc = Dd::ZERO;
             for (r, wi) in w.iter().enumerate() {
@@ -110,7 +141,8 @@ pub(crate) fn reduce_least_squares(
     let big_n = q.len() / dim - 1;
     let weights = elevation_weights(n_new, big_n);
     let mut e = DMatrix::<f64>::zeros(big_n + 1, n_new + 1);
-    for (j, (i0, w)) in weights.iter().enumerate() {
+    for j in 0..=big_n {
+        let (i0, w) = weights.column(j);
         for (r, wi) in w.iter().enumerate() {
             e[(j, i0 + r)] = wi.hi;
         }
@@ -135,7 +167,7 @@ pub(crate) fn reduce_least_squares(
     // Residual Q - E X in double-double, as a (N+1)×dim matrix.
     let residual = |x: &DMatrix<f64>| {
         DMatrix::from_fn(big_n + 1, dim, |j, k| {
-            let (i0, w) = &weights[j];
+            let (i0, w) = weights.column(j);
             let mut acc = Dd::from_f64(q[j * dim + k]);
             for (r, wi) in w.iter().enumerate() {
                 acc = acc.fma(
