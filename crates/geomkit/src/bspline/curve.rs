@@ -138,6 +138,19 @@ pub(crate) fn basis_funs_derivs(
     ders
 }
 
+/// The uniform cubic B-spline basis at local u ∈ [0, 1] of a span: the rows of the paper's
+/// matrix M of formula (1), [u³ u² u 1]·M = [(1-u)³, 3u³-6u²+4, -3u³+3u²+3u+1, u³] / 6.
+#[inline]
+pub(crate) fn uniform_cubic_basis(u: f64, out: &mut [f64]) {
+    let v = 1.0 - u;
+    let u2 = u * u;
+    let u3 = u2 * u;
+    out[0] = v * v * v / 6.0;
+    out[1] = (3.0 * u3 - 6.0 * u2 + 4.0) / 6.0;
+    out[2] = (-3.0 * u3 + 3.0 * u2 + 3.0 * u + 1.0) / 6.0;
+    out[3] = u3 / 6.0;
+}
+
 fn detect_uniform_step(knots: &[f64]) -> Option<f64> {
     let h = knots[1] - knots[0];
     if h <= 0.0 {
@@ -316,17 +329,16 @@ impl BsplineCurve {
     }
 }
 
-impl ParamCurve for BsplineCurve {
-    fn dim(&self) -> usize {
-        self.dim
-    }
-
+impl BsplineCurve {
+    /// Evaluates the polynomial piece of span `s` at t (also outside the span).
     #[inline]
-    fn eval_into(&self, t: f64, out: &mut [f64]) {
+    pub(crate) fn eval_span_into(&self, s: usize, t: f64, out: &mut [f64]) {
         let p = self.degree;
-        let s = self.span(t);
         let mut basis = [0.0f64; 8];
-        basis_funs(&self.knots, s, t, p, &mut basis[..=p]);
+        match self.uniform_step {
+            Some(h) if p == 3 => uniform_cubic_basis((t - self.knots[s]) / h, &mut basis),
+            _ => basis_funs(&self.knots, s, t, p, &mut basis[..=p]),
+        }
         out.iter_mut().for_each(|o| *o = 0.0);
         let d = self.dim;
         for (r, w) in basis[..=p].iter().enumerate() {
@@ -335,6 +347,17 @@ impl ParamCurve for BsplineCurve {
                 *o += w * c;
             }
         }
+    }
+}
+
+impl ParamCurve for BsplineCurve {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+
+    #[inline]
+    fn eval_into(&self, t: f64, out: &mut [f64]) {
+        self.eval_span_into(self.span(t), t, out);
     }
 }
 
@@ -370,6 +393,20 @@ mod tests {
             assert!((a[0] - b[0]).abs() < 1e-11 && (a[1] - b[1]).abs() < 1e-11);
         }
         assert!(!c.is_uniform());
+    }
+
+    #[test]
+    fn uniform_basis_matches_cox_de_boor() {
+        let knots: Vec<f64> = (0..12).map(|k| k as f64 * 0.5 - 1.0).collect();
+        for t in [0.5, 0.61, 1.0, 1.37, 2.49] {
+            let s = find_span(&knots, 3, 8, t);
+            let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+            basis_funs(&knots, s, t, 3, &mut a);
+            uniform_cubic_basis((t - knots[s]) / 0.5, &mut b);
+            for k in 0..4 {
+                assert!((a[k] - b[k]).abs() < 1e-15, "{t}: {a:?} {b:?}");
+            }
+        }
     }
 
     #[test]

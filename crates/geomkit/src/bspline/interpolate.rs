@@ -281,6 +281,8 @@ enum Kind {
         lu: BandLu,
         start: EndRhs,
         end: EndRhs,
+        /// Factors that equilibrated the two end rows (their right-hand sides get them too).
+        scales: [f64; 2],
     },
     /// Periodic: N unknowns p_0..p_(N-1), control [p_(N-1) p_0 .. p_(N-1) p_0 p_1].
     Periodic { lu: CyclicLu },
@@ -463,8 +465,24 @@ impl Solver1d {
                 }
             })
         };
-        let start = row_for(start_cond, true)?;
-        let finish = row_for(end_cond, false)?;
+        // Equilibrate the end rows: derivative rows scale like 1/h^k and would otherwise
+        // dwarf the interpolation rows (bad pivots, false "singular" verdicts).
+        let equilibrate = |(first, coeffs, rhs): (usize, Vec<f64>, EndRhs)| {
+            let m = coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+            let f = if m > 0.0 && m.is_finite() {
+                1.0 / m
+            } else {
+                1.0
+            };
+            (
+                first,
+                coeffs.iter().map(|c| c * f).collect::<Vec<f64>>(),
+                rhs,
+                f,
+            )
+        };
+        let start = equilibrate(row_for(start_cond, true)?);
+        let finish = equilibrate(row_for(end_cond, false)?);
         let mut a = BandMatrix::zeros(nc, 3, 3);
         let mut put_row = |row: usize, first: usize, coeffs: &[f64]| {
             for (k, &v) in coeffs.iter().enumerate() {
@@ -489,6 +507,7 @@ impl Solver1d {
                 lu: a.factor()?,
                 start: start.2,
                 end: finish.2,
+                scales: [start.3, finish.3],
             },
         })
     }
@@ -511,12 +530,20 @@ impl Solver1d {
         let n = points.len() / dim;
         debug_assert_eq!(out.len(), self.n_control() * dim);
         match &self.kind {
-            Kind::Open { lu, start, end } => {
+            Kind::Open {
+                lu,
+                start,
+                end,
+                scales,
+            } => {
                 for i in 0..n {
                     let r = Self::open_row(i, n);
                     out[r * dim..(r + 1) * dim].copy_from_slice(&points[i * dim..(i + 1) * dim]);
                 }
-                for (row, rhs, which) in [(1, start, "start tangent"), (n, end, "end tangent")] {
+                for (row, rhs, which, scale) in [
+                    (1, start, "start tangent", scales[0]),
+                    (n, end, "end tangent", scales[1]),
+                ] {
                     let v: Vec<f64> = match rhs {
                         EndRhs::Zero => vec![0.0; dim],
                         EndRhs::Given(v) => {
@@ -554,7 +581,9 @@ impl Solver1d {
                                 .collect()
                         }
                     };
-                    out[row * dim..(row + 1) * dim].copy_from_slice(&v);
+                    for (o, x) in out[row * dim..(row + 1) * dim].iter_mut().zip(&v) {
+                        *o = x * scale;
+                    }
                 }
                 lu.solve(out, dim);
             }
