@@ -22,6 +22,7 @@
 
 use super::banded::{BandLu, BandMatrix, CyclicLu};
 use super::curve::{basis_funs, basis_funs_derivs, BsplineCurve};
+use super::uniform::UniformSystem;
 use crate::points::flatten_points;
 use crate::{Error, Result};
 
@@ -284,6 +285,14 @@ enum Kind {
         /// Factors that equilibrated the two end rows (their right-hand sides get them too).
         scales: [f64; 2],
     },
+    /// Open curve with uniform parameters: T = tridiag(1, 4, 1) plus the two end rows,
+    /// rows ordered [start, interp t_0..t_(N-1) (×6), end].
+    Uniform {
+        sys: UniformSystem,
+        start: EndRhs,
+        end: EndRhs,
+        scales: [f64; 2],
+    },
     /// Periodic: N unknowns p_0..p_(N-1), control [p_(N-1) p_0 .. p_(N-1) p_0 p_1].
     Periodic { lu: CyclicLu },
     /// The paper's repeated ends: N-2 inner unknowns, control [k0 ×3, p*, k_(N-1) ×3].
@@ -483,6 +492,23 @@ impl Solver1d {
         };
         let start = equilibrate(row_for(start_cond, true)?);
         let finish = equilibrate(row_for(end_cond, false)?);
+        if is_uniform(t) {
+            if let Some(sys) =
+                UniformSystem::new(nc, (start.0, start.1.clone()), (finish.0, finish.1.clone()))
+            {
+                return Ok(Solver1d {
+                    knots,
+                    parameters: t.to_vec(),
+                    t: t.to_vec(),
+                    kind: Kind::Uniform {
+                        sys,
+                        start: start.2,
+                        end: finish.2,
+                        scales: [start.3, finish.3],
+                    },
+                });
+            }
+        }
         let mut a = BandMatrix::zeros(nc, 3, 3);
         let mut put_row = |row: usize, first: usize, coeffs: &[f64]| {
             for (k, &v) in coeffs.iter().enumerate() {
@@ -524,6 +550,60 @@ impl Solver1d {
         }
     }
 
+    /// The right-hand side of an end row (before equilibration). Errors: a given tangent of
+    /// the wrong dimension or not finite.
+    fn end_value(
+        &self,
+        rhs: &EndRhs,
+        at_start: bool,
+        points: &[f64],
+        dim: usize,
+    ) -> Result<Vec<f64>> {
+        let n = points.len() / dim;
+        let which = if at_start {
+            "start tangent"
+        } else {
+            "end tangent"
+        };
+        Ok(match rhs {
+            EndRhs::Zero => vec![0.0; dim],
+            EndRhs::Given(v) => {
+                if v.len() != dim {
+                    return Err(Error::DimensionMismatch {
+                        what: which,
+                        index: 0,
+                        expected: dim,
+                        got: v.len(),
+                    });
+                }
+                if v.iter().any(|x| !x.is_finite()) {
+                    return Err(Error::NonFinite {
+                        what: which,
+                        index: 0,
+                    });
+                }
+                v.clone()
+            }
+            EndRhs::Outer(f) => {
+                let (e, nb) = if at_start { (0, 1) } else { (n - 1, n - 2) };
+                (0..dim)
+                    .map(|c| points[e * dim + c] + f * (points[e * dim + c] - points[nb * dim + c]))
+                    .collect()
+            }
+            EndRhs::Estimated if at_start => bessel_tangent(points, dim, &self.t),
+            EndRhs::Estimated => {
+                // The last three points and parameters, reversed (t negated).
+                let k = n.min(3);
+                let rev_pts = reversed(&points[(n - k) * dim..], dim);
+                let rev_t: Vec<f64> = self.t[n - k..n].iter().rev().map(|v| -v).collect();
+                bessel_tangent(&rev_pts, dim, &rev_t)
+                    .iter()
+                    .map(|v| -v)
+                    .collect()
+            }
+        })
+    }
+
     /// Control points (row-major, `n_control() * dim`) interpolating `points` (N × dim).
     /// Errors: a given tangent of the wrong dimension or not finite.
     pub fn solve(&self, points: &[f64], dim: usize, out: &mut [f64]) -> Result<()> {
@@ -540,52 +620,34 @@ impl Solver1d {
                     let r = Self::open_row(i, n);
                     out[r * dim..(r + 1) * dim].copy_from_slice(&points[i * dim..(i + 1) * dim]);
                 }
-                for (row, rhs, which, scale) in [
-                    (1, start, "start tangent", scales[0]),
-                    (n, end, "end tangent", scales[1]),
-                ] {
-                    let v: Vec<f64> = match rhs {
-                        EndRhs::Zero => vec![0.0; dim],
-                        EndRhs::Given(v) => {
-                            if v.len() != dim {
-                                return Err(Error::DimensionMismatch {
-                                    what: which,
-                                    index: 0,
-                                    expected: dim,
-                                    got: v.len(),
-                                });
-                            }
-                            if v.iter().any(|x| !x.is_finite()) {
-                                return Err(Error::NonFinite {
-                                    what: which,
-                                    index: 0,
-                                });
-                            }
-                            v.clone()
-                        }
-                        EndRhs::Outer(f) => {
-                            let (e, nb) = if row == 1 { (0, 1) } else { (n - 1, n - 2) };
-                            (0..dim)
-                                .map(|c| {
-                                    points[e * dim + c]
-                                        + f * (points[e * dim + c] - points[nb * dim + c])
-                                })
-                                .collect()
-                        }
-                        EndRhs::Estimated if row == 1 => bessel_tangent(points, dim, &self.t),
-                        EndRhs::Estimated => {
-                            let rev_t: Vec<f64> = self.t.iter().rev().map(|v| -v).collect();
-                            bessel_tangent(&reversed(points, dim), dim, &rev_t)
-                                .iter()
-                                .map(|v| -v)
-                                .collect()
-                        }
-                    };
+                for (row, rhs, at_start, scale) in
+                    [(1, start, true, scales[0]), (n, end, false, scales[1])]
+                {
+                    let v = self.end_value(rhs, at_start, points, dim)?;
                     for (o, x) in out[row * dim..(row + 1) * dim].iter_mut().zip(&v) {
                         *o = x * scale;
                     }
                 }
                 lu.solve(out, dim);
+            }
+            Kind::Uniform {
+                sys,
+                start,
+                end,
+                scales,
+            } => {
+                for (o, p) in out[dim..(n + 1) * dim].iter_mut().zip(points) {
+                    *o = 6.0 * p;
+                }
+                for (row, rhs, at_start, scale) in
+                    [(0, start, true, scales[0]), (n + 1, end, false, scales[1])]
+                {
+                    let v = self.end_value(rhs, at_start, points, dim)?;
+                    for (o, x) in out[row * dim..(row + 1) * dim].iter_mut().zip(&v) {
+                        *o = x * scale;
+                    }
+                }
+                sys.solve(out, dim);
             }
             Kind::Periodic { lu } => {
                 let mut p = points.to_vec();
@@ -627,6 +689,19 @@ impl Solver1d {
         }
         Ok(())
     }
+}
+
+/// Whether parameters are equally spaced (to 4 ulps of their range).
+fn is_uniform(t: &[f64]) -> bool {
+    let n = t.len();
+    if n < 2 {
+        return false;
+    }
+    let h = (t[n - 1] - t[0]) / (n - 1) as f64;
+    let tol = 4.0 * f64::EPSILON * t[0].abs().max(t[n - 1].abs());
+    t.iter()
+        .enumerate()
+        .all(|(i, &v)| (v - (t[0] + i as f64 * h)).abs() <= tol)
 }
 
 /// Knots for an open curve: t_0..t_(N-1) with three more beyond each end, spaced like the

@@ -18,6 +18,7 @@ mod interpolate;
 mod sample;
 mod surface;
 mod tiles;
+mod uniform;
 
 pub use curve::BsplineCurve;
 pub use interpolate::{

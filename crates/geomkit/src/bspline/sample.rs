@@ -33,7 +33,9 @@ pub struct FdReport {
 impl BsplineCurve {
     /// Evaluates the curve (degree <= 3) at `count` >= 2 uniformly spaced parameters over its
     /// domain into `out` (count × dim, row-major) by forward differences restarted at each
-    /// span, in parallel over spans. Errors: degree above 3, count < 2, wrong buffer length.
+    /// span, in parallel over spans (spans with fewer than 8 samples, and whole samplings
+    /// with fewer than 8 samples per span, are evaluated directly: there the differences
+    /// cost more than they save, and the reported bound covers only differenced runs). Errors: degree above 3, count < 2, wrong buffer length.
     pub fn sample_uniform_fd(&self, count: usize, out: &mut [f64]) -> Result<FdReport> {
         let d = self.dim();
         let p = self.degree();
@@ -60,6 +62,26 @@ impl BsplineCurve {
         let step = (b - a) / (count - 1) as f64;
         let knots = self.knots();
         let n_c = self.n_control();
+        if count < 8 * (n_c - p) {
+            // Fewer than 8 samples per span: direct evaluation is cheaper than differences.
+            out.par_chunks_mut(4096 * d)
+                .enumerate()
+                .for_each(|(block, chunk)| {
+                    for (k, row) in chunk.chunks_exact_mut(d).enumerate() {
+                        let i = block * 4096 + k;
+                        let t = if i + 1 == count {
+                            b
+                        } else {
+                            a + i as f64 * step
+                        };
+                        self.eval_into(t, row);
+                    }
+                });
+            return Ok(FdReport {
+                max_steps: 0,
+                bound: 0.0,
+            });
+        }
         // Sample index where each span starts: first k with t_k >= knot[s].
         let first_index = |s: usize| -> usize {
             if s <= p {
