@@ -94,7 +94,7 @@ impl UniformSystem {
         }
         let det = c[0][0] * c[1][1] - c[0][1] * c[1][0];
         let scale = c.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-        if !(det.abs() > 1e-13 * scale * scale) {
+        if det.is_nan() || det.abs() <= 1e-13 * scale * scale {
             return None;
         }
         sys.cap_inv = [
