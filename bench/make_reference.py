@@ -19,10 +19,12 @@ tests read them with include_str! and never run Python):
   make_interp_spline(x, y, k=3, bc_type=...) for not-a-knot, natural, clamped (first
   derivative 0 at both ends, SciPy's meaning of "clamped") and periodic ends on data sets
   with uniform x = 0..N-1, non-uniform (given) x, and chord-length / centripetal x computed
-  exactly as geomkit computes them; values at 100 (200 for the 50-point set) parameters
+  exactly as geomkit computes them; values at 80 (200 for the 50-point set) parameters
   (every data site, both sides of every interior site, uniform fill), first and second
-  derivatives at 20; and RectBivariateSpline(x, y, z, kx=3, ky=3, s=0) on a 12×9 grid of heights
-  (uniform and non-uniform coordinates).
+  derivatives at 20 (one data set has a last interval 1/100 of the one before it); and
+  RectBivariateSpline(x, y, z, kx=3, ky=3, s=0) on a 12×9 grid of heights with uniform,
+  mildly non-uniform and random coordinates: values on a 30×30 grid, partial derivatives
+  at 10 points.
 
 Run through `bash bench/make_reference.sh` (creates bench/.venv from the pinned
 bench/requirements.txt). Directly: `bench/.venv/bin/python bench/make_reference.py
@@ -271,20 +273,24 @@ def geomkit_parameters(pts, centripetal=False):
     return t
 
 
-def eval_parameters(x, count=200):
+def eval_parameters(x, count):
     """Every data site, points just either side of each interior site (both polynomial
-    pieces next to a knot), and uniform fill, ~count in all, sorted, inside [x0, x_end]."""
+    pieces next to a knot), and uniform fill: `count` distinct parameters in [x0, x_end],
+    sorted."""
     x = [float(v) for v in x]
     x0, x1 = x[0], x[-1]
     h = min(b - a for a, b in zip(x[:-1], x[1:]))
-    ts = set(x)
+    base = set(x)
     for v in x[1:-1]:
-        ts.add(v - 1e-7 * h)
-        ts.add(v + 1e-7 * h)
-    fill = max(count - len(ts), 10)
-    for k in range(1, fill + 1):
-        ts.add(x0 + (x1 - x0) * k / (fill + 1))
-    return sorted(v for v in ts if x0 <= v <= x1)
+        base.add(v - 1e-7 * h)
+        base.add(v + 1e-7 * h)
+    fill = max(count - len(base), 10)
+    while True:
+        ts = set(base)
+        ts.update(x0 + (x1 - x0) * k / (fill + 1) for k in range(1, fill + 1))
+        if len(ts) >= count:
+            return sorted(ts)
+        fill += count - len(ts)
 
 
 def deriv_parameters(x, count=20):
@@ -313,7 +319,7 @@ def data_sets():
     all_bc = [b[0] for b in BC_TYPES]
     traj = [[0.0, 0.0, 0.0], [1.5, 2.0, 0.5], [3.0, 2.5, 1.5], [4.5, 0.5, 1.0],
             [6.0, 1.0, 0.25], [7.0, 3.0, 0.75]]
-    sets.append(("uniform6", "uniform", [float(i) for i in range(6)], traj, all_bc, 100))
+    sets.append(("uniform6", "uniform", [float(i) for i in range(6)], traj, all_bc, 80))
     sine = []
     for i in range(50):
         sine.append([math.sin(0.2 * i) + 0.05 * rng.uniform(-1, 1),
@@ -325,15 +331,22 @@ def data_sets():
     xs[0], xs[-1] = 0.0, 10.0
     pts = [[math.sin(v) + 0.1 * rng.uniform(-1, 1), 0.2 * v * v + rng.uniform(-1, 1)]
            for v in xs]
-    sets.append(("given15", "given", xs, pts, all_bc, 100))
+    sets.append(("given15", "given", xs, pts, all_bc, 80))
+    # A last interval 1/100 of the one before it (a short end interval, as near a dense
+    # sampling's end): well-conditioned for SciPy.
+    xs = sorted(rng.uniform(0.0, 9.0) for _ in range(11))
+    xs[0], xs[-1] = 0.0, 9.0
+    xs.append(xs[-1] + 0.01 * (xs[-1] - xs[-2]))
+    pts = [[math.sin(1.7 * v) + 0.3 * v, math.cos(0.9 * v)] for v in xs]
+    sets.append(("given12_short_end", "given", xs, pts, all_bc[:3], 80))
     # (iii) chord-length (and centripetal) parameters of a 2-D point set, as geomkit does.
     spiral = []
     for i in range(20):
         r = 1.0 + 0.3 * i + 0.2 * rng.uniform(-1, 1)
         a = 0.55 * i + 0.1 * rng.uniform(-1, 1)
         spiral.append([r * math.cos(a), r * math.sin(a)])
-    sets.append(("chord20", "chord_length", None, spiral, all_bc, 100))
-    sets.append(("centripetal20", "centripetal", None, spiral, ["not-a-knot"], 100))
+    sets.append(("chord20", "chord_length", None, spiral, all_bc, 80))
+    sets.append(("centripetal20", "centripetal", None, spiral, ["not-a-knot"], 80))
     return sets
 
 
@@ -388,11 +401,15 @@ def surface_cases():
         # x_i = x0 + i·dx exactly as geomkit's interpolate_heights maps its knots.
         "uniform": ([-1.5 + i * 0.25 for i in range(nx)], [2.0 + j * 0.5 for j in range(ny)],
                     (-1.5, 2.0), (0.25, 0.5)),
-        "nonuniform": (None, None, None, None),
+        # Mildly non-uniform: spacings within a factor ~2 of each other.
+        "nonuniform_mild": ([-2.0 + 0.45 * i + 0.1 * math.sin(2.3 * i) for i in range(nx)],
+                            [0.125 * j + 0.03 * math.cos(1.7 * j) for j in range(ny)],
+                            None, None),
     }
+    # Sorted random coordinates: spacings from 0.001 to 0.8 (x ends with a short interval).
     xs_nu = sorted(rng.uniform(-2.0, 3.0) for _ in range(nx))
     ys_nu = sorted(rng.uniform(0.0, 1.0) for _ in range(ny))
-    grids["nonuniform"] = (xs_nu, ys_nu, None, None)
+    grids["nonuniform_random"] = (xs_nu, ys_nu, None, None)
     for name, (xs, ys, origin, spacing) in grids.items():
         z = [[math.sin(1.3 * x) * math.cos(2.1 * y) + 0.3 * x * y + 0.05 * rng.uniform(-1, 1)
               for y in ys] for x in xs]

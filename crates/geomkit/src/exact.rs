@@ -38,18 +38,32 @@ impl ExactMatrix {
         }
     }
 
-    /// Builds a matrix from integer rows (for tests and examples). Panics on ragged rows.
-    pub fn from_rows<T: Into<BigInt> + Clone>(rows: &[Vec<(T, T)>]) -> Self {
+    /// Builds a matrix from rows of (numerator, denominator) pairs. Errors: ragged rows, a
+    /// zero denominator.
+    pub fn from_rows<T: Into<BigInt> + Clone>(rows: &[Vec<(T, T)>]) -> crate::Result<Self> {
         let r = rows.len();
         let c = rows.first().map_or(0, Vec::len);
         let mut m = ExactMatrix::zeros(r, c);
         for (i, row) in rows.iter().enumerate() {
-            assert_eq!(row.len(), c, "ragged rows");
+            if row.len() != c {
+                return Err(crate::Error::RaggedNet {
+                    row: i,
+                    expected: c,
+                    got: row.len(),
+                });
+            }
             for (j, (p, q)) in row.iter().enumerate() {
-                m.data[i * c + j] = Rational::new(p.clone().into(), q.clone().into());
+                let q: BigInt = q.clone().into();
+                if q.is_zero() {
+                    return Err(crate::Error::InvalidOption {
+                        option: "matrix entry",
+                        reason: "zero denominator",
+                    });
+                }
+                m.data[i * c + j] = Rational::new(p.clone().into(), q);
             }
         }
-        m
+        Ok(m)
     }
 
     /// Number of rows.
@@ -192,8 +206,15 @@ pub fn degree_change_matrix(n: usize, n_new: usize) -> ExactMatrix {
 }
 
 /// Closed-form elevation matrix (8): (K)_ij = C(n,i) C(n'-n, j-i) / C(n',j), (n+1)×(n'+1).
-pub fn elevation_matrix(n: usize, n_new: usize) -> ExactMatrix {
-    assert!(n_new >= n, "elevation_matrix needs n' >= n");
+/// Errors with [`crate::Error::InvalidDegree`] when n' < n.
+pub fn elevation_matrix(n: usize, n_new: usize) -> crate::Result<ExactMatrix> {
+    if n_new < n {
+        return Err(crate::Error::InvalidDegree {
+            degree: n,
+            requested: n_new,
+            reason: "elevation needs a degree >= the current one",
+        });
+    }
     let mut k = ExactMatrix::zeros(n + 1, n_new + 1);
     for j in 0..=n_new {
         let den = binomial(n_new, j);
@@ -205,7 +226,7 @@ pub fn elevation_matrix(n: usize, n_new: usize) -> ExactMatrix {
             );
         }
     }
-    k
+    Ok(k)
 }
 
 /// A Bézier curve with exact rational control points, for exact results on request.
@@ -332,7 +353,7 @@ impl ExactBezierCurve {
         // For elevation the closed form (8) equals formula (10) and costs O(n n') entries.
         let n = self.degree();
         let m = if n_new >= n {
-            elevation_matrix(n, n_new)
+            elevation_matrix(n, n_new).expect("n' >= n here")
         } else {
             degree_change_matrix(n, n_new)
         };
@@ -382,7 +403,7 @@ mod tests {
             for m in n..n + 6 {
                 assert_eq!(
                     degree_change_matrix(n, m),
-                    elevation_matrix(n, m),
+                    elevation_matrix(n, m).unwrap(),
                     "{n}->{m}"
                 );
             }

@@ -13,7 +13,7 @@ fn q(p: i64, d: i64) -> Rational {
 
 fn matrix(rows: &[&[(i64, i64)]]) -> ExactMatrix {
     let rows: Vec<Vec<(i64, i64)>> = rows.iter().map(|r| r.to_vec()).collect();
-    ExactMatrix::from_rows(&rows)
+    ExactMatrix::from_rows(&rows).unwrap()
 }
 
 /// The classic one-step elevation (6), exactly.
@@ -28,7 +28,7 @@ fn classic_step(n: usize) -> ExactMatrix {
             rows[i][i] = (n as i64 + 1 - i as i64, n as i64 + 1);
         }
     }
-    ExactMatrix::from_rows(&rows)
+    ExactMatrix::from_rows(&rows).unwrap()
 }
 
 #[test]
@@ -65,7 +65,8 @@ fn example1_three_to_five_in_one_step() {
     assert_eq!(degree_change_matrix(3, 5), want);
     // Two classic steps give the same matrix.
     assert_eq!(classic_step(3).mul(&classic_step(4)).unwrap(), want);
-    assert_eq!(elevation_matrix(3, 5), want);
+    assert_eq!(elevation_matrix(3, 5).unwrap(), want);
+    assert!(elevation_matrix(5, 3).is_err());
 }
 
 #[test]

@@ -254,7 +254,10 @@ fn heights_on_a_non_uniform_grid() {
     let xs = [0.0, 0.3, 1.0, 1.1, 2.5, 4.0];
     let ys = [-1.0, 0.0, 0.2, 3.0, 3.5];
     let f = |x: f64, y: f64| (x * 1.3).sin() + 0.2 * y * y - x * y * 0.1;
-    let z: Vec<f64> = xs.iter().flat_map(|&x| ys.iter().map(move |&y| f(x, y))).collect();
+    let z: Vec<f64> = xs
+        .iter()
+        .flat_map(|&x| ys.iter().map(move |&y| f(x, y)))
+        .collect();
     let s = interpolate_heights_at(&z, &xs, &ys, &EndCondition::NotAKnot).unwrap();
     for (i, &x) in xs.iter().enumerate() {
         for (j, &y) in ys.iter().enumerate() {
@@ -263,7 +266,10 @@ fn heights_on_a_non_uniform_grid() {
     }
     // Bicubic polynomials are reproduced.
     let g = |x: f64, y: f64| 0.5 * x * x * x - x * y + 0.25 * y * y * y + 1.0;
-    let zg: Vec<f64> = xs.iter().flat_map(|&x| ys.iter().map(move |&y| g(x, y))).collect();
+    let zg: Vec<f64> = xs
+        .iter()
+        .flat_map(|&x| ys.iter().map(move |&y| g(x, y)))
+        .collect();
     let sg = interpolate_heights_at(&zg, &xs, &ys, &EndCondition::NotAKnot).unwrap();
     assert!((sg.eval(1.7, 2.1)[0] - g(1.7, 2.1)).abs() < 1e-12);
     let bad = [0.0, 0.3, 0.3, 1.1, 2.5, 4.0];

@@ -68,6 +68,19 @@ impl SurfaceDegreeReport {
     }
 }
 
+/// A row-major net of `rows × cols` points from its transpose (`cols × rows`).
+fn untranspose(cols: usize, rows: usize, dim: usize, t: &[f64]) -> Vec<f64> {
+    let mut net = vec![0.0; t.len()];
+    for j in 0..cols {
+        for i in 0..rows {
+            let src = (j * rows + i) * dim;
+            let dst = (i * cols + j) * dim;
+            net[dst..dst + dim].copy_from_slice(&t[src..src + dim]);
+        }
+    }
+    net
+}
+
 /// A tensor-product Bézier surface.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BezierSurface {
@@ -183,15 +196,7 @@ impl BezierSurface {
     }
 
     fn from_transposed(cols: usize, rows: usize, dim: usize, t: &[f64]) -> Result<Self> {
-        let mut net = vec![0.0; t.len()];
-        for j in 0..cols {
-            for i in 0..rows {
-                let src = (j * rows + i) * dim;
-                let dst = (i * cols + j) * dim;
-                net[dst..dst + dim].copy_from_slice(&t[src..src + dim]);
-            }
-        }
-        Self::from_flat(rows, cols, dim, net)
+        Self::from_flat(rows, cols, dim, untranspose(cols, rows, dim, t))
     }
 
     /// The net as a curve in `direction`: (points, point dimension).
@@ -268,8 +273,23 @@ impl BezierSurface {
                 .map(|(i, k)| n as f64 * (pts[(i + 1) * pd + k] - pts[i * pd + k]))
                 .collect()
         };
-        self.rebuild(direction, &deriv, n.max(1))
-            .expect("differences of finite points are finite")
+        // Built directly: differences of huge coordinates may overflow to ±inf, which the
+        // validating constructor would refuse; the derivative is still the derivative.
+        let len = n.max(1);
+        match direction {
+            Direction::U => BezierSurface {
+                dim: self.dim,
+                rows: len,
+                cols: self.cols,
+                net: deriv,
+            },
+            Direction::V => BezierSurface {
+                dim: self.dim,
+                rows: self.rows,
+                cols: len,
+                net: untranspose(len, self.rows, self.dim, &deriv),
+            },
+        }
     }
 
     /// The unit normal (∂p/∂u × ∂p/∂v normalized) of a surface in R^3. `Ok(None)` where the
