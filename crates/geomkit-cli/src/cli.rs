@@ -19,6 +19,12 @@ pub enum Command {
     /// Bézier curves and surfaces: real degree, elevation, reduction, evaluation.
     #[command(subcommand)]
     Bezier(BezierCommand),
+    /// Interpolating cubic B-splines: a curve or a surface through given points.
+    #[command(subcommand)]
+    Interpolate(InterpolateCommand),
+    /// Evaluate a saved model (Bézier or B-spline, curve or surface) on uniform samples of its
+    /// domain or at given parameters.
+    Eval(ModelEvalArgs),
     /// Run every method's demo: pictures, model files, index.html and a table of checks.
     Demo(DemoArgs),
 }
@@ -186,6 +192,249 @@ pub struct EvalArgs {
     pub output: Option<PathBuf>,
 }
 
+/// `geomkit interpolate ...`
+#[derive(Debug, Subcommand)]
+pub enum InterpolateCommand {
+    /// A cubic B-spline curve through points (spec/bspline-interpolation.md §2, §6).
+    #[command(long_about = CURVE_ABOUT)]
+    Curve(CurveArgs),
+    /// A bicubic B-spline surface through a grid of points or heights (§3).
+    #[command(long_about = SURFACE_ABOUT)]
+    Surface(SurfaceArgs),
+}
+
+const CURVE_ABOUT: &str = "\
+A cubic B-spline curve through points (spec/bspline-interpolation.md §2, §6).
+
+IN holds one point per row: a CSV file (2 or 3 columns, or any number d >= 1; an optional
+header line; commas, semicolons, tabs or blanks) or a NumPy .npy float64 array of shape (N, d).
+
+OUT by extension: .json (the model, with the parameters of the reference points), .csv or .npy
+(--samples points evaluated uniformly over the parameter domain by forward differences),
+.svg (the curve, its control polygon and the reference points). Default: the JSON model on
+standard output.
+
+With --control, a .csv/.npy OUT = NAME.EXT receives the control points instead (one per row,
+N+2 for open curves) and the sibling file NAME.knots.EXT the knot vector (one knot per row;
+for open curves the parameters of the N points with three more knots at each end, spaced like
+the end intervals); `geomkit eval NAME.EXT` reads the pair back as a B-spline curve. With --tile, the points are solved in tiles with halos (equal to the global solve
+within rounding); with --tile, a .npy IN and --control, the solve streams: tiles are read from
+IN and written to OUT one after the other, so any N runs in the memory of a few tiles.";
+
+const SURFACE_ABOUT: &str = "\
+A bicubic B-spline surface through a grid of points or heights (spec/bspline-interpolation.md
+§3).
+
+IN is either
+  - points: a CSV file of R*C rows of d coordinates (x,y,z), row-major (--rows, --cols), or a
+    .npy array of shape (R, C, d) (or (R*C, d) with --rows/--cols);
+  - heights (--heights): a CSV matrix of R lines of C numbers, or a .npy array of shape (R, C):
+    z[i][j] is the height at x = X0 + i*DX, y = Y0 + j*DY (row i along x, column j along y).
+
+OUT by extension: .json (the model; a height field has 1-D net points [z] and knots in x and
+y), .csv or .npy (a K×L grid of points uniform over the parameter domain, row-major; columns
+x,y,z for heights; .npy shape (K, L, columns)), .obj (the K×L grid triangulated, with normals
+for 3-D points and heights), .svg (a wireframe, or for heights a shaded height map with
+contour lines). Default: the JSON model on standard output.";
+
+/// End conditions of an open interpolating curve (or of a surface's grid lines).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum EndArg {
+    /// The paper's repeated end points (uniform parameters only).
+    Repeat,
+    /// Zero second derivative at both ends.
+    Natural,
+    /// Given end tangents (--start-tangent, --end-tangent), else estimated (Bessel).
+    Clamped,
+    /// Continuous third derivative at the second and next-to-last points.
+    NotAKnot,
+    /// A closed C2 curve (a last point equal to the first is dropped).
+    Periodic,
+    /// The paper's outer points: one extra control point beyond each end (--offset).
+    Outer,
+}
+
+/// How parameters are assigned to the reference points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ParamArg {
+    /// Equally spaced (the paper).
+    Uniform,
+    /// Spaced like the distances between consecutive points.
+    Chord,
+    /// Spaced like the square roots of those distances.
+    Centripetal,
+}
+
+/// A vector given on the command line as "x,y[,z...]".
+#[derive(Debug, Clone, PartialEq)]
+pub struct Vector(pub Vec<f64>);
+
+fn parse_vector(s: &str) -> Result<Vector, String> {
+    s.split(',')
+        .map(|x| match x.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(format!("'{}' is not a finite number", x.trim())),
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Vector)
+}
+
+/// Sample counts: `K` (curves; K×K for surfaces) or `KxL` (surfaces).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Samples(pub usize, pub Option<usize>);
+
+impl std::fmt::Display for Samples {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.1 {
+            None => write!(f, "{}", self.0),
+            Some(l) => write!(f, "{}x{l}", self.0),
+        }
+    }
+}
+
+fn parse_samples(s: &str) -> Result<Samples, String> {
+    let parse = |x: &str| {
+        x.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("'{x}' is not a sample count (a positive integer)"))
+    };
+    match s.split_once(['x', 'X', ',']) {
+        None => Ok(Samples(parse(s)?, None)),
+        Some((a, b)) => Ok(Samples(parse(a)?, Some(parse(b)?))),
+    }
+}
+
+/// Arguments of `interpolate curve`.
+#[derive(Debug, Args)]
+pub struct CurveArgs {
+    /// Reference points: CSV (one point per line) or .npy of shape (N, d).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// End condition.
+    #[arg(long, value_enum, default_value = "not-a-knot")]
+    pub end: EndArg,
+    /// Parametrization [default: chord; uniform with --end repeat].
+    #[arg(long, value_enum)]
+    pub param: Option<ParamArg>,
+    /// With --end outer: the extra points lie F times the end interval beyond the end points
+    /// [default: 1].
+    #[arg(long, value_name = "F")]
+    pub offset: Option<f64>,
+    /// With --end clamped: the derivative dc/dt at the start ("x,y"); default: estimated.
+    #[arg(long, value_name = "X,Y,..", value_parser = parse_vector, allow_hyphen_values = true)]
+    pub start_tangent: Option<Vector>,
+    /// With --end clamped: the derivative dc/dt at the end ("x,y"); default: estimated.
+    #[arg(long, value_name = "X,Y,..", value_parser = parse_vector, allow_hyphen_values = true)]
+    pub end_tangent: Option<Vector>,
+    /// Output file: .json, .csv, .npy or .svg; default: the JSON model to stdout.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Points sampled for a .csv/.npy OUT, at least 2 [default: 1001].
+    #[arg(long, value_name = "K")]
+    pub samples: Option<usize>,
+    /// Write the control points to a .csv/.npy OUT = NAME.EXT (and the knots to
+    /// NAME.knots.EXT) instead of samples.
+    #[arg(long)]
+    pub control: bool,
+    /// Solve in tiles of N points (with halos; streams a .npy IN to a --control .npy/.csv OUT).
+    #[arg(long, value_name = "N")]
+    pub tile: Option<usize>,
+    /// With --tile: points solved on each side of a tile and discarded [default: 32].
+    #[arg(long, value_name = "H", requires = "tile")]
+    pub halo: Option<usize>,
+}
+
+/// Arguments of `interpolate surface`.
+#[derive(Debug, Args)]
+pub struct SurfaceArgs {
+    /// Reference grid: CSV or .npy (see above).
+    #[arg(value_name = "IN")]
+    pub input: PathBuf,
+    /// Grid rows R (points input).
+    #[arg(long, value_name = "R")]
+    pub rows: Option<usize>,
+    /// Grid columns C (points input).
+    #[arg(long, value_name = "C")]
+    pub cols: Option<usize>,
+    /// IN is a matrix of heights z[i][j] over a regular grid.
+    #[arg(long, conflicts_with_all = ["rows", "cols"])]
+    pub heights: bool,
+    /// With --heights: grid spacing along x (rows) [default: 1].
+    #[arg(
+        long,
+        value_name = "DX",
+        requires = "heights",
+        allow_negative_numbers = true
+    )]
+    pub dx: Option<f64>,
+    /// With --heights: grid spacing along y (columns) [default: 1].
+    #[arg(
+        long,
+        value_name = "DY",
+        requires = "heights",
+        allow_negative_numbers = true
+    )]
+    pub dy: Option<f64>,
+    /// With --heights: x of row 0 [default: 0].
+    #[arg(
+        long,
+        value_name = "X0",
+        requires = "heights",
+        allow_negative_numbers = true
+    )]
+    pub x0: Option<f64>,
+    /// With --heights: y of column 0 [default: 0].
+    #[arg(
+        long,
+        value_name = "Y0",
+        requires = "heights",
+        allow_negative_numbers = true
+    )]
+    pub y0: Option<f64>,
+    /// End condition in both directions (--end-u / --end-v override one).
+    #[arg(long, value_enum, default_value = "not-a-knot")]
+    pub end: EndArg,
+    /// End condition across the rows (along u, the first grid index).
+    #[arg(long, value_enum, value_name = "END", conflicts_with = "heights")]
+    pub end_u: Option<EndArg>,
+    /// End condition along the rows (along v, the second grid index).
+    #[arg(long, value_enum, value_name = "END", conflicts_with = "heights")]
+    pub end_v: Option<EndArg>,
+    /// Parametrization [default: chord; uniform with --end repeat]; heights are uniform.
+    #[arg(long, value_enum, conflicts_with = "heights")]
+    pub param: Option<ParamArg>,
+    /// With --end outer: offset of the outer points, as a fraction of the end interval
+    /// [default: 1].
+    #[arg(long, value_name = "F")]
+    pub offset: Option<f64>,
+    /// Output file: .json, .csv, .npy, .obj or .svg; default: the JSON model to stdout.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Sample grid for .csv/.npy/.obj/.svg output: K×L points (K or KxL) [default: 101x101].
+    #[arg(long, value_name = "KxL", value_parser = parse_samples)]
+    pub samples: Option<Samples>,
+}
+
+/// Arguments of `eval`.
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("where").required(true).args(["samples", "at"])))]
+pub struct ModelEvalArgs {
+    /// The model: JSON (any type), or control points .csv/.npy with their .knots sibling.
+    #[arg(value_name = "MODEL")]
+    pub model: PathBuf,
+    /// Uniform samples of the domain: K for curves, K or KxL for surfaces (at least 2 each).
+    #[arg(long, value_name = "K[xL]", value_parser = parse_samples)]
+    pub samples: Option<Samples>,
+    /// Parameters to evaluate at: CSV or .npy with 1 column (t) for curves, 2 (u,v) for
+    /// surfaces.
+    #[arg(long, value_name = "PARAMS")]
+    pub at: Option<PathBuf>,
+    /// Output: .csv (default: stdout) or .npy; one row per point, the parameter(s) then the
+    /// coordinates (t,x,y,... or u,v,x,y,z,...).
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+}
+
 /// Arguments of `demo`.
 #[derive(Debug, Args)]
 pub struct DemoArgs {
@@ -208,6 +457,11 @@ mod tests {
         assert_eq!(parse_continuity("1"), Ok(Continuity(Some(1), Some(1))));
         assert_eq!(parse_continuity("-,0"), Ok(Continuity(None, Some(0))));
         assert!(parse_continuity("a,b").is_err());
+        assert_eq!(parse_samples("12"), Ok(Samples(12, None)));
+        assert_eq!(parse_samples("3x4"), Ok(Samples(3, Some(4))));
+        assert!(parse_samples("3xa").is_err());
+        assert_eq!(parse_vector("1,-2.5"), Ok(Vector(vec![1.0, -2.5])));
+        assert!(parse_vector("1,nan").is_err());
     }
 
     #[test]

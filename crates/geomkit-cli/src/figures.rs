@@ -1,14 +1,65 @@
 //! Pictures of curves and surfaces built on [`crate::svg`]: a curve with its old and new
 //! control polygons (the paper's Fig. 1 and 2), and surfaces as a wireframe of iso-curves with
-//! their control nets in a fixed axonometric view (Fig. 4 and 5).
+//! their control nets in a fixed axonometric view (Fig. 4 and 5); interpolating B-spline
+//! curves with their control polygons and reference points, and height fields as a shaded
+//! map with contour lines.
 //!
 //! Points of dimension 2 are drawn as they are, dimension 3 in the axonometric view, and
 //! dimension 1 as the graph of the function (control point i at abscissa i/n, which is exact
 //! for Bézier functions since Σ b_ni(t) i/n = t).
 
-use crate::svg::{palette, Axes, Figure, Label, Placement, Stroke};
+use crate::svg::{palette, Axes, Cell, Figure, Label, Placement, Stroke};
 use anyhow::{bail, Result};
 use geomkit::bezier::{BezierSurface, ParamCurve};
+use geomkit::bspline::{BsplineCurve, BsplineSurface};
+
+/// A surface that can be drawn: its dimension, parameter domain and a grid evaluator.
+pub trait SurfaceView {
+    /// Dimension of its points.
+    fn view_dim(&self) -> usize;
+    /// ((u0, u1), (v0, v1)).
+    fn view_domain(&self) -> ((f64, f64), (f64, f64));
+    /// Points on the grid `us` × `vs`, row-major.
+    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()>;
+}
+
+impl SurfaceView for BezierSurface {
+    fn view_dim(&self) -> usize {
+        self.dim()
+    }
+    fn view_domain(&self) -> ((f64, f64), (f64, f64)) {
+        ((0.0, 1.0), (0.0, 1.0))
+    }
+    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
+        self.eval_grid(us, vs, out)
+    }
+}
+
+impl SurfaceView for BsplineSurface {
+    fn view_dim(&self) -> usize {
+        self.dim()
+    }
+    fn view_domain(&self) -> ((f64, f64), (f64, f64)) {
+        self.domain()
+    }
+    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
+        self.eval_grid(us, vs, out)
+    }
+}
+
+/// `count` >= 2 equally spaced values from `a` to `b` (both included exactly).
+pub fn linspace(a: f64, b: f64, count: usize) -> Vec<f64> {
+    let last = count.saturating_sub(1).max(1);
+    (0..count)
+        .map(|k| {
+            if k == last {
+                b
+            } else {
+                a + (b - a) * (k as f64 / last as f64)
+            }
+        })
+        .collect()
+}
 
 /// A fixed axonometric view: the viewer looks from `azimuth` (about the z axis, from the x
 /// axis) and `elevation` (above the xy plane); z is up on the page.
@@ -237,7 +288,7 @@ pub enum Layer<'a> {
     /// Wireframe of `count` u- and v-iso-curves, 64 samples each.
     Wireframe {
         /// The surface.
-        surface: &'a BezierSurface,
+        surface: &'a dyn SurfaceView,
         /// Iso-curves per direction.
         count: usize,
         /// Line style.
@@ -258,6 +309,24 @@ pub enum Layer<'a> {
         /// Legend text.
         legend: String,
     },
+    /// Points (row-major, `dim` coordinates each), joined along the rows and columns of a
+    /// `grid` (rows, cols) when a stroke is given (a control net), else dots only.
+    Points {
+        /// The points.
+        points: &'a [f64],
+        /// Their dimension (2 or 3).
+        dim: usize,
+        /// Rows and columns, for the net lines.
+        grid: Option<(usize, usize)>,
+        /// Net line style, if lines are drawn.
+        stroke: Option<Stroke>,
+        /// Dot colour.
+        vertex: &'static str,
+        /// Dot radius in pixels.
+        radius: f64,
+        /// Legend text.
+        legend: String,
+    },
 }
 
 /// A picture of surfaces in the fixed axonometric view (azimuth 35°, elevation 25°).
@@ -266,14 +335,13 @@ pub fn surface_svg(title: &str, subtitle: &str, layers: &[Layer<'_>]) -> Result<
     let view = View::default();
     let mut fig = Figure::new(title, Axes::Bare).subtitle(subtitle);
     for layer in layers {
-        let s = match layer {
-            Layer::Wireframe { surface, .. } | Layer::Net { surface, .. } => surface,
+        let dim = match layer {
+            Layer::Wireframe { surface, .. } => surface.view_dim(),
+            Layer::Net { surface, .. } => surface.dim(),
+            Layer::Points { dim, .. } => *dim,
         };
-        if !(2..=3).contains(&s.dim()) {
-            bail!(
-                "cannot draw a surface in R^{} (SVG output needs 2- or 3-D points)",
-                s.dim()
-            );
+        if !(2..=3).contains(&dim) {
+            bail!("cannot draw a surface in R^{dim} (SVG output needs 2- or 3-D points)");
         }
     }
     for layer in layers {
@@ -285,25 +353,25 @@ pub fn surface_svg(title: &str, subtitle: &str, layers: &[Layer<'_>]) -> Result<
                 legend,
             } => {
                 let k = 64;
-                let fine: Vec<f64> = (0..k).map(|a| a as f64 / (k - 1) as f64).collect();
-                let iso: Vec<f64> = (0..*count)
-                    .map(|a| a as f64 / (count - 1).max(1) as f64)
-                    .collect();
-                let d = surface.dim();
+                let ((u0, u1), (v0, v1)) = surface.view_domain();
+                let (fine_u, fine_v) = (linspace(u0, u1, k), linspace(v0, v1, k));
+                let (iso_u, iso_v) = (linspace(u0, u1, *count), linspace(v0, v1, *count));
+                let iso = &iso_u;
+                let d = surface.view_dim();
                 let mut grid = vec![0.0; iso.len() * k * d];
                 // u-iso-curves (u fixed, v running) and v-iso-curves.
-                surface.eval_grid(&iso, &fine, &mut grid)?;
+                surface.view_grid(&iso_u, &fine_v, &mut grid)?;
                 for line in grid.chunks_exact(k * d) {
                     fig.line(
                         line.chunks_exact(d).map(|p| view.project(p)).collect(),
                         *stroke,
                     );
                 }
-                surface.eval_grid(&fine, &iso, &mut grid)?;
-                for b in 0..iso.len() {
+                surface.view_grid(&fine_u, &iso_v, &mut grid)?;
+                for b in 0..iso_v.len() {
                     let pts = (0..k)
                         .map(|a| {
-                            let o = (a * iso.len() + b) * d;
+                            let o = (a * iso_v.len() + b) * d;
                             view.project(&grid[o..o + d])
                         })
                         .collect();
@@ -344,6 +412,29 @@ pub fn surface_svg(title: &str, subtitle: &str, layers: &[Layer<'_>]) -> Result<
                 }
                 fig.legend(*stroke, Some(vertex), legend.clone());
             }
+            Layer::Points {
+                points,
+                dim,
+                grid,
+                stroke,
+                vertex,
+                radius,
+                legend,
+            } => {
+                let page: Vec<[f64; 2]> =
+                    points.chunks_exact(*dim).map(|p| view.project(p)).collect();
+                if let (Some((rows, cols)), Some(stroke)) = (grid, stroke) {
+                    for row in page.chunks_exact(*cols) {
+                        fig.line(row.to_vec(), *stroke);
+                    }
+                    for j in 0..*cols {
+                        fig.line((0..*rows).map(|i| page[i * cols + j]).collect(), *stroke);
+                    }
+                }
+                fig.dots(page, *radius, vertex);
+                let key = stroke.unwrap_or(Stroke::solid(vertex, 0.0));
+                fig.legend(key, Some(vertex), legend.clone());
+            }
         }
     }
     Ok(fig.render())
@@ -373,6 +464,269 @@ pub fn surface_with_net<'a>(
     ]
 }
 
+/// Greville abscissae of a B-spline: where control point i sits along the parameter axis.
+fn greville(curve: &BsplineCurve) -> Vec<f64> {
+    let p = curve.degree();
+    let k = curve.knots();
+    (0..curve.n_control())
+        .map(|i| k[i + 1..=i + p].iter().sum::<f64>() / p as f64)
+        .collect()
+}
+
+/// A picture of an interpolating B-spline curve: the curve (blue), its control polygon
+/// (orange, p₀ … labelled when short) and the reference points (dark dots). 2-D points are
+/// drawn as they are, 3-D in the axonometric view, 1-D as the graph over the parameter
+/// (control points at their Greville abscissae).
+pub fn bspline_curve_figure(
+    title: &str,
+    subtitle: &str,
+    curve: &BsplineCurve,
+    points: &[f64],
+    parameters: &[f64],
+) -> Result<Figure> {
+    let proj = Projection::for_dim(curve.dim())?;
+    let axes = match proj {
+        Projection::Axonometric(_) => Axes::Bare,
+        Projection::Plane => Axes::Equal,
+        Projection::Graph => Axes::Chart {
+            x: "t".into(),
+            y: "x".into(),
+        },
+    };
+    let mut fig = Figure::new(title, axes).subtitle(subtitle);
+    let mut control: Vec<[f64; 2]> = curve
+        .control_flat()
+        .chunks_exact(curve.dim())
+        .zip(greville(curve))
+        .map(|(p, t)| proj.point(t, p))
+        .collect();
+    // A periodic curve repeats its first `degree` control points at the end: draw the
+    // distinct ones as a closed polygon (except for graphs, where they sit elsewhere on t).
+    let (d, p, n) = (curve.dim(), curve.degree(), curve.n_control());
+    let flat = curve.control_flat();
+    let closed = n >= 2 * p && flat[..p * d] == flat[(n - p) * d..];
+    if closed && proj != Projection::Graph {
+        control.truncate(n - p);
+        control.push(control[0]);
+    }
+    let refs: Vec<[f64; 2]> = points
+        .chunks_exact(curve.dim())
+        .zip(parameters)
+        .map(|(p, &t)| proj.point(t, p))
+        .collect();
+    let distinct = &control[..control.len() - usize::from(closed && proj != Projection::Graph)];
+    fig.line(control.clone(), palette::NEW_POLYGON);
+    fig.dots(distinct.to_vec(), 3.4, palette::NEW_VERTEX);
+    if distinct.len() <= MAX_LABELS {
+        // Coinciding points (the paper's repeated end points) share one label "p₀,₁,₂".
+        let mut items: Vec<([f64; 2], Vec<usize>)> = Vec::new();
+        for (i, p) in distinct.iter().enumerate() {
+            match items.last_mut() {
+                Some((q, ids)) if q == p => ids.push(i),
+                _ => items.push((*p, vec![i])),
+            }
+        }
+        let items = items
+            .into_iter()
+            .map(|(p, ids)| {
+                let sub: Vec<String> = ids.iter().map(ToString::to_string).collect();
+                (p, Label::new("p", sub.join(",")))
+            })
+            .collect();
+        fig.labels(
+            items,
+            palette::NEW_VERTEX,
+            Placement::Away(centroid(distinct)),
+        );
+    }
+    fig.line(curve_on_page(proj, curve), palette::CURVE);
+    fig.dots(refs, 4.2, REFERENCE);
+    fig.legend(palette::CURVE, None, "interpolating cubic B-spline");
+    fig.legend(
+        palette::NEW_POLYGON,
+        Some(palette::NEW_VERTEX),
+        if closed {
+            format!("closed control polygon, {} points", n - p)
+        } else {
+            format!("control polygon, {n} points")
+        },
+    );
+    fig.legend(
+        Stroke::solid(REFERENCE, 0.0),
+        Some(REFERENCE),
+        format!("reference points ({})", points.len() / curve.dim()),
+    );
+    Ok(fig)
+}
+
+/// Colour of reference points.
+pub const REFERENCE: &str = "#222222";
+
+/// A B-spline curve sampled on the page: 40 samples per knot span, 200 to 20 000.
+pub fn curve_on_page(proj: Projection, curve: &BsplineCurve) -> Vec<[f64; 2]> {
+    let (a, b) = curve.domain();
+    let spans = curve.n_control().saturating_sub(curve.degree()).max(1);
+    let count = (40 * spans).clamp(200, 20_000);
+    linspace(a, b, count)
+        .into_iter()
+        .map(|t| proj.point(t, &curve.eval(t)))
+        .collect()
+}
+
+/// A terrain colour map from low (deep blue) through green and brown to high (white).
+const TERRAIN: [(f64, [f64; 3]); 6] = [
+    (0.0, [38.0, 70.0, 140.0]),
+    (0.18, [74.0, 150.0, 200.0]),
+    (0.35, [92.0, 168.0, 96.0]),
+    (0.6, [200.0, 190.0, 110.0]),
+    (0.82, [150.0, 105.0, 70.0]),
+    (1.0, [250.0, 250.0, 250.0]),
+];
+
+/// Legend swatches of [`TERRAIN`]: low, middle, high.
+const TERRAIN_KEYS: [&str; 3] = ["#26468c", "#c8be6e", "#fafafa"];
+
+/// The colour of level `x` in [0, 1], quantized to `levels` steps.
+fn terrain_color(x: f64, levels: usize) -> String {
+    let x = ((x.clamp(0.0, 1.0) * levels as f64)
+        .floor()
+        .min(levels as f64 - 1.0)
+        + 0.5)
+        / levels as f64;
+    let k = TERRAIN
+        .iter()
+        .position(|s| s.0 >= x)
+        .unwrap_or(TERRAIN.len() - 1)
+        .max(1);
+    let ((x0, c0), (x1, c1)) = (TERRAIN[k - 1], TERRAIN[k]);
+    let w = ((x - x0) / (x1 - x0)).clamp(0.0, 1.0);
+    let c: Vec<u8> = (0..3)
+        .map(|i| (c0[i] + w * (c1[i] - c0[i])).round() as u8)
+        .collect();
+    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
+}
+
+/// Contour segments of level `h` on a grid of values `z` (rows × cols) at coordinates
+/// `xs` (rows) and `ys` (cols), by marching squares (saddles split by the cell centre).
+pub fn contour_segments(z: &[f64], xs: &[f64], ys: &[f64], h: f64) -> Vec<[[f64; 2]; 2]> {
+    let (rows, cols) = (xs.len(), ys.len());
+    let mut out = Vec::new();
+    let at = |i: usize, j: usize| z[i * cols + j];
+    for i in 0..rows.saturating_sub(1) {
+        for j in 0..cols.saturating_sub(1) {
+            // Corners counter-clockwise: (i,j), (i+1,j), (i+1,j+1), (i,j+1).
+            let c = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)];
+            let v = c.map(|(a, b)| at(a, b) - h);
+            let mut cross = Vec::with_capacity(4);
+            for e in 0..4 {
+                let (p, q) = (e, (e + 1) % 4);
+                if (v[p] < 0.0) != (v[q] < 0.0) {
+                    let w = v[p] / (v[p] - v[q]);
+                    let (pa, pb) = c[p];
+                    let (qa, qb) = c[q];
+                    cross.push([
+                        xs[pa] + w * (xs[qa] - xs[pa]),
+                        ys[pb] + w * (ys[qb] - ys[pb]),
+                    ]);
+                }
+            }
+            match cross.len() {
+                2 => out.push([cross[0], cross[1]]),
+                4 => {
+                    let centre = v.iter().sum::<f64>() / 4.0;
+                    if (centre < 0.0) == (v[0] < 0.0) {
+                        out.push([cross[0], cross[3]]);
+                        out.push([cross[1], cross[2]]);
+                    } else {
+                        out.push([cross[0], cross[1]]);
+                        out.push([cross[2], cross[3]]);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    out
+}
+
+/// A height field z(x, y) as a map: `cells` × `cells` coloured rectangles (a terrain colour
+/// map quantized to 48 steps, runs of equal colour merged) and `levels` contour lines. The
+/// surface must be 1-D (heights); x runs to the right, y up.
+pub fn heightmap_svg(
+    title: &str,
+    subtitle: &str,
+    surface: &BsplineSurface,
+    cells: usize,
+    levels: usize,
+) -> Result<String> {
+    if surface.dim() != 1 {
+        bail!("a height map needs a surface of heights (1-D points)");
+    }
+    let ((x0, x1), (y0, y1)) = surface.domain();
+    let cells = cells.max(2);
+    // Values at the cell centres.
+    let (hx, hy) = ((x1 - x0) / cells as f64, (y1 - y0) / cells as f64);
+    let cx: Vec<f64> = (0..cells).map(|i| x0 + (i as f64 + 0.5) * hx).collect();
+    let cy: Vec<f64> = (0..cells).map(|j| y0 + (j as f64 + 0.5) * hy).collect();
+    let mut z = vec![0.0; cells * cells];
+    surface.eval_grid(&cx, &cy, &mut z)?;
+    // Contours on a finer grid through the corners.
+    let fine = 2 * cells + 1;
+    let (fx, fy) = (linspace(x0, x1, fine), linspace(y0, y1, fine));
+    let mut zf = vec![0.0; fine * fine];
+    surface.eval_grid(&fx, &fy, &mut zf)?;
+    let (lo, hi) = zf
+        .iter()
+        .chain(&z)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let steps = 48;
+    let mut rects = Vec::new();
+    // Columns of the picture are x (rows i), runs merged along y.
+    for (i, &x) in cx.iter().enumerate() {
+        let mut j = 0;
+        while j < cells {
+            let color = terrain_color((z[i * cells + j] - lo) / span, steps);
+            let mut end = j + 1;
+            while end < cells && terrain_color((z[i * cells + end] - lo) / span, steps) == color {
+                end += 1;
+            }
+            rects.push(Cell {
+                from: [x - 0.5 * hx, cy[j] - 0.5 * hy],
+                to: [x + 0.5 * hx, cy[end - 1] + 0.5 * hy],
+                fill: color,
+            });
+            j = end;
+        }
+    }
+    let mut fig = Figure::new(title, Axes::Equal).subtitle(subtitle);
+    fig.rects(rects);
+    let contour = Stroke::solid("#202020", 0.7).with_opacity(0.55);
+    let mut segments = Vec::new();
+    for k in 1..=levels {
+        let h = lo + span * k as f64 / (levels + 1) as f64;
+        segments.extend(contour_segments(&zf, &fx, &fy, h));
+    }
+    fig.segments(segments, contour);
+    for (key, text) in TERRAIN_KEYS.iter().zip([
+        format!("low {}", short_number(lo)),
+        "middle".to_string(),
+        format!("high {}", short_number(hi)),
+    ]) {
+        fig.legend(Stroke::solid(key, 9.0), None, text);
+    }
+    fig.legend(contour, None, format!("{levels} contour lines"));
+    Ok(fig.render())
+}
+
+/// A number with 4 significant digits.
+fn short_number(x: f64) -> String {
+    let v: f64 = format!("{x:.3e}").parse().unwrap_or(x);
+    format!("{v}")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -385,6 +739,19 @@ mod tests {
         // The x axis points left-down on the page for azimuth 35°, y to the right.
         assert!(v.project(&[1.0, 0.0, 0.0])[0] < 0.0);
         assert!(v.project(&[0.0, 1.0, 0.0])[0] > 0.0);
+    }
+
+    #[test]
+    fn contours_cross_where_the_level_is() {
+        let xs = linspace(0.0, 1.0, 3);
+        let z: Vec<f64> = (0..9).map(|k| (k / 3) as f64).collect();
+        let segs = contour_segments(&z, &xs, &xs, 0.5);
+        assert_eq!(segs.len(), 2);
+        for s in segs {
+            assert!((s[0][0] - 0.25).abs() < 1e-15 && (s[1][0] - 0.25).abs() < 1e-15);
+        }
+        assert_eq!(terrain_color(0.0, 48).len(), 7);
+        assert_eq!(linspace(0.0, 3.0, 4), [0.0, 1.0, 2.0, 3.0]);
     }
 
     #[test]

@@ -8,8 +8,11 @@ mod commands;
 mod demo;
 mod figures;
 mod model;
+mod npy;
 mod output;
+mod progress;
 mod svg;
+mod table;
 
 use clap::Parser;
 use std::io::Write;
@@ -19,6 +22,8 @@ fn main() -> ExitCode {
     let cli = cli::Cli::parse();
     let result = match cli.command {
         cli::Command::Bezier(command) => commands::bezier::run(command),
+        cli::Command::Interpolate(command) => commands::interpolate::run(command),
+        cli::Command::Eval(args) => commands::eval::run(args),
         cli::Command::Demo(args) => demo::run(&args),
     };
     match result {

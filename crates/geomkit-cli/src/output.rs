@@ -5,6 +5,7 @@
 //! Commands compute everything first and write last: when a command fails, no output file
 //! appears at all.
 
+use crate::npy::NpyWriter;
 use anyhow::{Context, Result};
 use std::fs;
 use std::io::{self, BufWriter, Write};
@@ -62,42 +63,156 @@ pub fn write_atomic_with(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> Result<()> {
-    let what = || format!("cannot write {}", path.display());
-    if path.as_os_str().is_empty() {
-        anyhow::bail!("cannot write an output file with an empty name");
+    let mut file = AtomicFile::create(path)?;
+    write(file.writer()).with_context(|| format!("cannot write {}", path.display()))?;
+    file.commit()
+}
+
+/// A file written in pieces and renamed into place at the end: until [`AtomicFile::commit`]
+/// the data live in a temporary file next to the target, which is removed if the
+/// `AtomicFile` is dropped uncommitted (a failed command leaves nothing behind).
+pub struct AtomicFile {
+    path: PathBuf,
+    out: BufWriter<tempfile::NamedTempFile>,
+}
+
+impl AtomicFile {
+    /// Starts writing `path`: checks the name and the directory and creates the temporary
+    /// file.
+    pub fn create(path: &Path) -> Result<Self> {
+        let what = || format!("cannot write {}", path.display());
+        if path.as_os_str().is_empty() {
+            anyhow::bail!("cannot write an output file with an empty name");
+        }
+        if path.is_dir() {
+            anyhow::bail!("cannot write {}: it is a directory", path.display());
+        }
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        if !dir.is_dir() {
+            anyhow::bail!(
+                "cannot write {}: directory {} does not exist",
+                path.display(),
+                dir.display()
+            );
+        }
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".geomkit-").suffix(".tmp");
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            // Like a plain `File::create`: 0o666 minus the umask (tempfile's default is 0o600).
+            builder.permissions(fs::Permissions::from_mode(0o666));
+        }
+        let temp = builder.tempfile_in(dir).with_context(what)?;
+        Ok(AtomicFile {
+            path: path.to_path_buf(),
+            out: BufWriter::with_capacity(1 << 16, temp),
+        })
     }
-    if path.is_dir() {
-        anyhow::bail!("cannot write {}: it is a directory", path.display());
+
+    /// The final path.
+    pub fn path(&self) -> &Path {
+        &self.path
     }
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    if !dir.is_dir() {
-        anyhow::bail!(
-            "cannot write {}: directory {} does not exist",
-            path.display(),
-            dir.display()
-        );
+
+    /// The buffered writer of the temporary file.
+    pub fn writer(&mut self) -> &mut dyn Write {
+        &mut self.out
     }
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".geomkit-").suffix(".tmp");
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        // Like a plain `File::create`: 0o666 minus the umask (tempfile's default is 0o600).
-        builder.permissions(fs::Permissions::from_mode(0o666));
+
+    /// Flushes, syncs and renames the temporary file to the target.
+    pub fn commit(self) -> Result<()> {
+        let path = self.path;
+        let what = || format!("cannot write {}", path.display());
+        let temp = self
+            .out
+            .into_inner()
+            .map_err(|e| e.into_error())
+            .with_context(what)?;
+        temp.as_file().sync_all().with_context(what)?;
+        temp.persist(&path)
+            .map_err(|e| e.error)
+            .with_context(what)?;
+        Ok(())
     }
-    let temp = builder.tempfile_in(dir).with_context(what)?;
-    let mut out = BufWriter::new(temp);
-    write(&mut out).with_context(what)?;
-    let temp = out
-        .into_inner()
-        .map_err(|e| e.into_error())
-        .with_context(what)?;
-    temp.as_file().sync_all().with_context(what)?;
-    temp.persist(path).map_err(|e| e.error).with_context(what)?;
-    Ok(())
+}
+
+/// The format of a table of numbers written by a command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TableFormat {
+    /// CSV text with a header line.
+    Csv,
+    /// A NumPy `.npy` float64 array.
+    Npy,
+}
+
+/// Rows of numbers written as they come: CSV (a header line, then one line per row) or a
+/// `.npy` array whose shape is announced up front (checked at [`RowSink::finish`]).
+pub struct RowSink {
+    cols: usize,
+    npy: Option<NpyWriter>,
+    line: String,
+}
+
+impl RowSink {
+    /// Starts a table of `shape` (rows × ... × columns; the last entry is the row length of
+    /// the CSV) with the CSV column names `header`.
+    pub fn start(
+        w: &mut dyn Write,
+        format: TableFormat,
+        shape: &[usize],
+        header: &[String],
+    ) -> io::Result<Self> {
+        let cols = if shape.len() >= 2 {
+            shape[shape.len() - 1]
+        } else {
+            1
+        };
+        let npy = match format {
+            TableFormat::Npy => Some(NpyWriter::start(w, shape)?),
+            TableFormat::Csv => {
+                writeln!(w, "{}", header.join(","))?;
+                None
+            }
+        };
+        Ok(RowSink {
+            cols: cols.max(1),
+            npy,
+            line: String::new(),
+        })
+    }
+
+    /// Appends whole rows (`values.len()` a multiple of the row length).
+    pub fn push(&mut self, w: &mut dyn Write, values: &[f64]) -> io::Result<()> {
+        use std::fmt::Write as _;
+        if let Some(npy) = &mut self.npy {
+            return npy.push(w, values);
+        }
+        for row in values.chunks(self.cols) {
+            self.line.clear();
+            for (k, x) in row.iter().enumerate() {
+                if k > 0 {
+                    self.line.push(',');
+                }
+                // Shortest representation that reads back to the same f64.
+                let _ = write!(self.line, "{x:?}");
+            }
+            self.line.push('\n');
+            w.write_all(self.line.as_bytes())?;
+        }
+        Ok(())
+    }
+
+    /// Checks that an `.npy` array got exactly its announced size.
+    pub fn finish(self) -> io::Result<()> {
+        match self.npy {
+            Some(npy) => npy.finish(),
+            None => Ok(()),
+        }
+    }
 }
 
 /// Writes `contents` to standard output.

@@ -129,6 +129,24 @@ enum Element {
         color: &'static str,
         placement: Placement,
     },
+    Rects {
+        cells: Vec<Cell>,
+    },
+    Segments {
+        segments: Vec<[[f64; 2]; 2]>,
+        stroke: Stroke,
+    },
+}
+
+/// A filled axis-aligned rectangle in data coordinates (a cell of a height map).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cell {
+    /// One corner.
+    pub from: [f64; 2],
+    /// The opposite corner.
+    pub to: [f64; 2],
+    /// CSS colour ("#1f4e9c").
+    pub fill: String,
 }
 
 /// A figure under construction; [`Figure::render`] turns it into SVG text.
@@ -191,6 +209,16 @@ impl Figure {
         });
     }
 
+    /// Filled rectangles, drawn without outlines or antialiased seams.
+    pub fn rects(&mut self, cells: Vec<Cell>) {
+        self.elements.push(Element::Rects { cells });
+    }
+
+    /// Separate line segments (contour lines), drawn as one path.
+    pub fn segments(&mut self, segments: Vec<[[f64; 2]; 2]>, stroke: Stroke) {
+        self.elements.push(Element::Segments { segments, stroke });
+    }
+
     /// A legend entry: a line sample (with a vertex dot if `dot` is a colour) and its text.
     pub fn legend(&mut self, stroke: Stroke, dot: Option<&'static str>, text: impl Into<String>) {
         self.legend
@@ -218,6 +246,11 @@ impl Figure {
                     points.iter().for_each(&mut add)
                 }
                 Element::Labels { items, .. } => items.iter().for_each(|(p, _)| add(p)),
+                Element::Rects { cells } => cells.iter().for_each(|c| {
+                    add(&c.from);
+                    add(&c.to);
+                }),
+                Element::Segments { segments, .. } => segments.iter().flatten().for_each(&mut add),
             }
         }
         if !b[0].is_finite() {
@@ -427,6 +460,32 @@ impl Figure {
                         );
                     }
                     let _ = writeln!(s, "</g>");
+                }
+                Element::Rects { cells } => {
+                    let _ = writeln!(s, r#"<g shape-rendering="crispEdges">"#);
+                    for c in cells {
+                        let (a, b) = (map(&c.from), map(&c.to));
+                        let _ = writeln!(
+                            s,
+                            r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{}"/>"#,
+                            a[0].min(b[0]),
+                            a[1].min(b[1]),
+                            (b[0] - a[0]).abs(),
+                            (b[1] - a[1]).abs(),
+                            escape(&c.fill)
+                        );
+                    }
+                    let _ = writeln!(s, "</g>");
+                }
+                Element::Segments { segments, stroke } => {
+                    let mut d = String::new();
+                    for [p, q] in segments {
+                        let (a, b) = (map(p), map(q));
+                        if a.iter().chain(&b).all(|v| v.is_finite()) {
+                            let _ = write!(d, "M{:.1} {:.1}L{:.1} {:.1}", a[0], a[1], b[0], b[1]);
+                        }
+                    }
+                    let _ = writeln!(s, r#"<path d="{d}" {}/>"#, stroke_attrs(stroke));
                 }
                 Element::Labels {
                     items,

@@ -512,9 +512,9 @@ pub fn coordinate_names(dim: usize) -> Vec<String> {
 }
 
 /// Most samples of a curve (rows of the CSV).
-const MAX_CURVE_SAMPLES: usize = 100_000_000;
+pub const MAX_CURVE_SAMPLES: usize = 100_000_000;
 /// Most samples per direction of a surface (the CSV has the square of it).
-const MAX_SURFACE_SAMPLES: usize = 10_000;
+pub const MAX_SURFACE_SAMPLES: usize = 10_000;
 
 /// A number for CSV: shortest round-trip form, exponent only for very large or small values.
 fn csv_number(x: f64) -> String {

@@ -1,3 +1,5 @@
 //! Implementations of the subcommands, one file per method.
 
 pub mod bezier;
+pub mod eval;
+pub mod interpolate;

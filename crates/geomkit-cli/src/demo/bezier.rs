@@ -763,10 +763,11 @@ fn approx(ctx: &Context) -> Result<Report> {
 // precision
 
 /// splitmix64: a fixed pseudo-random sequence, so the table is the same on every run.
-struct SplitMix(u64);
+pub(super) struct SplitMix(pub(super) u64);
 
 impl SplitMix {
-    fn next_f64(&mut self) -> f64 {
+    /// The next number, uniform in [-1, 1).
+    pub(super) fn next_f64(&mut self) -> f64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);

@@ -1,0 +1,924 @@
+//! End-to-end tests of `geomkit interpolate` and `geomkit eval`: CSV and .npy inputs, every
+//! output format read back, bad inputs (one line naming the place, no file left behind), the
+//! streaming tile solve against the in-memory one, surfaces from heights and from points.
+
+use serde_json::Value;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn geomkit(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_geomkit"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the geomkit binary runs")
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    fs::write(&path, text).unwrap();
+    path
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8(out.stderr.clone()).unwrap()
+}
+
+/// Runs a command that must succeed and returns its stdout.
+fn ok(dir: &Path, args: &[&str]) -> String {
+    let out = geomkit(dir, args);
+    assert!(
+        out.status.success(),
+        "geomkit {args:?} failed: {}",
+        stderr(&out)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// Runs a failing command; returns its one error line after checking that `output` (if
+/// given) was not created and no temporary file was left in `dir`.
+fn fails(dir: &Path, args: &[&str], output: Option<&str>) -> String {
+    let before = fs::read_dir(dir).unwrap().count();
+    let out = geomkit(dir, args);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "geomkit {args:?}: {}",
+        stderr(&out)
+    );
+    let err = stderr(&out);
+    assert_eq!(err.lines().count(), 1, "not one line: {err:?}");
+    assert!(err.starts_with("error: "), "{err:?}");
+    assert!(out.stdout.is_empty(), "stdout of a failing {args:?}");
+    if let Some(o) = output {
+        assert!(!dir.join(o).exists(), "{o} was created by {args:?}");
+    }
+    assert_eq!(
+        fs::read_dir(dir).unwrap().count(),
+        before,
+        "files left by {args:?}"
+    );
+    err.trim_end().to_string()
+}
+
+/// A float64 C-order .npy file, written by hand.
+fn npy_bytes(shape: &[usize], data: &[f64]) -> Vec<u8> {
+    let shape_text = match shape {
+        [n] => format!("({n},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(|n| n.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    };
+    let mut dict = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape_text}, }}");
+    while (10 + dict.len() + 1) % 64 != 0 {
+        dict.push(' ');
+    }
+    dict.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend_from_slice(&(dict.len() as u16).to_le_bytes());
+    out.extend_from_slice(dict.as_bytes());
+    for x in data {
+        out.extend_from_slice(&x.to_le_bytes());
+    }
+    out
+}
+
+/// Reads a float64 .npy file: (shape, data).
+fn read_npy(path: &Path) -> (Vec<usize>, Vec<f64>) {
+    let bytes = fs::read(path).unwrap();
+    assert_eq!(&bytes[..6], b"\x93NUMPY");
+    let len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + len]).unwrap();
+    assert!(header.contains("'descr': '<f8'"), "{header}");
+    let inner = header
+        .split("'shape': (")
+        .nth(1)
+        .unwrap()
+        .split(')')
+        .next()
+        .unwrap();
+    let shape: Vec<usize> = inner
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let data: Vec<f64> = bytes[10 + len..]
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    assert_eq!(shape.iter().product::<usize>(), data.len());
+    (shape, data)
+}
+
+/// Parses CSV text with a header line into rows of numbers.
+fn csv_rows(text: &str) -> Vec<Vec<f64>> {
+    text.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect()
+}
+
+fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Six points of a plane trajectory, as CSV with a header.
+const POINTS: &str = "x,y\n1,1\n3,4\n6,4.5\n8,2\n11,2.5\n13,5\n";
+const POINTS_FLAT: [f64; 12] = [1.0, 1.0, 3.0, 4.0, 6.0, 4.5, 8.0, 2.0, 11.0, 2.5, 13.0, 5.0];
+
+#[test]
+fn curve_json_passes_through_the_points_read_back_by_eval() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "p.csv", POINTS);
+    for (end, param) in [
+        ("not-a-knot", "chord"),
+        ("repeat", "uniform"),
+        ("natural", "centripetal"),
+        ("clamped", "chord"),
+        ("outer", "uniform"),
+        ("periodic", "chord"),
+    ] {
+        let json = ok(
+            d,
+            &[
+                "interpolate",
+                "curve",
+                "p.csv",
+                "--end",
+                end,
+                "--param",
+                param,
+            ],
+        );
+        let v: Value = serde_json::from_str(&json).unwrap();
+        assert_eq!(v["type"], "bspline_curve");
+        assert_eq!(v["degree"], 3);
+        let t = numbers(&v["parameters"]);
+        assert_eq!(t.len(), 6, "{end}");
+        let at: String = std::iter::once("t\n".to_string())
+            .chain(t.iter().map(|x| format!("{x:?}\n")))
+            .collect();
+        write(d, "m.json", &json);
+        write(d, "t.csv", &at);
+        let rows = csv_rows(&ok(d, &["eval", "m.json", "--at", "t.csv"]));
+        let got: Vec<f64> = rows.iter().flat_map(|r| r[1..].to_vec()).collect();
+        assert!(
+            max_abs_diff(&got, &POINTS_FLAT) < 1e-13,
+            "{end}/{param}: {got:?}"
+        );
+    }
+    // The paper's repeated ends: N + 4 control points.
+    let v: Value = serde_json::from_str(&ok(
+        d,
+        &["interpolate", "curve", "p.csv", "--end", "repeat"],
+    ))
+    .unwrap();
+    assert_eq!(v["control_points"].as_array().unwrap().len(), 10);
+}
+
+#[test]
+fn npy_input_gives_the_csv_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "p.csv", POINTS);
+    fs::write(d.join("p.npy"), npy_bytes(&[6, 2], &POINTS_FLAT)).unwrap();
+    let a = ok(d, &["interpolate", "curve", "p.csv"]);
+    let b = ok(d, &["interpolate", "curve", "p.npy"]);
+    assert_eq!(a, b);
+    // 1-D points: a function of the parameter; blank-separated CSV without a header.
+    write(d, "f.txt", "0\n1\n0\n2\n");
+    fs::write(d.join("f.npy"), npy_bytes(&[4], &[0.0, 1.0, 0.0, 2.0])).unwrap();
+    let a = ok(d, &["interpolate", "curve", "f.txt", "--param", "uniform"]);
+    let b = ok(d, &["interpolate", "curve", "f.npy", "--param", "uniform"]);
+    assert_eq!(a, b);
+    // 3-D points separated by semicolons.
+    write(d, "s.csv", "0;0;0\n1;2;1\n3;3;0\n4;0;2\n");
+    let v: Value = serde_json::from_str(&ok(d, &["interpolate", "curve", "s.csv"])).unwrap();
+    assert_eq!(v["control_points"][0].as_array().unwrap().len(), 3);
+}
+
+#[test]
+fn every_curve_output_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "p.csv", POINTS);
+    ok(d, &["interpolate", "curve", "p.csv", "-o", "m.json"]);
+    // Samples as CSV and .npy: the same points, from the first to the last reference point.
+    ok(
+        d,
+        &[
+            "interpolate",
+            "curve",
+            "p.csv",
+            "-o",
+            "s.csv",
+            "--samples",
+            "101",
+        ],
+    );
+    ok(
+        d,
+        &[
+            "interpolate",
+            "curve",
+            "p.csv",
+            "-o",
+            "s.npy",
+            "--samples",
+            "101",
+        ],
+    );
+    let text = fs::read_to_string(d.join("s.csv")).unwrap();
+    assert!(text.starts_with("x,y\n"));
+    let rows = csv_rows(&text);
+    let (shape, data) = read_npy(&d.join("s.npy"));
+    assert_eq!(shape, [101, 2]);
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    assert_eq!(flat, data);
+    assert!(max_abs_diff(&data[..2], &POINTS_FLAT[..2]) < 1e-12);
+    assert!(max_abs_diff(&data[200..], &POINTS_FLAT[10..]) < 1e-12);
+    // ... equal to the model evaluated directly.
+    let direct = csv_rows(&ok(d, &["eval", "m.json", "--samples", "101"]));
+    let direct: Vec<f64> = direct.iter().flat_map(|r| r[1..].to_vec()).collect();
+    assert!(max_abs_diff(&direct, &data) < 1e-12);
+    // eval writes .npy with the parameter column first.
+    ok(d, &["eval", "m.json", "--samples", "101", "-o", "e.npy"]);
+    let (shape, e) = read_npy(&d.join("e.npy"));
+    assert_eq!(shape, [101, 3]);
+    assert_eq!(e[1..3], direct[..2]);
+    // Control points and knots as a pair, read back by eval.
+    for ext in ["csv", "npy"] {
+        let out = format!("c.{ext}");
+        ok(
+            d,
+            &["interpolate", "curve", "p.csv", "--control", "-o", &out],
+        );
+        assert!(d.join(format!("c.knots.{ext}")).is_file());
+        let again = csv_rows(&ok(d, &["eval", &out, "--samples", "101"]));
+        let again: Vec<f64> = again.iter().flat_map(|r| r[1..].to_vec()).collect();
+        assert_eq!(again, direct, "{ext}");
+    }
+    let (shape, _) = read_npy(&d.join("c.npy"));
+    assert_eq!(shape, [8, 2]);
+    let (shape, _) = read_npy(&d.join("c.knots.npy"));
+    assert_eq!(shape, [12]);
+    // A picture.
+    ok(
+        d,
+        &[
+            "interpolate",
+            "curve",
+            "p.csv",
+            "--end",
+            "repeat",
+            "-o",
+            "c.svg",
+        ],
+    );
+    let svg = fs::read_to_string(d.join("c.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert!(svg.contains("control polygon, 10 points") && svg.contains("reference points (6)"));
+    assert!(!svg.contains("NaN"));
+    // Bézier models evaluate too, on [0, 1].
+    write(
+        d,
+        "b.json",
+        r#"{"type":"bezier_curve","points":[[0,0],[1,2],[2,0]]}"#,
+    );
+    let rows = csv_rows(&ok(d, &["eval", "b.json", "--samples", "3"]));
+    assert_eq!(
+        rows,
+        [
+            vec![0.0, 0.0, 0.0],
+            vec![0.5, 1.0, 1.0],
+            vec![1.0, 2.0, 0.0]
+        ]
+    );
+}
+
+#[test]
+fn bad_inputs_name_the_place_and_leave_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cases: [(&str, &str, &[&str], &str); 9] = [
+        (
+            "word.csv",
+            "x,y\n0,0\n1,2\n3,abc\n",
+            &[],
+            "word.csv:4:2: \"abc\" is not a number",
+        ),
+        (
+            "ragged.csv",
+            "0,0\n1,2\n3,4,5\n",
+            &[],
+            "ragged.csv:3: 3 columns but line 1 has 2",
+        ),
+        (
+            "nan.csv",
+            "0,0\n1,nan\n",
+            &[],
+            "nan.csv:2:2: \"nan\" is not a finite number",
+        ),
+        ("empty.csv", "1,\n", &[], "empty.csv:1:2: empty cell"),
+        (
+            "two.csv",
+            "0,0\n1,1\n",
+            &["--end", "periodic"],
+            "too few points for --end periodic: got 2, need at least 3",
+        ),
+        (
+            "one.csv",
+            "0,0\n",
+            &[],
+            "too few points for --end not-a-knot: got 1, need at least 2",
+        ),
+        (
+            "dup.csv",
+            "0,0\n1,2\n# same again\n1,2\n",
+            &[],
+            "dup.csv: lines 2 and 4 hold the same point",
+        ),
+        ("words.csv", "x,y\n", &[], "words.csv: no numbers"),
+        (
+            "tangent.csv",
+            POINTS,
+            &["--end", "clamped", "--start-tangent", "1,2,3"],
+            "--start-tangent has 3 coordinates",
+        ),
+    ];
+    for (name, text, extra, want) in cases {
+        write(d, name, text);
+        for out in ["o.json", "o.csv", "o.npy", "o.svg"] {
+            let mut args = vec!["interpolate", "curve", name, "-o", out];
+            args.extend_from_slice(extra);
+            let err = fails(d, &args, Some(out));
+            assert!(err.contains(want), "{err} does not say {want:?}");
+        }
+    }
+    // .npy inputs: non-finite values by index, wrong shapes, truncation.
+    fs::write(
+        d.join("inf.npy"),
+        npy_bytes(&[3, 2], &[0.0, 0.0, 1.0, f64::INFINITY, 2.0, 0.0]),
+    )
+    .unwrap();
+    let err = fails(
+        d,
+        &["interpolate", "curve", "inf.npy", "-o", "o.json"],
+        Some("o.json"),
+    );
+    assert!(err.contains("inf.npy: element [1, 1] is inf"), "{err}");
+    fs::write(d.join("cube.npy"), npy_bytes(&[2, 2, 2], &[0.0; 8])).unwrap();
+    let err = fails(d, &["interpolate", "curve", "cube.npy"], None);
+    assert!(
+        err.contains("shape (N, d)") && err.contains("(2, 2, 2)"),
+        "{err}"
+    );
+    let mut short = npy_bytes(&[3, 2], &[0.0; 6]);
+    short.truncate(short.len() - 4);
+    fs::write(d.join("short.npy"), short).unwrap();
+    let err = fails(d, &["interpolate", "curve", "short.npy"], None);
+    assert!(err.contains("short.npy") && err.contains("(3, 2)"), "{err}");
+    // An existing output keeps its contents.
+    write(d, "keep.json", "old");
+    fails(
+        d,
+        &["interpolate", "curve", "word.csv", "-o", "keep.json"],
+        None,
+    );
+    assert_eq!(fs::read_to_string(d.join("keep.json")).unwrap(), "old");
+    // Misuse of options.
+    write(d, "p.csv", POINTS);
+    for (args, want) in [
+        (
+            &["interpolate", "curve", "p.csv", "-o", "o.txt"][..],
+            "cannot tell the output format",
+        ),
+        (
+            &[
+                "interpolate",
+                "curve",
+                "p.csv",
+                "--end",
+                "repeat",
+                "--param",
+                "chord",
+            ],
+            "needs uniform",
+        ),
+        (
+            &[
+                "interpolate",
+                "curve",
+                "p.csv",
+                "--tile",
+                "100",
+                "--end",
+                "periodic",
+            ],
+            "--tile takes",
+        ),
+        (&["interpolate", "curve", "p.csv", "--control"], "--control"),
+        (
+            &[
+                "interpolate",
+                "curve",
+                "p.csv",
+                "--samples",
+                "1",
+                "-o",
+                "o.csv",
+            ],
+            "--samples",
+        ),
+        (
+            &["interpolate", "curve", "p.csv", "--offset", "0.5"],
+            "--end outer",
+        ),
+        (&["eval", "p.csv", "--samples", "3"], "knots"),
+        (
+            &["interpolate", "curve", "missing.csv"],
+            "cannot read missing.csv",
+        ),
+    ] {
+        let err = fails(d, args, None);
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn eval_checks_its_parameters() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "p.csv", POINTS);
+    ok(
+        d,
+        &[
+            "interpolate",
+            "curve",
+            "p.csv",
+            "--param",
+            "uniform",
+            "-o",
+            "m.json",
+        ],
+    );
+    write(d, "t.csv", "0\n2.5\n9\n");
+    let err = fails(
+        d,
+        &["eval", "m.json", "--at", "t.csv", "-o", "o.csv"],
+        Some("o.csv"),
+    );
+    assert!(
+        err.contains("t.csv: line 3: t = 9 is outside the domain [0, 5]"),
+        "{err}"
+    );
+    write(d, "uv.csv", "0,0\n");
+    let err = fails(d, &["eval", "m.json", "--at", "uv.csv"], None);
+    assert!(err.contains("a curve takes one column"), "{err}");
+    let err = fails(d, &["eval", "m.json", "--samples", "3x3"], None);
+    assert!(err.contains("is a curve"), "{err}");
+    // A B-spline model handed to `bezier` says where to go.
+    let err = fails(d, &["bezier", "degree", "m.json"], None);
+    assert!(err.contains("geomkit eval"), "{err}");
+}
+
+/// A smooth wiggly path of `n` points, flat.
+fn path(n: usize) -> Vec<f64> {
+    (0..n)
+        .flat_map(|i| {
+            let t = i as f64 * 0.01;
+            [
+                t + 0.3 * (7.0 * t).sin(),
+                (3.0 * t).cos() * (1.0 + 0.01 * t),
+            ]
+        })
+        .collect()
+}
+
+#[test]
+fn streaming_tiles_equal_the_in_memory_solve() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let n = 200_000;
+    let points = path(n);
+    fs::write(d.join("big.npy"), npy_bytes(&[n, 2], &points)).unwrap();
+    let scale = points.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for param in ["chord", "uniform", "centripetal"] {
+        ok(
+            d,
+            &[
+                "interpolate",
+                "curve",
+                "big.npy",
+                "--param",
+                param,
+                "--control",
+                "-o",
+                "g.npy",
+            ],
+        );
+        ok(
+            d,
+            &[
+                "interpolate",
+                "curve",
+                "big.npy",
+                "--param",
+                param,
+                "--tile",
+                "7000",
+                "--control",
+                "-o",
+                "s.npy",
+            ],
+        );
+        let (gs, g) = read_npy(&d.join("g.npy"));
+        let (ss, s) = read_npy(&d.join("s.npy"));
+        assert_eq!(gs, [n + 2, 2]);
+        assert_eq!(ss, gs);
+        let err = max_abs_diff(&g, &s);
+        assert!(err <= 4.0 * f64::EPSILON * scale, "{param}: {err}");
+        // Same knots, bit for bit (the tiles chain the global parameters).
+        assert_eq!(
+            read_npy(&d.join("g.knots.npy")),
+            read_npy(&d.join("s.knots.npy"))
+        );
+    }
+    // Streaming to CSV with another end condition and a small halo still matches closely.
+    ok(
+        d,
+        &[
+            "interpolate",
+            "curve",
+            "big.npy",
+            "--end",
+            "natural",
+            "--tile",
+            "50000",
+            "--control",
+            "-o",
+            "s.csv",
+        ],
+    );
+    ok(
+        d,
+        &[
+            "interpolate",
+            "curve",
+            "big.npy",
+            "--end",
+            "natural",
+            "-o",
+            "g.json",
+        ],
+    );
+    let g: Value = serde_json::from_str(&fs::read_to_string(d.join("g.json")).unwrap()).unwrap();
+    let g: Vec<f64> = g["control_points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(numbers)
+        .collect();
+    let s: Vec<f64> = csv_rows(&fs::read_to_string(d.join("s.csv")).unwrap())
+        .into_iter()
+        .flatten()
+        .collect();
+    assert!(max_abs_diff(&g, &s) <= 4.0 * f64::EPSILON * scale);
+    // A duplicate point deep inside a tile is reported by its row.
+    let mut dup = points.clone();
+    dup[2 * 123_457] = dup[2 * 123_456];
+    dup[2 * 123_457 + 1] = dup[2 * 123_456 + 1];
+    fs::write(d.join("dup.npy"), npy_bytes(&[n, 2], &dup)).unwrap();
+    let err = fails(
+        d,
+        &[
+            "interpolate",
+            "curve",
+            "dup.npy",
+            "--tile",
+            "7000",
+            "--control",
+            "-o",
+            "x.npy",
+        ],
+        Some("x.npy"),
+    );
+    assert!(
+        err.contains("rows 123456 and 123457 hold the same point"),
+        "{err}"
+    );
+    assert!(!d.join("x.knots.npy").exists());
+}
+
+/// Heights z = sin(x/3)·cos(y/4)·3 on a 9×7 grid.
+fn heights(rows: usize, cols: usize) -> Vec<f64> {
+    (0..rows * cols)
+        .map(|k| {
+            let (i, j) = ((k / cols) as f64, (k % cols) as f64);
+            3.0 * (i / 3.0).sin() * (j / 4.0).cos()
+        })
+        .collect()
+}
+
+#[test]
+fn surface_from_heights() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (r, c) = (9, 7);
+    let z = heights(r, c);
+    let csv: String = z
+        .chunks(c)
+        .map(|row| {
+            row.iter()
+                .map(|x| format!("{x:?}"))
+                .collect::<Vec<_>>()
+                .join(",")
+                + "\n"
+        })
+        .collect();
+    write(d, "h.csv", &csv);
+    fs::write(d.join("h.npy"), npy_bytes(&[r, c], &z)).unwrap();
+    let args = ["--heights", "--dx", "0.5", "--dy", "2", "--x0", "-1"];
+    let mut a = vec!["interpolate", "surface", "h.csv"];
+    a.extend_from_slice(&args);
+    let json = ok(d, &a);
+    a[2] = "h.npy";
+    assert_eq!(ok(d, &a), json);
+    let v: Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["type"], "bspline_surface");
+    assert_eq!(v["net"].as_array().unwrap().len(), r + 2);
+    assert_eq!(
+        v["net"][0][0].as_array().unwrap().len(),
+        1,
+        "heights have 1-D net points"
+    );
+    // Evaluated at the grid coordinates, the surface gives the heights back.
+    write(d, "h.json", &json);
+    let (xs, ys) = (numbers(&v["parameters_u"]), numbers(&v["parameters_v"]));
+    assert_eq!(xs[1], -0.5);
+    assert_eq!(ys[1], 2.0);
+    let uv: String = std::iter::once("u,v\n".to_string())
+        .chain(
+            xs.iter()
+                .flat_map(|x| ys.iter().map(move |y| format!("{x:?},{y:?}\n"))),
+        )
+        .collect();
+    write(d, "uv.csv", &uv);
+    let rows = csv_rows(&ok(d, &["eval", "h.json", "--at", "uv.csv"]));
+    let got: Vec<f64> = rows.iter().map(|row| row[2]).collect();
+    assert!(max_abs_diff(&got, &z) < 1e-13);
+    // A sample grid has columns x,y,z over the whole grid.
+    a.extend_from_slice(&["-o", "g.csv", "--samples", "5x3"]);
+    ok(d, &a);
+    let text = fs::read_to_string(d.join("g.csv")).unwrap();
+    assert!(text.starts_with("x,y,z\n"));
+    let rows = csv_rows(&text);
+    assert_eq!(rows.len(), 15);
+    assert_eq!(rows[0][..2], [-1.0, 0.0]);
+    assert_eq!(rows[14][..2], [3.0, 12.0]);
+    assert!((rows[14][2] - z[r * c - 1]).abs() < 1e-13);
+    let n = a.len();
+    a[n - 3] = "g.npy";
+    ok(d, &a);
+    let (shape, data) = read_npy(&d.join("g.npy"));
+    assert_eq!(shape, [5, 3, 3]);
+    assert_eq!(data, rows.concat());
+    // Mesh and picture.
+    a[n - 3] = "g.obj";
+    ok(d, &a);
+    let obj = fs::read_to_string(d.join("g.obj")).unwrap();
+    let count = |p: &str| obj.lines().filter(|l| l.starts_with(p)).count();
+    assert_eq!((count("v "), count("vn "), count("f ")), (15, 15, 16));
+    // Normals of a height field point up.
+    assert!(obj
+        .lines()
+        .filter(|l| l.starts_with("vn "))
+        .all(|l| { l.split(' ').nth(3).unwrap().parse::<f64>().unwrap() > 0.0 }));
+    ok(
+        d,
+        &[
+            "interpolate",
+            "surface",
+            "h.csv",
+            "--heights",
+            "-o",
+            "h.svg",
+        ],
+    );
+    let svg = fs::read_to_string(d.join("h.svg")).unwrap();
+    assert!(svg.contains("<rect") && svg.contains("contour lines") && !svg.contains("NaN"));
+}
+
+#[test]
+fn surface_from_point_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (r, c) = (6, 5);
+    let z = heights(r, c);
+    let mut csv = String::from("x,y,z\n");
+    let mut flat = Vec::new();
+    for (k, h) in z.iter().enumerate() {
+        let (x, y) = ((k / c) as f64 * 1.5, (k % c) as f64 + 0.1 * (k / c) as f64);
+        csv += &format!("{x:?},{y:?},{h:?}\n");
+        flat.extend_from_slice(&[x, y, *h]);
+    }
+    write(d, "g.csv", &csv);
+    fs::write(d.join("g.npy"), npy_bytes(&[r, c, 3], &flat)).unwrap();
+    let json = ok(
+        d,
+        &[
+            "interpolate",
+            "surface",
+            "g.csv",
+            "--rows",
+            "6",
+            "--cols",
+            "5",
+        ],
+    );
+    assert_eq!(
+        ok(d, &["interpolate", "surface", "g.csv", "--cols", "5"]),
+        json
+    );
+    assert_eq!(ok(d, &["interpolate", "surface", "g.npy"]), json);
+    let v: Value = serde_json::from_str(&json).unwrap();
+    write(d, "s.json", &json);
+    let (us, vs) = (numbers(&v["parameters_u"]), numbers(&v["parameters_v"]));
+    let uv: String = us
+        .iter()
+        .flat_map(|u| vs.iter().map(move |v| format!("{u:?},{v:?}\n")))
+        .collect();
+    write(d, "uv.csv", &uv);
+    let rows = csv_rows(&ok(d, &["eval", "s.json", "--at", "uv.csv"]));
+    let got: Vec<f64> = rows.iter().flat_map(|row| row[2..].to_vec()).collect();
+    assert!(max_abs_diff(&got, &flat) < 1e-13);
+    // The paper's boundary: an (M+2)×(N+2) net, and a mixed periodic direction.
+    let v: Value = serde_json::from_str(&ok(
+        d,
+        &[
+            "interpolate",
+            "surface",
+            "g.npy",
+            "--end",
+            "outer",
+            "--offset",
+            "0.5",
+        ],
+    ))
+    .unwrap();
+    assert_eq!(v["net"].as_array().unwrap().len(), r + 2);
+    assert_eq!(v["net"][0].as_array().unwrap().len(), c + 2);
+    ok(
+        d,
+        &[
+            "interpolate",
+            "surface",
+            "g.npy",
+            "--end-v",
+            "natural",
+            "--end-u",
+            "clamped",
+        ],
+    );
+    // Outputs.
+    ok(
+        d,
+        &[
+            "interpolate",
+            "surface",
+            "g.npy",
+            "-o",
+            "s.obj",
+            "--samples",
+            "4",
+        ],
+    );
+    let obj = fs::read_to_string(d.join("s.obj")).unwrap();
+    assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 18);
+    ok(d, &["interpolate", "surface", "g.npy", "-o", "s.svg"]);
+    assert!(fs::read_to_string(d.join("s.svg"))
+        .unwrap()
+        .contains("control net 8×7"));
+    ok(d, &["eval", "s.json", "--samples", "3x4", "-o", "e.npy"]);
+    assert_eq!(read_npy(&d.join("e.npy")).0, [12, 5]);
+    // Grid size mismatches.
+    for (args, want) in [
+        (
+            &[
+                "interpolate",
+                "surface",
+                "g.csv",
+                "--rows",
+                "4",
+                "--cols",
+                "5",
+                "-o",
+                "o.json",
+            ][..],
+            "g.csv: --rows 4 × --cols 5 = 20 grid points, but the file has 30 points (lines)",
+        ),
+        (
+            &[
+                "interpolate",
+                "surface",
+                "g.csv",
+                "--rows",
+                "7",
+                "-o",
+                "o.json",
+            ],
+            "do not divide",
+        ),
+        (
+            &["interpolate", "surface", "g.csv", "-o", "o.json"],
+            "--rows and --cols",
+        ),
+        (
+            &[
+                "interpolate",
+                "surface",
+                "g.npy",
+                "--rows",
+                "5",
+                "-o",
+                "o.json",
+            ],
+            "does not match",
+        ),
+        (
+            &[
+                "interpolate",
+                "surface",
+                "g.npy",
+                "--heights",
+                "-o",
+                "o.json",
+            ],
+            "heights need a matrix",
+        ),
+        (
+            &[
+                "interpolate",
+                "surface",
+                "g.npy",
+                "--end",
+                "repeat",
+                "--param",
+                "chord",
+                "-o",
+                "o.json",
+            ],
+            "needs uniform",
+        ),
+    ] {
+        let err = fails(d, args, Some("o.json"));
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    let two = "0,0,0\n1,0,0\n0,1,0\n1,1,1\n";
+    write(d, "two.csv", two);
+    let err = fails(
+        d,
+        &[
+            "interpolate",
+            "surface",
+            "two.csv",
+            "--rows",
+            "2",
+            "--end",
+            "periodic",
+            "-o",
+            "o.obj",
+        ],
+        Some("o.obj"),
+    );
+    assert!(err.contains("too few"), "{err}");
+}
+
+#[test]
+fn help_snapshot() {
+    let dir = tempfile::tempdir().unwrap();
+    insta::assert_snapshot!(
+        "interpolate_help",
+        ok(dir.path(), &["interpolate", "--help"])
+    );
+}
