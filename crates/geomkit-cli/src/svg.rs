@@ -470,8 +470,10 @@ impl Figure {
                             r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{}"/>"#,
                             a[0].min(b[0]),
                             a[1].min(b[1]),
-                            (b[0] - a[0]).abs(),
-                            (b[1] - a[1]).abs(),
+                            // Overlap the neighbours by 0.6 px: crisp edges round x and
+                            // width separately and would otherwise leave hairline gaps.
+                            (b[0] - a[0]).abs() + 0.6,
+                            (b[1] - a[1]).abs() + 0.6,
                             escape(&c.fill)
                         );
                     }

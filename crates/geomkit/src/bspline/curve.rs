@@ -227,6 +227,11 @@ impl BsplineCurve {
         })
     }
 
+    /// Dimension of the points.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
     /// Degree p.
     pub fn degree(&self) -> usize {
         self.degree
