@@ -19,7 +19,6 @@ use crate::svg::{palette, Stroke};
 use crate::table::{extension, is_npy, Table};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::ValueEnum;
-use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
     interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights, interpolate_surface_flat,
     BsplineCurve, BsplineSurface, CurveTiler, EndCondition, InterpolationOptions, Parametrization,
