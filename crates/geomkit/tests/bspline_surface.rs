@@ -278,3 +278,59 @@ fn heights_on_a_non_uniform_grid() {
         Err(Error::InvalidParameter { index: 2, .. })
     ));
 }
+
+#[test]
+fn surface_tiles_equal_the_global_solve() {
+    use geomkit::bspline::{interpolate_surface_flat, interpolate_surface_tiled, TileOptions};
+    let (rows, cols) = (1024usize, 1024usize);
+    let z: Vec<f64> = (0..rows * cols)
+        .map(|k| {
+            let (x, y) = ((k / cols) as f64 * 0.01, (k % cols) as f64 * 0.013);
+            (x * 3.0).sin() * (y * 2.0).cos() + 0.3 * ((k * 2654435761) % 1000) as f64 / 1000.0
+        })
+        .collect();
+    let scale = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for end in [EndCondition::NotAKnot, EndCondition::Natural] {
+        let opts = SurfaceInterpolationOptions::default()
+            .with_end(end.clone())
+            .with_parametrization(Parametrization::Uniform);
+        let global = interpolate_surface_flat(rows, cols, 1, &z, &opts).unwrap();
+        let tiled = interpolate_surface_tiled(
+            rows,
+            cols,
+            1,
+            &z,
+            &opts,
+            &TileOptions::default().with_tile_size(300),
+        )
+        .unwrap();
+        assert_eq!(global.surface.knots(), tiled.surface.knots());
+        let err = global
+            .surface
+            .control_flat()
+            .iter()
+            .zip(tiled.surface.control_flat())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        // max|p| over the solution's control points (the paper's p*): two passes of rounding,
+        // each a few ulps of the controls, which noisy data make ~4x larger than the data.
+        let cscale = global
+            .surface
+            .control_flat()
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(
+            err <= 4.0 * f64::EPSILON * cscale,
+            "{end:?}: {err:e} (data {scale}, control {cscale})"
+        );
+    }
+    assert!(interpolate_surface_tiled(
+        rows,
+        cols,
+        1,
+        &z,
+        &SurfaceInterpolationOptions::default().with_end(EndCondition::Periodic),
+        &TileOptions::default()
+    )
+    .is_err());
+}

@@ -31,6 +31,6 @@ pub use surface::{
     BsplineSurface, SurfaceInterpolation, SurfaceInterpolationOptions,
 };
 pub use tiles::{
-    interpolate_curve_tiled, paper_fragments_averaged, CurveTiler, TileOptions, TilePlan,
-    TileSolution,
+    interpolate_curve_tiled, interpolate_surface_tiled, paper_fragments_averaged, CurveTiler,
+    TileOptions, TilePlan, TileSolution,
 };

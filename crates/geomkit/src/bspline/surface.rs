@@ -457,6 +457,29 @@ fn closed_rows(grid: &[f64], rows: usize, cols: usize, dim: usize, end: &EndCond
     }
 }
 
+/// Parameters of both directions of an open (non-periodic) grid, as the global solve uses.
+pub(crate) fn grid_parameters_both(
+    grid: &[f64],
+    rows: usize,
+    cols: usize,
+    dim: usize,
+    options: &SurfaceInterpolationOptions,
+) -> Result<(Vec<f64>, Vec<f64>)> {
+    for count in [rows, cols] {
+        if count < 2 {
+            return Err(Error::TooFewPoints {
+                what: "grid rows or columns",
+                got: count,
+                min: 2,
+            });
+        }
+    }
+    let p = options.parametrization;
+    let tu = grid_parameters(grid, rows, cols, dim, p, false)?;
+    let tv = grid_parameters(&transpose(grid, rows, cols, dim), cols, rows, dim, p, false)?;
+    Ok((tu, tv))
+}
+
 /// [`interpolate_surface`] on a row-major rows × cols × dim grid.
 pub fn interpolate_surface_flat(
     rows: usize,
@@ -514,7 +537,7 @@ pub fn interpolate_surface_flat(
 }
 
 /// The separable solve: rows along v, then (transposed) along u.
-fn separable(
+pub(crate) fn separable(
     grid: &[f64],
     m: usize,
     n: usize,

@@ -114,19 +114,7 @@ impl CurveTiler {
 
     /// The tiles in order.
     pub fn plan(&self) -> Vec<TilePlan> {
-        let (n, size, h) = (self.n, self.tiles.tile_size.max(1), self.tiles.halo);
-        (0..n.div_ceil(size))
-            .map(|k| {
-                let (a, b) = (k * size, ((k + 1) * size).min(n));
-                // Data point i is centred on control point i + 1; the ends own c_0 / c_(N+1).
-                let w0 = if a == 0 { 0 } else { a + 1 };
-                let w1 = if b == n { n + 2 } else { b + 1 };
-                TilePlan {
-                    read: a.saturating_sub(h)..(b + h).min(n),
-                    write: w0..w1,
-                }
-            })
-            .collect()
+        plan_tiles(self.n, &self.tiles)
     }
 
     /// Solves one tile from its `read` points (row-major). `t_start` is the parameter of
@@ -171,6 +159,129 @@ pub struct TileSolution {
     pub control: Vec<f64>,
     /// Parameters of the tile's `read` points.
     pub parameters: Vec<f64>,
+}
+
+/// Tiles of `n` points (open ends): each owns `tile_size` points and reads a halo around them.
+fn plan_tiles(n: usize, tiles: &TileOptions) -> Vec<TilePlan> {
+    let (size, h) = (tiles.tile_size.max(1), tiles.halo);
+    (0..n.div_ceil(size))
+        .map(|k| {
+            let (a, b) = (k * size, ((k + 1) * size).min(n));
+            // Data point i is centred on control point i + 1; the ends own c_0 / c_(N+1).
+            let w0 = if a == 0 { 0 } else { a + 1 };
+            let w1 = if b == n { n + 2 } else { b + 1 };
+            TilePlan {
+                read: a.saturating_sub(h)..(b + h).min(n),
+                write: w0..w1,
+            }
+        })
+        .collect()
+}
+
+/// Interpolates a rows × cols × dim grid (row-major) in square blocks of
+/// `tiles.tile_size` points a side with a halo of `tiles.halo` points, in parallel over
+/// rows of blocks: the tensor-product inverse is the product of two decaying 1-D inverses,
+/// so each block's interior equals the global [`super::interpolate_surface_flat`] within
+/// rounding. Parameters are computed once for the whole grid. Errors: periodic or repeat
+/// ends (solve those globally), and as the global solve.
+pub fn interpolate_surface_tiled(
+    rows: usize,
+    cols: usize,
+    dim: usize,
+    grid: &[f64],
+    options: &super::SurfaceInterpolationOptions,
+    tiles: &TileOptions,
+) -> Result<super::SurfaceInterpolation> {
+    for end in [&options.end_u, &options.end_v] {
+        if matches!(end, EndCondition::Periodic | EndCondition::Repeat) {
+            return Err(Error::InvalidOption {
+                option: "tiled end condition",
+                reason: "tiles take natural, clamped, not-a-knot or outer-points ends",
+            });
+        }
+    }
+    validate_points("reference grid", dim, grid)?;
+    if grid.len() != rows * cols * dim {
+        return Err(Error::BufferSize {
+            expected: rows * cols * dim,
+            got: grid.len(),
+        });
+    }
+    let (tu, tv) = super::surface::grid_parameters_both(grid, rows, cols, dim, options)?;
+    let (nu, nv) = (rows + 2, cols + 2);
+    let (plan_u, plan_v) = (plan_tiles(rows, tiles), plan_tiles(cols, tiles));
+    let mut control = vec![0.0; nu * nv * dim];
+    // Split the net into the disjoint row bands that each row of blocks writes.
+    let mut bands: Vec<(&TilePlan, &mut [f64])> = Vec::with_capacity(plan_u.len());
+    let mut rest = control.as_mut_slice();
+    for pu in &plan_u {
+        let (band, tail) = rest.split_at_mut(pu.write.len() * nv * dim);
+        bands.push((pu, band));
+        rest = tail;
+    }
+    let natural = EndCondition::Natural;
+    bands
+        .into_par_iter()
+        .try_for_each(|(pu, band)| -> Result<()> {
+            let ru = &pu.read;
+            let end_u0 = if ru.start == 0 {
+                &options.end_u
+            } else {
+                &natural
+            };
+            let end_u1 = if ru.end == rows {
+                &options.end_u
+            } else {
+                &natural
+            };
+            let sys_u = Solver1d::new_mixed(&tu[ru.clone()], end_u0, end_u1)?;
+            for pv in &plan_v {
+                let rv = &pv.read;
+                let end_v0 = if rv.start == 0 {
+                    &options.end_v
+                } else {
+                    &natural
+                };
+                let end_v1 = if rv.end == cols {
+                    &options.end_v
+                } else {
+                    &natural
+                };
+                let sys_v = Solver1d::new_mixed(&tv[rv.clone()], end_v0, end_v1)?;
+                let (m, n) = (ru.len(), rv.len());
+                let mut block = Vec::with_capacity(m * n * dim);
+                for i in ru.clone() {
+                    block.extend_from_slice(
+                        &grid[(i * cols + rv.start) * dim..(i * cols + rv.end) * dim],
+                    );
+                }
+                let local = super::surface::separable(&block, m, n, dim, &sys_u, &sys_v)?;
+                let net = local.surface.control_flat();
+                let lnv = n + 2;
+                for (bi, gi) in pu.write.clone().enumerate() {
+                    let li = gi - ru.start;
+                    let src = (li * lnv + pv.write.start - rv.start) * dim;
+                    let dst = (bi * nv + pv.write.start) * dim;
+                    let len = pv.write.len() * dim;
+                    band[dst..dst + len].copy_from_slice(&net[src..src + len]);
+                }
+            }
+            Ok(())
+        })?;
+    let knots = |t: &[f64]| super::interpolate::open_knots(t);
+    Ok(super::SurfaceInterpolation {
+        surface: super::BsplineSurface::from_flat(
+            (3, 3),
+            knots(&tu),
+            knots(&tv),
+            nu,
+            nv,
+            dim,
+            control,
+        )?,
+        params_u: tu,
+        params_v: tv,
+    })
 }
 
 /// Interpolates in parallel tiles; equal to [`super::interpolate_curve_flat`] within rounding
