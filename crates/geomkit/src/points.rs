@@ -47,3 +47,107 @@ pub(crate) fn flatten_points(what: &'static str, points: &[Vec<f64>]) -> Result<
     validate_points(what, dim, &data)?;
     Ok((dim, data))
 }
+
+/// Flattens a grid `grid[i][j]` of points of one dimension into (rows, cols, dim, row-major
+/// data). Errors: empty grid or first row, ragged rows, mixed dimensions (naming the
+/// flattened index), and whatever [`validate_points`] finds.
+pub(crate) fn flatten_grid(
+    what: &'static str,
+    grid: &[Vec<Vec<f64>>],
+) -> Result<(usize, usize, usize, Vec<f64>)> {
+    let cols = grid.first().map_or(0, Vec::len);
+    if cols == 0 {
+        return Err(Error::Empty { what });
+    }
+    let dim = grid[0][0].len();
+    let mut data = Vec::with_capacity(grid.len() * cols * dim);
+    for (i, row) in grid.iter().enumerate() {
+        if row.len() != cols {
+            return Err(Error::RaggedNet {
+                row: i,
+                expected: cols,
+                got: row.len(),
+            });
+        }
+        for (j, p) in row.iter().enumerate() {
+            if p.len() != dim {
+                return Err(Error::DimensionMismatch {
+                    what: "grid point",
+                    index: i * cols + j,
+                    expected: dim,
+                    got: p.len(),
+                });
+            }
+            data.extend_from_slice(p);
+        }
+    }
+    validate_points(what, dim, &data)?;
+    Ok((grid.len(), cols, dim, data))
+}
+
+/// Checks the arguments of a batched evaluation: a buffer of `count * dim` numbers and finite
+/// parameters (`what` names them in the error).
+pub(crate) fn check_eval_args(
+    what: &'static str,
+    params: &[f64],
+    count: usize,
+    dim: usize,
+    out: &[f64],
+) -> Result<()> {
+    if out.len() != count * dim {
+        return Err(Error::BufferSize {
+            expected: count * dim,
+            got: out.len(),
+        });
+    }
+    match params.iter().position(|t| !t.is_finite()) {
+        Some(index) => Err(Error::NonFinite { what, index }),
+        None => Ok(()),
+    }
+}
+
+/// The unit normal a × b / |a × b| of two tangent vectors in R^3, `None` where they are
+/// parallel or vanish (|a × b| <= 1e-14 |a| |b|).
+pub(crate) fn unit_normal(a: &[f64], b: &[f64]) -> Option<[f64; 3]> {
+    let n = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    let len = crate::numeric::norm(&n);
+    let scale = crate::numeric::norm(a) * crate::numeric::norm(b);
+    if len == 0.0 || len <= 1e-14 * scale {
+        return None;
+    }
+    Some([n[0] / len, n[1] / len, n[2] / len])
+}
+
+/// Checks a knot vector for `n` control points of `degree`: the right count, finite,
+/// non-decreasing, and a non-empty domain [knots[p], knots[n]].
+pub(crate) fn check_knots(knots: &[f64], degree: usize, n: usize) -> Result<()> {
+    if knots.len() != n + degree + 1 {
+        return Err(Error::InvalidKnots {
+            index: knots.len().min(n + degree + 1),
+            reason: "need (control points + degree + 1) knots",
+        });
+    }
+    if let Some(index) = knots.iter().position(|k| !k.is_finite()) {
+        return Err(Error::NonFinite {
+            what: "knot",
+            index,
+        });
+    }
+    if let Some(index) = knots.windows(2).position(|w| w[1] < w[0]) {
+        return Err(Error::InvalidKnots {
+            index: index + 1,
+            reason: "knots must be non-decreasing",
+        });
+    }
+    if knots[n] <= knots[degree] {
+        return Err(Error::InvalidKnots {
+            index: degree,
+            reason: "the domain [knots[p], knots[n]] is empty",
+        });
+    }
+    Ok(())
+}

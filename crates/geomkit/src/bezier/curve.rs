@@ -3,8 +3,8 @@
 
 use crate::exact::ExactBezierCurve;
 use crate::numeric::{binomial_f64, Dd};
-pub(crate) use crate::points::{flatten_points, validate_points};
-use crate::{Error, Result};
+pub(crate) use crate::points::{check_eval_args, flatten_points, validate_points};
+use crate::Result;
 
 /// A parametric curve that can be evaluated into a caller's buffer.
 pub trait ParamCurve {
@@ -28,18 +28,7 @@ pub trait ParamCurve {
     /// `out[k*dim .. (k+1)*dim]`. Errors on a wrong buffer length or a non-finite parameter.
     fn eval_many(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim();
-        if out.len() != ts.len() * d {
-            return Err(Error::BufferSize {
-                expected: ts.len() * d,
-                got: out.len(),
-            });
-        }
-        if let Some(index) = ts.iter().position(|t| !t.is_finite()) {
-            return Err(Error::NonFinite {
-                what: "parameter",
-                index,
-            });
-        }
+        check_eval_args("parameter", ts, ts.len(), d, out)?;
         for (t, o) in ts.iter().zip(out.chunks_exact_mut(d)) {
             self.eval_into(*t, o);
         }
@@ -376,18 +365,7 @@ impl ParamCurve for BezierCurve {
 
     fn eval_many(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim;
-        if out.len() != ts.len() * d {
-            return Err(Error::BufferSize {
-                expected: ts.len() * d,
-                got: out.len(),
-            });
-        }
-        if let Some(index) = ts.iter().position(|t| !t.is_finite()) {
-            return Err(Error::NonFinite {
-                what: "parameter",
-                index,
-            });
-        }
+        check_eval_args("parameter", ts, ts.len(), d, out)?;
         if self.degree() <= HORNER_MAX_DEGREE {
             eval_horner_many(&self.points, d, ts, out);
         } else {
@@ -403,6 +381,7 @@ impl ParamCurve for BezierCurve {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::Error;
 
     #[test]
     fn rejects_bad_input() {

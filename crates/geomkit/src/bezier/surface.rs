@@ -27,6 +27,7 @@ use super::degree::{
     DegreeReport,
 };
 use crate::numeric::{distance, max_norm};
+use crate::points::{check_eval_args, flatten_grid, unit_normal};
 use crate::{Error, Result};
 
 /// A parametric direction of a surface.
@@ -95,38 +96,8 @@ impl BezierSurface {
     /// A surface from its net, `net[i][j]` the control point u_ij. Errors: empty net or row,
     /// ragged rows, points of different dimensions, non-finite coordinates.
     pub fn new(net: Vec<Vec<Vec<f64>>>) -> Result<Self> {
-        let first_row = net.first().ok_or(Error::Empty {
-            what: "control net",
-        })?;
-        let cols = first_row.len();
-        if cols == 0 {
-            return Err(Error::Empty {
-                what: "control net row 0",
-            });
-        }
-        let dim = first_row[0].len();
-        let mut data = Vec::with_capacity(net.len() * cols * dim);
-        for (i, row) in net.iter().enumerate() {
-            if row.len() != cols {
-                return Err(Error::RaggedNet {
-                    row: i,
-                    expected: cols,
-                    got: row.len(),
-                });
-            }
-            for (j, p) in row.iter().enumerate() {
-                if p.len() != dim {
-                    return Err(Error::DimensionMismatch {
-                        what: "net point",
-                        index: i * cols + j,
-                        expected: dim,
-                        got: p.len(),
-                    });
-                }
-                data.extend_from_slice(p);
-            }
-        }
-        Self::from_flat(net.len(), cols, dim, data)
+        let (rows, cols, dim, data) = flatten_grid("control net", &net)?;
+        Self::from_flat(rows, cols, dim, data)
     }
 
     /// A surface from a row-major net of `rows`×`cols` points with `dim` coordinates.
@@ -236,17 +207,8 @@ impl BezierSurface {
     /// Errors: wrong buffer length, non-finite parameters.
     pub fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim;
-        if out.len() != us.len() * vs.len() * d {
-            return Err(Error::BufferSize {
-                expected: us.len() * vs.len() * d,
-                got: out.len(),
-            });
-        }
-        for (what, ps) in [("parameter u", us), ("parameter v", vs)] {
-            if let Some(index) = ps.iter().position(|t| !t.is_finite()) {
-                return Err(Error::NonFinite { what, index });
-            }
-        }
+        check_eval_args("parameter u", us, us.len() * vs.len(), d, out)?;
+        check_eval_args("parameter v", vs, us.len() * vs.len(), d, out)?;
         let row_dim = self.cols * d;
         let mut work = vec![0.0; self.net.len()];
         let mut row = vec![0.0; row_dim];
@@ -304,18 +266,7 @@ impl BezierSurface {
         }
         let a = self.derivative(Direction::U).eval(u, v);
         let b = self.derivative(Direction::V).eval(u, v);
-        let n = [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ];
-        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-        let scale =
-            (a.iter().map(|x| x * x).sum::<f64>() * b.iter().map(|x| x * x).sum::<f64>()).sqrt();
-        if len == 0.0 || len <= 1e-14 * scale {
-            return Ok(None);
-        }
-        Ok(Some([n[0] / len, n[1] / len, n[2] / len]))
+        Ok(unit_normal(&a, &b))
     }
 
     /// Real degrees and defects in both directions (16), by the residual test with a relative

@@ -2,7 +2,7 @@
 //! uniform knots (the paper's matrix form (1) of spec/bspline-interpolation.md).
 
 use crate::bezier::ParamCurve;
-use crate::points::{flatten_points, validate_points};
+use crate::points::{check_knots, flatten_points, validate_points};
 use crate::{Error, Result};
 
 /// A B-spline curve c(t) = Σ_j N_(j,p)(t) c_j over the domain [knots[p], knots[n_c]]
@@ -193,30 +193,7 @@ impl BsplineCurve {
                 min: degree + 1,
             });
         }
-        if knots.len() != n_c + degree + 1 {
-            return Err(Error::InvalidKnots {
-                index: knots.len().min(n_c + degree + 1),
-                reason: "need (control points + degree + 1) knots",
-            });
-        }
-        if let Some(index) = knots.iter().position(|k| !k.is_finite()) {
-            return Err(Error::NonFinite {
-                what: "knot",
-                index,
-            });
-        }
-        if let Some(index) = knots.windows(2).position(|w| w[1] < w[0]) {
-            return Err(Error::InvalidKnots {
-                index: index + 1,
-                reason: "knots must be non-decreasing",
-            });
-        }
-        if knots[n_c] <= knots[degree] {
-            return Err(Error::InvalidKnots {
-                index: degree,
-                reason: "the domain [knots[p], knots[n]] is empty",
-            });
-        }
+        check_knots(&knots, degree, n_c)?;
         let uniform_step = detect_uniform_step(&knots);
         Ok(BsplineCurve {
             degree,

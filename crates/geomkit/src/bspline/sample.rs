@@ -10,6 +10,7 @@
 
 use super::curve::BsplineCurve;
 use crate::bezier::ParamCurve;
+use crate::points::check_eval_args;
 use crate::{Error, Result};
 use rayon::prelude::*;
 
@@ -234,18 +235,7 @@ impl BsplineCurve {
     /// Errors: wrong buffer length, non-finite parameters.
     pub fn eval_many_par(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim();
-        if out.len() != ts.len() * d {
-            return Err(Error::BufferSize {
-                expected: ts.len() * d,
-                got: out.len(),
-            });
-        }
-        if let Some(index) = ts.iter().position(|t| !t.is_finite()) {
-            return Err(Error::NonFinite {
-                what: "parameter",
-                index,
-            });
-        }
+        check_eval_args("parameter", ts, ts.len(), d, out)?;
         out.par_chunks_mut(4096 * d)
             .zip(ts.par_chunks(4096))
             .for_each(|(o, t)| {

@@ -15,7 +15,7 @@
 
 use super::curve::{basis_funs, basis_funs_derivs, find_span};
 use super::interpolate::{EndCondition, Parametrization, Solver1d};
-use crate::points::validate_points;
+use crate::points::{check_eval_args, check_knots, flatten_grid, unit_normal, validate_points};
 use crate::{Error, Result};
 use rayon::prelude::*;
 
@@ -30,34 +30,6 @@ pub struct BsplineSurface {
     n_u: usize,
     n_v: usize,
     control: Vec<f64>,
-}
-
-fn check_knots(knots: &[f64], degree: usize, n: usize) -> Result<()> {
-    if knots.len() != n + degree + 1 {
-        return Err(Error::InvalidKnots {
-            index: knots.len().min(n + degree + 1),
-            reason: "need (control points + degree + 1) knots",
-        });
-    }
-    if let Some(index) = knots.iter().position(|k| !k.is_finite()) {
-        return Err(Error::NonFinite {
-            what: "knot",
-            index,
-        });
-    }
-    if let Some(index) = knots.windows(2).position(|w| w[1] < w[0]) {
-        return Err(Error::InvalidKnots {
-            index: index + 1,
-            reason: "knots must be non-decreasing",
-        });
-    }
-    if knots[n] <= knots[degree] {
-        return Err(Error::InvalidKnots {
-            index: degree,
-            reason: "the domain [knots[p], knots[n]] is empty",
-        });
-    }
-    Ok(())
 }
 
 impl BsplineSurface {
@@ -208,17 +180,8 @@ impl BsplineSurface {
     /// (q+1)·dim multiply-adds. Errors: wrong buffer length, non-finite parameters.
     pub fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim;
-        if out.len() != us.len() * vs.len() * d {
-            return Err(Error::BufferSize {
-                expected: us.len() * vs.len() * d,
-                got: out.len(),
-            });
-        }
-        for (what, ps) in [("parameter u", us), ("parameter v", vs)] {
-            if let Some(index) = ps.iter().position(|t| !t.is_finite()) {
-                return Err(Error::NonFinite { what, index });
-            }
-        }
+        check_eval_args("parameter u", us, us.len() * vs.len(), d, out)?;
+        check_eval_args("parameter v", vs, us.len() * vs.len(), d, out)?;
         if vs.is_empty() {
             return Ok(());
         }
@@ -265,18 +228,7 @@ impl BsplineSurface {
         let (mut a, mut b) = ([0.0; 3], [0.0; 3]);
         self.eval_derivative(u, v, 1, 0, &mut a);
         self.eval_derivative(u, v, 0, 1, &mut b);
-        let n = [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ];
-        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-        let scale =
-            (a.iter().map(|x| x * x).sum::<f64>() * b.iter().map(|x| x * x).sum::<f64>()).sqrt();
-        if len == 0.0 || len <= 1e-14 * scale {
-            return Ok(None);
-        }
-        Ok(Some([n[0] / len, n[1] / len, n[2] / len]))
+        Ok(unit_normal(&a, &b))
     }
 }
 
@@ -334,35 +286,7 @@ pub fn interpolate_surface(
     grid: &[Vec<Vec<f64>>],
     options: &SurfaceInterpolationOptions,
 ) -> Result<SurfaceInterpolation> {
-    let rows = grid.len();
-    let cols = grid.first().map_or(0, Vec::len);
-    if rows == 0 || cols == 0 {
-        return Err(Error::Empty {
-            what: "reference grid",
-        });
-    }
-    let dim = grid[0][0].len();
-    let mut flat = Vec::with_capacity(rows * cols * dim);
-    for (i, row) in grid.iter().enumerate() {
-        if row.len() != cols {
-            return Err(Error::RaggedNet {
-                row: i,
-                expected: cols,
-                got: row.len(),
-            });
-        }
-        for (j, p) in row.iter().enumerate() {
-            if p.len() != dim {
-                return Err(Error::DimensionMismatch {
-                    what: "reference point",
-                    index: i * cols + j,
-                    expected: dim,
-                    got: p.len(),
-                });
-            }
-            flat.extend_from_slice(p);
-        }
-    }
+    let (rows, cols, dim, flat) = flatten_grid("reference grid", grid)?;
     interpolate_surface_flat(rows, cols, dim, &flat, options)
 }
 
