@@ -316,6 +316,10 @@ pub struct CurveArgs {
     /// Parametrization [default: chord; uniform with --end repeat].
     #[arg(long, value_enum)]
     pub param: Option<ParamArg>,
+    /// Given parameters instead: a CSV or .npy with one strictly increasing value per point
+    /// (periodic: optionally one more, closing the curve), like SciPy's make_interp_spline(x, y).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["param", "tile"])]
+    pub params: Option<PathBuf>,
     /// With --end outer: the extra points lie F times the end interval beyond the end points
     /// [default: 1].
     #[arg(long, value_name = "F")]

@@ -466,6 +466,57 @@ fn bad_inputs_name_the_place_and_leave_nothing() {
 }
 
 #[test]
+fn given_parameters_like_make_interp_spline() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "pts.csv", "0,1\n1,3\n2,2\n3,0\n4,1\n");
+    write(d, "x.csv", "0\n0.5\n2\n2.5\n4\n");
+    ok(
+        d,
+        &[
+            "interpolate",
+            "curve",
+            "pts.csv",
+            "--params",
+            "x.csv",
+            "-o",
+            "f.json",
+        ],
+    );
+    let rows = csv_rows(&ok(d, &["eval", "f.json", "--at", "x.csv"]));
+    let want = [[0.0, 1.0], [1.0, 3.0], [2.0, 2.0], [3.0, 0.0], [4.0, 1.0]];
+    assert_eq!(rows.len(), 5);
+    for (row, w) in rows.iter().zip(want) {
+        assert!(max_abs_diff(&row[1..], &w) < 1e-14, "{row:?}");
+    }
+    write(d, "bad.csv", "0\n0.5\n2\n2\n4\n");
+    let err = fails(
+        d,
+        &[
+            "interpolate",
+            "curve",
+            "pts.csv",
+            "--params",
+            "bad.csv",
+            "-o",
+            "g.json",
+        ],
+        Some("g.json"),
+    );
+    assert!(
+        err.contains("bad.csv") && err.contains("strictly increasing"),
+        "{err}"
+    );
+    write(d, "two.csv", "0,1\n1,2\n");
+    let err = fails(
+        d,
+        &["interpolate", "curve", "pts.csv", "--params", "two.csv"],
+        None,
+    );
+    assert!(err.contains("one parameter per line"), "{err}");
+}
+
+#[test]
 fn eval_checks_its_parameters() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

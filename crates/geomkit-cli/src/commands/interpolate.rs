@@ -20,9 +20,9 @@ use crate::table::{extension, is_npy, Table};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::ValueEnum;
 use geomkit::bspline::{
-    interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights, interpolate_surface_flat,
-    BsplineCurve, BsplineSurface, CurveTiler, EndCondition, InterpolationOptions, Parametrization,
-    SurfaceInterpolationOptions, TileOptions, TileSolution,
+    interpolate_curve_at, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
+    interpolate_surface_flat, BsplineCurve, BsplineSurface, CurveTiler, EndCondition,
+    InterpolationOptions, Parametrization, SurfaceInterpolationOptions, TileOptions, TileSolution,
 };
 use std::path::Path;
 use std::sync::mpsc;
@@ -250,11 +250,27 @@ fn curve(args: CurveArgs) -> Result<()> {
         }
     }
     progress.busy("solving");
-    let fit = match &tiles {
-        Some(tiles) => interpolate_curve_tiled(dim, &table.data, &options, tiles),
-        None => interpolate_curve_flat(dim, &table.data, &options),
-    }
-    .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text))?;
+    let fit = match (&tiles, &args.params) {
+        (_, Some(path)) => {
+            if args.end == EndArg::Repeat {
+                bail!("--params cannot be used with --end repeat (it fixes its own parameters)");
+            }
+            let params = Table::read(path, &progress)?;
+            let (_, cols) = params.as_records()?;
+            if cols != 1 {
+                bail!(
+                    "{}: expected one parameter per line, found {cols} columns",
+                    params.name()
+                );
+            }
+            interpolate_curve_at(dim, &table.data, &params.data, &options.end)
+                .with_context(|| format!("{} with parameters from {}", table.name(), params.name()))
+        }
+        (Some(tiles), None) => interpolate_curve_tiled(dim, &table.data, &options, tiles)
+            .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text)),
+        (None, None) => interpolate_curve_flat(dim, &table.data, &options)
+            .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text)),
+    }?;
     let curve = &fit.curve;
     let dest = Destination::from_option(args.output.as_deref());
     match output {
