@@ -197,6 +197,40 @@ pub enum Error {
         /// Why.
         reason: &'static str,
     },
+    /// A ramp width w of P(t, a, w) (spec/composite-surfaces.md formula (1)) that is not > 0.
+    #[error("ramp width w = {value} of {what} must be finite and > 0")]
+    RampWidth {
+        /// Where the width came from ("ramp", "knot interval 3", ...).
+        what: String,
+        /// The width given.
+        value: f64,
+    },
+    /// A grid of patches (or a list of pieces) of the wrong size.
+    #[error("{what}: expected {expected}, got {got}")]
+    PatchCount {
+        /// What was counted ("patch rows", "patches in row 2", "pieces").
+        what: String,
+        /// How many the knots call for.
+        expected: usize,
+        /// How many were given.
+        got: usize,
+    },
+    /// A formula that does not parse or evaluate, with the place of the problem.
+    #[error("{what}: {message}")]
+    Expression {
+        /// Which formula ("patch [1][0] x", "piece 2").
+        what: String,
+        /// The expression engine's message (with the position).
+        message: String,
+    },
+    /// Parameters of a shape that do not make one (a size <= 0, a self-intersecting polygon).
+    #[error("invalid {what}: {reason}")]
+    InvalidShape {
+        /// The shape or parameter ("box size", "polygon").
+        what: &'static str,
+        /// Why.
+        reason: String,
+    },
     /// A numerical computation failed (singular system, no convergence).
     #[error("numerical failure in {operation}: {reason}")]
     Numerical {
@@ -205,6 +239,68 @@ pub enum Error {
         /// What happened.
         reason: &'static str,
     },
+    /// Interpolation nodes that are not finite and strictly increasing (spec/point-calculus.md).
+    #[error("invalid node {index} of {what}: {reason}")]
+    InvalidNodes {
+        /// Which node set ("nodes", "factor b", "row 2").
+        what: String,
+        /// Index of the offending node.
+        index: usize,
+        /// Why.
+        reason: &'static str,
+    },
+    /// A node set whose Lebesgue constant exceeds the limit (interpolation amplifies data
+    /// errors by up to that factor), when strictness was asked for.
+    #[error(
+        "the Lebesgue constant of {what} is {value:.3}, above the limit {limit:.3} \
+         (use Chebyshev nodes, fewer nodes, or a larger limit)"
+    )]
+    LebesgueTooLarge {
+        /// Which node set.
+        what: String,
+        /// The estimated Lebesgue constant.
+        value: f64,
+        /// The limit.
+        limit: f64,
+    },
+    /// Experimental records that do not form a full grid of factor levels.
+    #[error("record {record}: {reason}")]
+    GridRecord {
+        /// Index of the record (0-based, in the order given).
+        record: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// Experimental records that leave cells of the grid of factor levels empty.
+    #[error(
+        "the factor levels do not form a grid: no record for {cell} ({missing} cells missing)"
+    )]
+    MissingCell {
+        /// The first missing cell ("a=1, b=2").
+        cell: String,
+        /// How many cells are missing.
+        missing: usize,
+    },
+    /// A number of source points (or values) that does not match the nodes.
+    #[error("{what}: {got} given, the nodes need {expected}")]
+    PointCount {
+        /// What was counted ("points", "points of row 2", "values").
+        what: String,
+        /// How many the nodes need.
+        expected: usize,
+        /// How many were given.
+        got: usize,
+    },
+    /// A factor name that the model does not have.
+    #[error("unknown factor '{name}'")]
+    UnknownFactor {
+        /// The name given.
+        name: String,
+    },
+    /// An error of the expression engine (parse error with its position, unknown
+    /// variable, division by exact zero, ...).
+    #[error(transparent)]
+    Expr(#[from] geomkit_expr::ExprError),
 }
 
 /// Result with the library's [`Error`].

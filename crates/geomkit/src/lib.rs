@@ -19,6 +19,7 @@
 
 pub mod bezier;
 pub mod bspline;
+pub mod compose;
 mod error;
 pub mod exact;
 mod numeric;

@@ -1,0 +1,19 @@
+//! Method 3: single analytic formulas for composite curves, piecewise-ruled surfaces and
+//! composite surfaces, spec/composite-surfaces.md (P.G. Dolya, 2005; the Maple package
+//! PSCFunctions).
+//!
+//! - [`ramp`], [`ramp_exact`]: the ramp P(t, a, w) of formula (1), in f64 and exactly.
+//! - [`PolyPatch`]: polynomial patches (Bézier patches, B-spline cells) in local coordinates.
+//! - [`CompositeSurface`]: formulas (3)-(11) over an orthogonal grid of patches, its
+//!   [`ContinuityReport`] and a structural evaluator equal to the single formula.
+
+mod grid;
+mod linear;
+mod poly;
+mod ramp;
+mod surface;
+
+pub use linear::AbsSum;
+pub use poly::PolyPatch;
+pub use ramp::{ramp, ramp_checked, ramp_exact, simplest_rational};
+pub use surface::{CompositeSurface, ContinuityReport, GridLine, Jump, SurfaceKind, EDGE_SAMPLES};

@@ -1,0 +1,341 @@
+//! Polynomial patches in local coordinates: the form every Bézier patch and every cell of a
+//! B-spline surface takes inside a composite surface (spec/composite-surfaces.md §3: "each
+//! patch's own domain mapped onto its cell"), in the power basis of (s, t) ∈ [0, 1]².
+
+use crate::bezier::BezierSurface;
+use crate::bspline::BsplineSurface;
+use crate::numeric::binomial_f64;
+use crate::{Error, Result};
+
+/// A tensor-product polynomial patch r(s, t) = Σ_a Σ_b c_ab s^a t^b of degrees (p, q) in R^dim,
+/// with local coordinates (s, t) ∈ [0, 1]²; `c_ab` at `(a * (q + 1) + b) * dim`.
+///
+/// ```
+/// use geomkit::bezier::BezierSurface;
+/// use geomkit::compose::PolyPatch;
+/// let b = BezierSurface::new(vec![
+///     vec![vec![0.0, 0.0, 0.0], vec![0.0, 1.0, 0.0]],
+///     vec![vec![1.0, 0.0, 0.0], vec![1.0, 1.0, 1.0]],
+/// ]).unwrap();
+/// let p = PolyPatch::from_bezier(&b);
+/// assert_eq!(p.eval(0.5, 0.5), b.eval(0.5, 0.5));
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct PolyPatch {
+    degree: (usize, usize),
+    dim: usize,
+    coef: Vec<f64>,
+}
+
+impl PolyPatch {
+    /// A patch from its power-basis coefficients. Errors: dimension 0, wrong length,
+    /// non-finite coefficients.
+    pub fn new(degree: (usize, usize), dim: usize, coef: Vec<f64>) -> Result<Self> {
+        crate::points::validate_points("patch coefficients", dim, &coef)?;
+        let expected = (degree.0 + 1) * (degree.1 + 1) * dim;
+        if coef.len() != expected {
+            return Err(Error::BufferSize {
+                expected,
+                got: coef.len(),
+            });
+        }
+        Ok(PolyPatch { degree, dim, coef })
+    }
+
+    /// The zero patch.
+    pub(crate) fn zero(degree: (usize, usize), dim: usize) -> Self {
+        PolyPatch {
+            degree,
+            dim,
+            coef: vec![0.0; (degree.0 + 1) * (degree.1 + 1) * dim],
+        }
+    }
+
+    /// The Bézier patch in the power basis of its parameters (the same surface on [0, 1]²).
+    pub fn from_bezier(b: &BezierSurface) -> Self {
+        let (n, m) = b.degrees();
+        let dim = b.dim();
+        let cu = bernstein_to_power(n);
+        let cv = bernstein_to_power(m);
+        let mut coef = vec![0.0; (n + 1) * (m + 1) * dim];
+        // First in v (rows), then in u.
+        let mut tmp = vec![0.0; (n + 1) * (m + 1) * dim];
+        for i in 0..=n {
+            for b_ in 0..=m {
+                for j in 0..=m {
+                    let w = cv[b_ * (m + 1) + j];
+                    if w != 0.0 {
+                        for k in 0..dim {
+                            tmp[(i * (m + 1) + b_) * dim + k] += w * b.point(i, j)[k];
+                        }
+                    }
+                }
+            }
+        }
+        for a in 0..=n {
+            for i in 0..=n {
+                let w = cu[a * (n + 1) + i];
+                if w != 0.0 {
+                    for x in 0..(m + 1) * dim {
+                        coef[a * (m + 1) * dim + x] += w * tmp[i * (m + 1) * dim + x];
+                    }
+                }
+            }
+        }
+        PolyPatch {
+            degree: (n, m),
+            dim,
+            coef,
+        }
+    }
+
+    /// Degrees (p, q) in s and t.
+    pub fn degrees(&self) -> (usize, usize) {
+        self.degree
+    }
+
+    /// Dimension of the points.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// Coefficient c_ab (a slice of `dim` numbers).
+    pub fn coefficient(&self, a: usize, b: usize) -> &[f64] {
+        let k = (a * (self.degree.1 + 1) + b) * self.dim;
+        &self.coef[k..k + self.dim]
+    }
+
+    fn coefficient_mut(&mut self, a: usize, b: usize) -> &mut [f64] {
+        let k = (a * (self.degree.1 + 1) + b) * self.dim;
+        &mut self.coef[k..k + self.dim]
+    }
+
+    /// Largest absolute coefficient (a scale for tolerances).
+    pub fn scale(&self) -> f64 {
+        self.coef.iter().fold(0.0, |m, c| m.max(c.abs()))
+    }
+
+    /// r(s, t) into `out` (length dim), Horner in t inside Horner in s.
+    #[inline]
+    pub fn eval_into(&self, s: f64, t: f64, out: &mut [f64]) {
+        let (p, q) = self.degree;
+        let d = self.dim;
+        for k in 0..d {
+            let mut acc = 0.0;
+            for a in (0..=p).rev() {
+                let row = &self.coef[a * (q + 1) * d..];
+                let mut r = row[q * d + k];
+                for b in (0..q).rev() {
+                    r = r * t + row[b * d + k];
+                }
+                acc = acc * s + r;
+            }
+            out[k] = acc;
+        }
+    }
+
+    /// r(s, t).
+    pub fn eval(&self, s: f64, t: f64) -> Vec<f64> {
+        let mut out = vec![0.0; self.dim];
+        self.eval_into(s, t, &mut out);
+        out
+    }
+
+    /// The patch with degrees raised to at least `degree` (zero coefficients added).
+    pub(crate) fn padded(&self, degree: (usize, usize)) -> PolyPatch {
+        let deg = (degree.0.max(self.degree.0), degree.1.max(self.degree.1));
+        let mut out = PolyPatch::zero(deg, self.dim);
+        for a in 0..=self.degree.0 {
+            for b in 0..=self.degree.1 {
+                out.coefficient_mut(a, b)
+                    .copy_from_slice(self.coefficient(a, b));
+            }
+        }
+        out
+    }
+
+    /// self += factor * other, where other's degrees are at most self's.
+    pub(crate) fn add_scaled(&mut self, other: &PolyPatch, factor: f64) {
+        for a in 0..=other.degree.0 {
+            for b in 0..=other.degree.1 {
+                let src = other.coefficient(a, b).to_vec();
+                for (x, y) in self.coefficient_mut(a, b).iter_mut().zip(src) {
+                    *x += factor * y;
+                }
+            }
+        }
+    }
+
+    /// r(s0, t) as a patch of degree (0, q) (a curve in t); `s0` 0 or 1 in practice.
+    pub(crate) fn at_s(&self, s0: f64) -> PolyPatch {
+        let (p, q) = self.degree;
+        let mut out = PolyPatch::zero((0, q), self.dim);
+        for b in 0..=q {
+            for k in 0..self.dim {
+                let mut acc = 0.0;
+                for a in (0..=p).rev() {
+                    acc = acc * s0 + self.coefficient(a, b)[k];
+                }
+                out.coefficient_mut(0, b)[k] = acc;
+            }
+        }
+        out
+    }
+
+    /// r(s, t0) as a patch of degree (p, 0) (a curve in s).
+    pub(crate) fn at_t(&self, t0: f64) -> PolyPatch {
+        let (p, q) = self.degree;
+        let mut out = PolyPatch::zero((p, 0), self.dim);
+        for a in 0..=p {
+            for k in 0..self.dim {
+                let mut acc = 0.0;
+                for b in (0..=q).rev() {
+                    acc = acc * t0 + self.coefficient(a, b)[k];
+                }
+                out.coefficient_mut(a, 0)[k] = acc;
+            }
+        }
+        out
+    }
+
+    /// The patches of a B-spline surface, one per non-empty knot cell of its domain, with
+    /// the cells' parameter bounds: `(u_cells, v_cells, patches)` where `patches[i * m + j]`
+    /// lives on [u_cells[i], u_cells[i+1]] × [v_cells[j], v_cells[j+1]] (in local (s, t)).
+    pub fn from_bspline(s: &BsplineSurface) -> (Vec<f64>, Vec<f64>, Vec<PolyPatch>) {
+        let (p, q) = s.degrees();
+        let (ku, kv) = s.knots();
+        let (nu, nv) = s.net_size();
+        let dim = s.dim();
+        let spans_u = spans(ku, p, nu);
+        let spans_v = spans(kv, q, nv);
+        let net = s.control_flat();
+        let mut patches = Vec::with_capacity(spans_u.len() * spans_v.len());
+        let row_len = nv * dim;
+        for &su in &spans_u {
+            // Bézier rows of this u-span: each "point" is a whole row of the net.
+            let rows_u = bezier_points_of_span(ku, p, su, &net[(su - p) * row_len..], row_len);
+            for &sv in &spans_v {
+                let mut bez = Vec::with_capacity((p + 1) * (q + 1) * dim);
+                for a in 0..=p {
+                    let row = &rows_u[a * row_len..(a + 1) * row_len];
+                    bez.extend(bezier_points_of_span(
+                        kv,
+                        q,
+                        sv,
+                        &row[(sv - q) * dim..],
+                        dim,
+                    ));
+                }
+                let b = BezierSurface::from_flat(p + 1, q + 1, dim, bez)
+                    .expect("finite net of the right size");
+                patches.push(PolyPatch::from_bezier(&b));
+            }
+        }
+        let cells = |k: &[f64], sp: &[usize]| {
+            let mut c: Vec<f64> = sp.iter().map(|&s| k[s]).collect();
+            c.push(k[sp[sp.len() - 1] + 1]);
+            c
+        };
+        (cells(ku, &spans_u), cells(kv, &spans_v), patches)
+    }
+}
+
+/// The indices s with knots[s] < knots[s+1] inside the domain [knots[p], knots[n]].
+fn spans(knots: &[f64], p: usize, n: usize) -> Vec<usize> {
+    (p..n).filter(|&s| knots[s] < knots[s + 1]).collect()
+}
+
+/// The p+1 Bézier points of span s (knots[s] < knots[s+1]) of a degree-p B-spline whose
+/// control points c_(s-p).. start at `ctrl` (points of `len` numbers): the blossoms
+/// b_k = blossom(knots[s] (p-k times), knots[s+1] (k times)) by de Boor's triangle.
+fn bezier_points_of_span(knots: &[f64], p: usize, s: usize, ctrl: &[f64], len: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity((p + 1) * len);
+    let mut d = vec![0.0; (p + 1) * len];
+    for k in 0..=p {
+        d.copy_from_slice(&ctrl[..(p + 1) * len]);
+        for r in 1..=p {
+            let x = if r <= p - k { knots[s] } else { knots[s + 1] };
+            for j in (r..=p).rev() {
+                let i = s - p + j;
+                let alpha = (x - knots[i]) / (knots[i + p + 1 - r] - knots[i]);
+                for c in 0..len {
+                    d[j * len + c] = (1.0 - alpha) * d[(j - 1) * len + c] + alpha * d[j * len + c];
+                }
+            }
+        }
+        out.extend_from_slice(&d[p * len..(p + 1) * len]);
+    }
+    out
+}
+
+/// The matrix M (row-major, (n+1)²) with power coefficient m_k = Σ_i M[k][i] b_i:
+/// M[k][i] = C(n, k) C(k, i) (-1)^(k-i) for i <= k.
+fn bernstein_to_power(n: usize) -> Vec<f64> {
+    let mut m = vec![0.0; (n + 1) * (n + 1)];
+    for k in 0..=n {
+        for i in 0..=k {
+            let sign = if (k - i) % 2 == 0 { 1.0 } else { -1.0 };
+            m[k * (n + 1) + i] = sign * binomial_f64(n, k) * binomial_f64(k, i);
+        }
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bezier_patch_in_power_basis_agrees() {
+        let net: Vec<Vec<Vec<f64>>> = (0..4)
+            .map(|i| {
+                (0..3)
+                    .map(|j| vec![i as f64, j as f64, ((i * 7 + j * 3) % 5) as f64])
+                    .collect()
+            })
+            .collect();
+        let b = BezierSurface::new(net).unwrap();
+        let p = PolyPatch::from_bezier(&b);
+        for (s, t) in [(0.0, 0.0), (0.3, 0.8), (1.0, 0.25), (1.0, 1.0)] {
+            let (x, y) = (p.eval(s, t), b.eval(s, t));
+            for k in 0..3 {
+                assert!((x[k] - y[k]).abs() < 1e-13, "{s} {t}");
+            }
+        }
+        let e = p.at_s(1.0);
+        assert!((e.eval(0.0, 0.4)[2] - b.eval(1.0, 0.4)[2]).abs() < 1e-13);
+        let e = p.at_t(0.0);
+        assert!((e.eval(0.7, 0.0)[2] - b.eval(0.7, 0.0)[2]).abs() < 1e-13);
+    }
+
+    #[test]
+    fn bspline_cells_reproduce_the_surface() {
+        let (nu, nv, dim) = (6, 5, 3);
+        let ctrl: Vec<f64> = (0..nu * nv * dim)
+            .map(|k| ((k * 37 % 11) as f64) * 0.3 - 1.0)
+            .collect();
+        let ku = vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.5, 3.0, 3.0, 3.0, 3.0];
+        let kv = vec![-1.0, -1.0, -1.0, 0.0, 2.0, 2.0, 2.0, 2.0];
+        let s = BsplineSurface::from_flat((3, 2), ku, kv, nu, nv, dim, ctrl).unwrap();
+        let (uc, vc, patches) = PolyPatch::from_bspline(&s);
+        assert_eq!(uc, vec![0.0, 0.5, 1.5, 3.0]);
+        assert_eq!(vc, vec![-1.0, 0.0, 2.0]);
+        for (i, w) in uc.windows(2).enumerate() {
+            for (j, z) in vc.windows(2).enumerate() {
+                // (The reference NaNs at v = 2 exactly: its last knot span there is empty.)
+                for (a, b) in [(0.0, 0.0), (0.4, 0.9), (0.999, 0.999)] {
+                    let u = w[0] + a * (w[1] - w[0]);
+                    let v = z[0] + b * (z[1] - z[0]);
+                    let want = s.eval(u, v);
+                    let got = patches[i * 2 + j].eval(a, b);
+                    for k in 0..dim {
+                        assert!(
+                            (want[k] - got[k]).abs() < 1e-12,
+                            "cell {i},{j} at {a},{b}: {want:?} {got:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,203 @@
+//! Composite surfaces (spec/composite-surfaces.md §3-4): the structural evaluator equals the
+//! single formula (9) everywhere — on every knot line, outside the grid, and where the patches
+//! do not meet (shifted patches) — and the continuity report finds the jumps.
+
+mod common;
+
+use common::Rng;
+use geomkit::bezier::BezierSurface;
+use geomkit::bspline::{interpolate_surface, SurfaceInterpolationOptions};
+use geomkit::compose::{CompositeSurface, GridLine, PolyPatch, SurfaceKind};
+use geomkit::Error;
+use proptest::prelude::*;
+
+fn random_knots(rng: &mut Rng, n: usize) -> Vec<f64> {
+    let mut k = vec![rng.uniform() * 3.0];
+    for _ in 0..n {
+        let last = k[k.len() - 1];
+        k.push(last + 0.05 + (rng.uniform() + 1.0));
+    }
+    k
+}
+
+fn random_patch(rng: &mut Rng, p: usize, q: usize) -> BezierSurface {
+    let net = (0..=p)
+        .map(|_| {
+            (0..=q)
+                .map(|_| (0..3).map(|_| rng.uniform() * 4.0).collect())
+                .collect()
+        })
+        .collect();
+    BezierSurface::new(net).unwrap()
+}
+
+/// Every knot, the cell midpoints and quarter points, and points outside.
+fn dense(knots: &[f64]) -> Vec<f64> {
+    let (a, b) = (knots[0], knots[knots.len() - 1]);
+    let mut xs = vec![a - 1.0, a - 1e-9, b + 1e-9, b + 2.5];
+    for w in knots.windows(2) {
+        for f in [0.0, 0.25, 0.5, 0.75] {
+            xs.push(w[0] + f * (w[1] - w[0]));
+        }
+    }
+    xs.push(b);
+    xs
+}
+
+fn max_diff(s: &CompositeSurface, us: &[f64], vs: &[f64]) -> (f64, f64) {
+    let mut grid = vec![0.0; us.len() * vs.len() * s.dim()];
+    s.eval_grid(us, vs, &mut grid).unwrap();
+    let (mut worst, mut scale) = (0.0f64, 0.0f64);
+    for (a, &u) in us.iter().enumerate() {
+        for (b, &v) in vs.iter().enumerate() {
+            let f = s.eval_formula(u, v);
+            let p = s.eval(u, v);
+            let g = &grid[(a * vs.len() + b) * s.dim()..][..s.dim()];
+            for k in 0..s.dim() {
+                worst = worst.max((f[k] - p[k]).abs()).max((f[k] - g[k]).abs());
+                scale = scale.max(f[k].abs());
+            }
+        }
+    }
+    (worst, scale.max(1.0))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    /// Random knots, random (discontinuous) bicubic patches, n and m from 1 to 20.
+    #[test]
+    fn structural_equals_formula_everywhere(n in 1usize..=20, m in 1usize..=20, seed in 1u64..u64::MAX) {
+        let mut rng = Rng(seed | 1);
+        let uk = random_knots(&mut rng, n);
+        let vk = random_knots(&mut rng, m);
+        let patches: Vec<Vec<BezierSurface>> =
+            (0..n).map(|_| (0..m).map(|_| random_patch(&mut rng, 3, 3)).collect()).collect();
+        let s = CompositeSurface::from_bezier(uk.clone(), vk.clone(), &patches).unwrap();
+        let (worst, scale) = max_diff(&s, &dense(&uk), &dense(&vk));
+        prop_assert!(worst <= 1e-12 * scale, "difference {worst:e} at scale {scale}");
+        if n * m > 1 {
+            prop_assert!(!s.continuity().is_continuous());
+        }
+    }
+}
+
+#[test]
+fn continuous_patches_are_reproduced_and_discontinuous_ones_shifted() {
+    // A bicubic B-spline surface: its cells meet with C2 continuity.
+    let grid: Vec<Vec<Vec<f64>>> = (0..7)
+        .map(|i| {
+            (0..6)
+                .map(|j| {
+                    let (x, y) = (i as f64 * 0.5, j as f64 * 0.7);
+                    vec![x, y, (x * 1.3).sin() * (y * 0.9).cos()]
+                })
+                .collect()
+        })
+        .collect();
+    let fit = interpolate_surface(&grid, &SurfaceInterpolationOptions::default()).unwrap();
+    let s = CompositeSurface::from_bspline(&fit.surface).unwrap();
+    assert!(
+        s.continuity().is_continuous(),
+        "{:?}",
+        s.continuity().max_jump
+    );
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let mut worst = 0.0f64;
+    for a in 0..=40 {
+        for b in 0..=40 {
+            let u = u0 + (u1 - u0) * a as f64 / 40.0;
+            let v = v0 + (v1 - v0) * b as f64 / 40.0;
+            let want = fit
+                .surface
+                .eval(u.min(u1 * (1.0 - 1e-15)), v.min(v1 * (1.0 - 1e-15)));
+            let got = s.eval(u, v);
+            for k in 0..3 {
+                worst = worst.max((want[k] - got[k]).abs());
+            }
+        }
+    }
+    assert!(worst < 1e-12, "{worst:e}");
+
+    // Two flat patches that do not meet: z = 0 on [0,1], z = 1 + u-shaped on [1,2].
+    let flat = |z0: f64, z1: f64| PolyPatch::new((1, 0), 1, vec![z0, z1 - z0]).unwrap();
+    let s = CompositeSurface::from_poly(
+        vec![0.0, 1.0, 2.0],
+        vec![0.0, 1.0],
+        vec![vec![flat(0.0, 1.0)], vec![flat(5.0, 6.0)]],
+        SurfaceKind::Explicit,
+    )
+    .unwrap();
+    let r = s.continuity();
+    assert!(!r.is_continuous());
+    assert_eq!(r.jumps.len(), 1);
+    assert_eq!(r.jumps[0].line, GridLine::U(1));
+    assert!((r.max_jump - 4.0).abs() < 1e-15);
+    let text = r.statement("x", "y", s.knots());
+    assert!(
+        text.contains("NOT continuous") && text.contains("shifts"),
+        "{text}"
+    );
+    // Formula (11): the second patch is shifted down by the jump, 4, to stay attached.
+    assert_eq!(s.eval(1.5, 0.5), vec![1.5]);
+    assert_eq!(s.eval_formula(1.5, 0.5), vec![1.5]);
+    // Outside the grid points map onto the boundary.
+    assert_eq!(s.eval(7.0, -3.0), vec![2.0]);
+    assert_eq!(s.eval_formula(7.0, -3.0), vec![2.0]);
+}
+
+#[test]
+fn bad_grids_are_errors() {
+    let p = || PolyPatch::new((0, 0), 3, vec![0.0; 3]).unwrap();
+    let e = CompositeSurface::from_poly(
+        vec![0.0, 1.0, 1.0],
+        vec![0.0, 1.0],
+        vec![vec![p()], vec![p()]],
+        SurfaceKind::Parametric,
+    )
+    .unwrap_err();
+    assert!(matches!(e, Error::InvalidKnots { index: 2, .. }), "{e}");
+    let e = CompositeSurface::from_poly(
+        vec![0.0, 1.0, 2.0],
+        vec![0.0, 1.0],
+        vec![vec![p()]],
+        SurfaceKind::Parametric,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::PatchCount {
+                expected: 2,
+                got: 1,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = CompositeSurface::from_poly(
+        vec![0.0, 1.0],
+        vec![0.0, 1.0, 2.0],
+        vec![vec![p()]],
+        SurfaceKind::Parametric,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("patches in row 0"), "{e}");
+    let e = CompositeSurface::from_poly(
+        vec![0.0, f64::NAN],
+        vec![0.0, 1.0],
+        vec![vec![p()]],
+        SurfaceKind::Parametric,
+    )
+    .unwrap_err();
+    assert!(matches!(e, Error::NonFinite { index: 1, .. }), "{e}");
+    let s = CompositeSurface::from_poly(
+        vec![0.0, 1.0],
+        vec![0.0, 1.0],
+        vec![vec![p()]],
+        SurfaceKind::Parametric,
+    )
+    .unwrap();
+    let mut out = vec![0.0; 3];
+    assert!(s.eval_many(&[0.0, f64::NAN], &mut out).is_err());
+    assert!(s.eval_many(&[0.0, 0.5], &mut out[..2]).is_err());
+}
