@@ -26,3 +26,5 @@ mod numeric;
 mod points;
 
 pub use error::{Error, Result};
+/// The expression engine (crate `geomkit-expr`): hash-consed DAG, parser, printers, tape.
+pub use geomkit_expr as expr;

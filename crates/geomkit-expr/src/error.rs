@@ -1,0 +1,78 @@
+//! The expression engine's one error type.
+
+use thiserror::Error;
+
+/// Everything that can go wrong in the expression engine. Every variant names what is wrong
+/// and where.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[non_exhaustive]
+pub enum ExprError {
+    /// The text could not be parsed.
+    #[error("parse error at byte {position}: expected {expected}, found {found}")]
+    Parse {
+        /// Byte offset into the text where the problem was found.
+        position: usize,
+        /// What the parser expected there.
+        expected: String,
+        /// What it found (a token, or `end of input`).
+        found: String,
+    },
+    /// An exponent that is not an integer constant (only integer powers and `^(1/2)` exist).
+    #[error("unsupported exponent at byte {position}: {reason}")]
+    Exponent {
+        /// Byte offset of the `^`.
+        position: usize,
+        /// Why the exponent is not accepted.
+        reason: String,
+    },
+    /// The formula nests deeper than the parser allows.
+    #[error("formula nests deeper than {max} levels at byte {position}")]
+    TooDeep {
+        /// Byte offset where the limit was reached.
+        position: usize,
+        /// The limit.
+        max: usize,
+    },
+    /// An evaluation or a tape needs a variable that was not given.
+    #[error("unknown variable `{name}`: no value given for it")]
+    UnknownVariable {
+        /// The variable's name.
+        name: String,
+    },
+    /// A variable was given twice.
+    #[error("variable `{name}` is given twice")]
+    DuplicateVariable {
+        /// The variable's name.
+        name: String,
+    },
+    /// The expression divides by a constant that is exactly zero.
+    #[error("division by exact zero in the expression")]
+    DivisionByZero,
+    /// A constant of the expression is NaN or infinite.
+    #[error("constant {value} of the expression is not a finite number")]
+    NonFiniteConstant {
+        /// The constant, as printed by Rust.
+        value: String,
+    },
+    /// An input or output buffer of a batched evaluation has the wrong shape.
+    #[error("{what}: got {got}, expected {expected}")]
+    Shape {
+        /// Which buffer ("inputs", "outputs", "input 2 length", ...).
+        what: String,
+        /// What was given.
+        got: usize,
+        /// What was expected.
+        expected: usize,
+    },
+    /// An identifier that is not a valid variable name.
+    #[error("invalid variable name `{name}`: {reason}")]
+    InvalidName {
+        /// The name.
+        name: String,
+        /// Why it is refused.
+        reason: &'static str,
+    },
+}
+
+/// The engine's result type.
+pub type Result<T> = std::result::Result<T, ExprError>;

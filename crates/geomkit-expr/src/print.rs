@@ -1,0 +1,802 @@
+//! Precedence-correct printers for eleven targets, inline (one expression) or as a program
+//! with common-subexpression temporaries.
+//!
+//! Per-target spelling:
+//!
+//! | target | `abs` | `x^3` | `1/3` | `x^12` |
+//! |---|---|---|---|---|
+//! | Maple | `abs(x)` | `x^3` | `1/3` | `x^12` |
+//! | Mathematica | `Abs[x]` | `x^3` | `1/3` | `x^12` |
+//! | SymPy | `Abs(x)` | `x**3` | `Rational(1, 3)` | `x**12` |
+//! | NumPy | `np.abs(x)` | `x**3` | `1/3` | `x**12` |
+//! | MATLAB/Octave | `abs(x)` | `x.^3` | `1/3` | `x.^12` |
+//! | LaTeX | `\left\|x\right\|` | `{x}^{3}` | `\frac{1}{3}` | `{x}^{12}` |
+//! | C | `fabs(x)` | `x*x*x` | `(1.0/3.0)` | `pow(x, 12.0)` |
+//! | Rust | `x.abs()` | `x.powi(3)` | `(1.0/3.0)` | `x.powi(12)` |
+//! | GLSL | `abs(x)` | `x*x*x` | `(1.0/3.0)` | `pow(abs(x), 12.0)` (never `pow` of a negative) |
+//! | JavaScript | `Math.abs(x)` | `x*x*x` | `(1/3)` | `Math.pow(x, 12)` |
+//! | Desmos | `\left\|x\right\|` | `{x}^{3}` | `\frac{1}{3}` | `{x}^{12}` |
+//!
+//! MATLAB uses the element-wise operators `.*`, `./`, `.^` so formulas work on arrays.
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::rc::Rc;
+
+use num_bigint::BigInt;
+use num_traits::{One, Signed};
+
+use crate::graph::{Const, Func, Graph, Id, Node};
+
+/// The printer targets.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+#[non_exhaustive]
+pub enum Format {
+    /// Maple.
+    Maple,
+    /// Wolfram Mathematica.
+    Mathematica,
+    /// SymPy (Python), exact: `Rational(1, 3)`, `Abs`, `**`.
+    Sympy,
+    /// NumPy (Python), vectorized: `np.abs`, `**`.
+    Numpy,
+    /// MATLAB / Octave, element-wise operators.
+    Matlab,
+    /// LaTeX math.
+    Latex,
+    /// C (C99, `<math.h>`).
+    C,
+    /// Rust (`f64` methods).
+    Rust,
+    /// GLSL (no `pow` of possibly negative bases).
+    Glsl,
+    /// JavaScript (`Math.*`).
+    Js,
+    /// Desmos (its LaTeX dialect; variable names as `a_{1}`).
+    Desmos,
+}
+
+impl Format {
+    /// Every format.
+    pub const ALL: [Format; 11] = [
+        Format::Maple,
+        Format::Mathematica,
+        Format::Sympy,
+        Format::Numpy,
+        Format::Matlab,
+        Format::Latex,
+        Format::C,
+        Format::Rust,
+        Format::Glsl,
+        Format::Js,
+        Format::Desmos,
+    ];
+
+    /// The lower-case name used on command lines (`maple`, `mathematica`, `sympy`, `numpy`,
+    /// `matlab`, `latex`, `c`, `rust`, `glsl`, `js`, `desmos`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Maple => "maple",
+            Format::Mathematica => "mathematica",
+            Format::Sympy => "sympy",
+            Format::Numpy => "numpy",
+            Format::Matlab => "matlab",
+            Format::Latex => "latex",
+            Format::C => "c",
+            Format::Rust => "rust",
+            Format::Glsl => "glsl",
+            Format::Js => "js",
+            Format::Desmos => "desmos",
+        }
+    }
+
+    /// The format called `name` (as [`Format::name`]; also `octave`, `python`,
+    /// `javascript`, `wolfram`, `tex`).
+    pub fn from_name(name: &str) -> Option<Format> {
+        let n = name.to_ascii_lowercase();
+        let alias = match n.as_str() {
+            "octave" => "matlab",
+            "python" => "sympy",
+            "javascript" => "js",
+            "wolfram" => "mathematica",
+            "tex" => "latex",
+            s => s,
+        };
+        Format::ALL.iter().copied().find(|f| f.name() == alias)
+    }
+
+    fn c_like(self) -> bool {
+        matches!(self, Format::C | Format::Rust | Format::Glsl)
+    }
+    fn tex(self) -> bool {
+        matches!(self, Format::Latex | Format::Desmos)
+    }
+}
+
+/// Binding strength of a printed piece (higher binds tighter).
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Debug)]
+enum Prec {
+    Sum,
+    Unary,
+    Product,
+    Power,
+    Atom,
+}
+
+type Piece = (Rc<str>, Prec);
+
+struct Printer<'g> {
+    g: &'g Graph,
+    f: Format,
+    names: HashMap<Id, String>,
+    cache: RefCell<HashMap<Id, Piece>>,
+}
+
+impl<'g> Printer<'g> {
+    fn new(g: &'g Graph, f: Format) -> Self {
+        Printer {
+            g,
+            f,
+            names: HashMap::new(),
+            cache: RefCell::new(HashMap::new()),
+        }
+    }
+
+    fn paren(&self, (s, p): Piece, min: Prec) -> String {
+        if p >= min {
+            s.to_string()
+        } else if self.f.tex() {
+            format!("\\left({s}\\right)")
+        } else {
+            format!("({s})")
+        }
+    }
+
+    fn int_text(&self, n: &BigInt) -> String {
+        if self.f.c_like() {
+            format!("{n}.0")
+        } else {
+            n.to_string()
+        }
+    }
+
+    fn float_text(&self, x: f64) -> String {
+        if !x.is_finite() {
+            return match self.f {
+                Format::C => if x.is_nan() { "NAN" } else { "INFINITY" }.into(),
+                Format::Rust => if x.is_nan() {
+                    "f64::NAN"
+                } else {
+                    "f64::INFINITY"
+                }
+                .into(),
+                Format::Numpy => if x.is_nan() { "np.nan" } else { "np.inf" }.into(),
+                Format::Sympy => if x.is_nan() { "nan" } else { "oo" }.into(),
+                Format::Mathematica => if x.is_nan() {
+                    "Indeterminate"
+                } else {
+                    "Infinity"
+                }
+                .into(),
+                Format::Maple => if x.is_nan() { "undefined" } else { "infinity" }.into(),
+                Format::Js => if x.is_nan() { "NaN" } else { "Infinity" }.into(),
+                Format::Latex | Format::Desmos => if x.is_nan() {
+                    "\\mathrm{NaN}"
+                } else {
+                    "\\infty"
+                }
+                .into(),
+                Format::Matlab => if x.is_nan() { "NaN" } else { "Inf" }.into(),
+                Format::Glsl => if x.is_nan() { "(0.0/0.0)" } else { "(1.0/0.0)" }.into(),
+            };
+        }
+        let s = format!("{:?}", x.abs());
+        match s.split_once('e') {
+            None => s,
+            Some((m, e)) => match self.f {
+                Format::Mathematica => format!("{m}*^{e}"),
+                Format::Latex | Format::Desmos => format!("{m}\\cdot 10^{{{e}}}"),
+                _ => s,
+            },
+        }
+    }
+
+    /// A constant on its own.
+    fn konst(&self, c: &Const) -> Piece {
+        let neg = c.is_negative();
+        let (s, p): (String, Prec) = match c {
+            Const::Float(x) => (self.float_text(*x), Prec::Atom),
+            Const::Rat(r) => {
+                let r = r.abs();
+                let (n, d) = (r.numer(), r.denom());
+                if d.is_one() {
+                    (self.int_text(n), Prec::Atom)
+                } else {
+                    match self.f {
+                        Format::Sympy => (format!("Rational({n}, {d})"), Prec::Atom),
+                        Format::C | Format::Rust | Format::Glsl => {
+                            (format!("({n}.0/{d}.0)"), Prec::Atom)
+                        }
+                        Format::Js => (format!("({n}/{d})"), Prec::Atom),
+                        Format::Latex | Format::Desmos => {
+                            (format!("\\frac{{{n}}}{{{d}}}"), Prec::Atom)
+                        }
+                        Format::Matlab | Format::Maple | Format::Mathematica | Format::Numpy => {
+                            (format!("{n}/{d}"), Prec::Product)
+                        }
+                    }
+                }
+            }
+        };
+        if neg {
+            (
+                format!("-{}", self.paren((s.into(), p), Prec::Power)).into(),
+                Prec::Unary,
+            )
+        } else {
+            (s.into(), p)
+        }
+    }
+
+    fn var_name(&self, name: &str) -> String {
+        if self.f.tex() && name.chars().count() > 1 {
+            let mut cs = name.chars();
+            let first = cs.next().unwrap_or('x');
+            let rest: String = cs.filter(|&c| c != '_').collect();
+            if rest.is_empty() {
+                first.to_string()
+            } else {
+                format!("{first}_{{{rest}}}")
+            }
+        } else {
+            name.to_string()
+        }
+    }
+
+    /// The text of `id` (a temporary's name if it has one).
+    fn piece(&self, id: Id) -> Piece {
+        if let Some(n) = self.names.get(&id) {
+            return (n.as_str().into(), Prec::Atom);
+        }
+        self.definition(id)
+    }
+
+    /// The text of `id` itself, ignoring its own temporary name.
+    fn definition(&self, id: Id) -> Piece {
+        if let Some(p) = self.cache.borrow().get(&id) {
+            return p.clone();
+        }
+        let p = match self.g.node(id) {
+            Node::Const(c) => self.konst(c),
+            Node::Var(n) => (self.var_name(n).into(), Prec::Atom),
+            Node::Pi => (
+                match self.f {
+                    Format::Maple | Format::Mathematica => "Pi",
+                    Format::Sympy | Format::Matlab => "pi",
+                    Format::Numpy => "np.pi",
+                    Format::Latex | Format::Desmos => "\\pi",
+                    Format::C | Format::Glsl => "3.141592653589793",
+                    Format::Rust => "std::f64::consts::PI",
+                    Format::Js => "Math.PI",
+                }
+                .into(),
+                Prec::Atom,
+            ),
+            Node::Add(c, ts) => self.sum(c, ts),
+            Node::Mul(c, fs) => {
+                let (s, neg) = self.product(c, fs);
+                if neg {
+                    (format!("-{s}").into(), Prec::Unary)
+                } else {
+                    (s.into(), Prec::Product)
+                }
+            }
+            Node::Fun(f, a) => self.call(*f, *a),
+        };
+        self.cache.borrow_mut().insert(id, p.clone());
+        p
+    }
+
+    fn sum(&self, c: &Const, ts: &[(Const, Id)]) -> Piece {
+        let mut out = String::new();
+        let mut first = true;
+        let mut push = |out: &mut String, text: &str, neg: bool| {
+            match (first, neg) {
+                (true, false) => {}
+                (true, true) => out.push('-'),
+                (false, false) => out.push_str(" + "),
+                (false, true) => out.push_str(" - "),
+            }
+            first = false;
+            out.push_str(text);
+        };
+        for (k, t) in ts {
+            let (text, neg) = match (self.g.node(*t), self.names.contains_key(t)) {
+                (Node::Mul(m, fs), false) if m.is_one() => self.product(k, fs),
+                _ => self.product(k, &[(*t, 1)]),
+            };
+            push(&mut out, &text, neg);
+        }
+        if !c.is_zero() {
+            let (s, p) = self.konst(&c.abs());
+            push(
+                &mut out,
+                &self.paren((s, p), Prec::Product),
+                c.is_negative(),
+            );
+        }
+        (out.into(), Prec::Sum)
+    }
+
+    /// `|c| · Π b^e` as text and whether `c` is negative.
+    fn product(&self, c: &Const, fs: &[(Id, i32)]) -> (String, bool) {
+        let f = self.f;
+        let mut num: Vec<String> = Vec::new();
+        let mut den: Vec<String> = Vec::new();
+        let mut den_simple = true;
+        match c.abs() {
+            Const::Rat(r) => {
+                if !r.numer().is_one() {
+                    num.push(self.int_text(r.numer()));
+                }
+                if !r.denom().is_one() {
+                    den.push(self.int_text(r.denom()));
+                }
+            }
+            Const::Float(x) => {
+                if x != 1.0 {
+                    num.push(self.float_text(x));
+                }
+            }
+        }
+        for &(b, e) in fs {
+            let (s, p) = self.power(b, e.unsigned_abs());
+            if e > 0 {
+                num.push(self.paren((s.into(), p), Prec::Product));
+            } else {
+                den_simple &= p >= Prec::Power;
+                den.push(self.paren((s.into(), p), Prec::Product));
+            }
+        }
+        let (mul, div) = match f {
+            Format::Matlab => (".*", "./"),
+            Format::Latex => (" ", "/"),
+            Format::Desmos => ("\\cdot ", "/"),
+            _ => ("*", "/"),
+        };
+        let one = if f.c_like() { "1.0" } else { "1" };
+        let num_s = if num.is_empty() {
+            one.to_string()
+        } else {
+            num.join(mul)
+        };
+        let text = if den.is_empty() {
+            num_s
+        } else if f.tex() {
+            format!("\\frac{{{num_s}}}{{{}}}", den.join(mul))
+        } else if den.len() == 1 && den_simple {
+            format!("{num_s}{div}{}", den[0])
+        } else {
+            format!("{num_s}{div}({})", den.join(mul))
+        };
+        (text, c.is_negative())
+    }
+
+    /// `b^n` for `n >= 1`.
+    fn power(&self, b: Id, n: u32) -> (String, Prec) {
+        let base = self.piece(b);
+        if n == 1 {
+            let s = self.paren(base, Prec::Power);
+            return (s, Prec::Power);
+        }
+        let atom = self.paren(base, Prec::Atom);
+        match self.f {
+            Format::Maple | Format::Mathematica => (format!("{atom}^{n}"), Prec::Power),
+            Format::Matlab => (format!("{atom}.^{n}"), Prec::Power),
+            Format::Sympy | Format::Numpy => (format!("{atom}**{n}"), Prec::Power),
+            Format::Latex | Format::Desmos => (format!("{{{atom}}}^{{{n}}}"), Prec::Power),
+            Format::Rust if self.g.as_const(b).is_some() => {
+                (format!("f64::powi({atom}, {n})"), Prec::Atom)
+            }
+            Format::Rust => (format!("{atom}.powi({n})"), Prec::Atom),
+            Format::C | Format::Js | Format::Glsl if n <= 4 => {
+                (vec![atom; n as usize].join("*"), Prec::Product)
+            }
+            Format::C => (format!("pow({atom}, {n}.0)"), Prec::Atom),
+            Format::Js => (format!("Math.pow({atom}, {n})"), Prec::Atom),
+            Format::Glsl => {
+                // pow(x, y) is undefined for x < 0 in GLSL: |x|^n, times sign(x) when n is odd.
+                if n % 2 == 0 {
+                    (format!("pow(abs({atom}), {n}.0)"), Prec::Atom)
+                } else {
+                    (
+                        format!("pow(abs({atom}), {n}.0)*sign({atom})"),
+                        Prec::Product,
+                    )
+                }
+            }
+        }
+    }
+
+    fn call(&self, fun: Func, a: Id) -> Piece {
+        let arg = self.piece(a);
+        let plain = |p: Piece| p.0.to_string();
+        let f = self.f;
+        if f.tex() {
+            let s = match fun {
+                Func::Abs => format!("\\left|{}\\right|", plain(arg)),
+                Func::Sqrt => format!("\\sqrt{{{}}}", plain(arg)),
+                Func::Exp => return (format!("e^{{{}}}", plain(arg)).into(), Prec::Power),
+                Func::Sign if f == Format::Desmos => {
+                    format!("\\operatorname{{sign}}\\left({}\\right)", plain(arg))
+                }
+                Func::Sign => format!("\\operatorname{{sgn}}\\left({}\\right)", plain(arg)),
+                _ => {
+                    let name = match fun {
+                        Func::Ln => "ln",
+                        Func::Atan => "arctan",
+                        Func::Asin => "arcsin",
+                        Func::Acos => "arccos",
+                        other => other.name(),
+                    };
+                    format!("\\{name}\\left({}\\right)", plain(arg))
+                }
+            };
+            return (s.into(), Prec::Atom);
+        }
+        if f == Format::Rust {
+            if self.g.as_const(a).is_some() {
+                // `2.0.sqrt()` does not compile (ambiguous float type): `f64::sqrt(2.0)`.
+                let m = if fun == Func::Ln { "ln" } else { fun.name() };
+                if fun != Func::Sign {
+                    return (format!("f64::{m}({})", plain(arg)).into(), Prec::Atom);
+                }
+            }
+            let recv = self.paren(arg, Prec::Atom);
+            let s = match fun {
+                Func::Sign => format!(
+                    "(if {recv} > 0.0 {{ 1.0 }} else if {recv} < 0.0 {{ -1.0 }} else {{ 0.0 }})"
+                ),
+                _ => {
+                    let m = match fun {
+                        Func::Abs => "abs",
+                        Func::Sqrt => "sqrt",
+                        Func::Ln => "ln",
+                        other => other.name(),
+                    };
+                    format!("{recv}.{m}()")
+                }
+            };
+            return (s.into(), Prec::Atom);
+        }
+        if f == Format::C && fun == Func::Sign {
+            let x = self.paren(arg, Prec::Atom);
+            return (
+                format!("(double)(({x} > 0.0) - ({x} < 0.0))").into(),
+                Prec::Atom,
+            );
+        }
+        let name: &str = match (f, fun) {
+            (Format::Mathematica, _) => match fun {
+                Func::Abs => "Abs",
+                Func::Sign => "Sign",
+                Func::Sqrt => "Sqrt",
+                Func::Sin => "Sin",
+                Func::Cos => "Cos",
+                Func::Tan => "Tan",
+                Func::Exp => "Exp",
+                Func::Ln => "Log",
+                Func::Atan => "ArcTan",
+                Func::Asin => "ArcSin",
+                Func::Acos => "ArcCos",
+                Func::Sinh => "Sinh",
+                Func::Cosh => "Cosh",
+                Func::Tanh => "Tanh",
+            },
+            (Format::Maple, Func::Sign) => "signum",
+            (Format::Maple, Func::Atan) => "arctan",
+            (Format::Maple, Func::Asin) => "arcsin",
+            (Format::Maple, Func::Acos) => "arccos",
+            (Format::Sympy, Func::Abs) => "Abs",
+            (Format::Sympy | Format::Matlab | Format::Glsl | Format::C, Func::Ln) => "log",
+            (Format::C, Func::Abs) => "fabs",
+            (Format::Numpy, _) => match fun {
+                Func::Ln => "np.log",
+                Func::Atan => "np.arctan",
+                Func::Asin => "np.arcsin",
+                Func::Acos => "np.arccos",
+                Func::Abs => "np.abs",
+                Func::Sign => "np.sign",
+                Func::Sqrt => "np.sqrt",
+                Func::Sin => "np.sin",
+                Func::Cos => "np.cos",
+                Func::Tan => "np.tan",
+                Func::Exp => "np.exp",
+                Func::Sinh => "np.sinh",
+                Func::Cosh => "np.cosh",
+                Func::Tanh => "np.tanh",
+            },
+            (Format::Js, _) => match fun {
+                Func::Ln => "Math.log",
+                Func::Abs => "Math.abs",
+                Func::Sign => "Math.sign",
+                Func::Sqrt => "Math.sqrt",
+                Func::Sin => "Math.sin",
+                Func::Cos => "Math.cos",
+                Func::Tan => "Math.tan",
+                Func::Exp => "Math.exp",
+                Func::Atan => "Math.atan",
+                Func::Asin => "Math.asin",
+                Func::Acos => "Math.acos",
+                Func::Sinh => "Math.sinh",
+                Func::Cosh => "Math.cosh",
+                Func::Tanh => "Math.tanh",
+            },
+            _ => fun.name(),
+        };
+        let s = if f == Format::Mathematica {
+            format!("{name}[{}]", plain(arg))
+        } else {
+            format!("{name}({})", plain(arg))
+        };
+        (s.into(), Prec::Atom)
+    }
+
+    /// Chooses temporaries for a program printing `roots`: nodes used more than once, and
+    /// bases of powers the target prints by repeated multiplication, or arguments it repeats.
+    fn plan(&mut self, roots: &[Id], prefix: &str) -> Vec<Id> {
+        let order = self.g.reachable(roots);
+        let mut uses: HashMap<Id, u32> = HashMap::with_capacity(order.len());
+        for &r in roots {
+            *uses.entry(r).or_default() += 1;
+        }
+        let mut repeated: Vec<Id> = Vec::new();
+        for &id in &order {
+            self.g
+                .for_each_child(id, |c| *uses.entry(c).or_default() += 1);
+            match self.g.node(id) {
+                Node::Mul(_, fs) if matches!(self.f, Format::C | Format::Js | Format::Glsl) => {
+                    repeated.extend(
+                        fs.iter()
+                            .filter(|(_, e)| e.unsigned_abs() >= 2)
+                            .map(|(b, _)| *b),
+                    );
+                }
+                Node::Fun(Func::Sign, a) if matches!(self.f, Format::C | Format::Rust) => {
+                    repeated.push(*a)
+                }
+                _ => {}
+            }
+        }
+        let leaf = |id: Id| matches!(self.g.node(id), Node::Const(_) | Node::Var(_) | Node::Pi);
+        let mut temps: Vec<Id> = order
+            .iter()
+            .copied()
+            .filter(|id| !leaf(*id) && (uses[id] >= 2 || repeated.contains(id)))
+            .collect();
+        temps.sort();
+        temps.dedup();
+        for (i, &t) in temps.iter().enumerate() {
+            let name = if self.f.tex() {
+                format!("{prefix}_{{{i}}}")
+            } else {
+                format!("{prefix}{i}")
+            };
+            self.names.insert(t, name);
+        }
+        temps
+    }
+}
+
+/// A prefix for temporaries that no variable of `g` starts with.
+fn temp_prefix(g: &Graph, roots: &[Id]) -> String {
+    let vars = g.variables(roots);
+    let mut prefix = "t".to_string();
+    while vars.iter().any(|v| v.starts_with(prefix.as_str())) {
+        prefix.push('_');
+    }
+    prefix
+}
+
+impl Graph {
+    /// `e` as one inline expression in the target's syntax (no temporaries: shared
+    /// sub-expressions are printed again where they occur).
+    ///
+    /// ```
+    /// use geomkit_expr::{parse, Format, Graph};
+    /// let mut g = Graph::new();
+    /// let e = parse(&mut g, "abs(u - 1)^3 / 3").unwrap();
+    /// assert_eq!(g.print(e, Format::C), "fabs(u - 1.0)*fabs(u - 1.0)*fabs(u - 1.0)/3.0");
+    /// assert_eq!(g.print(e, Format::Rust), "(u - 1.0).abs().powi(3)/3.0");
+    /// assert_eq!(g.print(e, Format::Mathematica), "Abs[u - 1]^3/3");
+    /// ```
+    pub fn print(&self, e: Id, f: Format) -> String {
+        Printer::new(self, f).piece(e).0.to_string()
+    }
+
+    /// A program computing all `outputs` (name, expression) with common-subexpression
+    /// temporaries: C `const double t0 = ...;`, Rust `let`, GLSL `float`, JS `const`,
+    /// SymPy/NumPy/MATLAB assignments, Maple `:=`, Mathematica `=` (wrap it in `Module`
+    /// yourself or use [`Graph::print_function`]), LaTeX `\begin{aligned}` lines, Desmos
+    /// lines. Temporaries are named `t0, t1, ...` (a prefix no variable starts with).
+    pub fn print_program(&self, outputs: &[(&str, Id)], f: Format) -> String {
+        let roots: Vec<Id> = outputs.iter().map(|o| o.1).collect();
+        let mut p = Printer::new(self, f);
+        let temps = p.plan(&roots, &temp_prefix(self, &roots));
+        let mut out = String::new();
+        let mut lines: Vec<(String, String)> = Vec::new();
+        for t in temps {
+            lines.push((p.names[&t].clone(), p.definition(t).0.to_string()));
+        }
+        for (name, r) in outputs {
+            lines.push((p.var_name(name), p.piece(*r).0.to_string()));
+        }
+        if f == Format::Latex {
+            out.push_str("\\begin{aligned}\n");
+        }
+        for (name, rhs) in lines {
+            let _ = match f {
+                Format::C => writeln!(out, "const double {name} = {rhs};"),
+                Format::Rust => writeln!(out, "let {name} = {rhs};"),
+                Format::Glsl => writeln!(out, "float {name} = {rhs};"),
+                Format::Js => writeln!(out, "const {name} = {rhs};"),
+                Format::Sympy | Format::Numpy => writeln!(out, "{name} = {rhs}"),
+                Format::Matlab | Format::Mathematica => writeln!(out, "{name} = {rhs};"),
+                Format::Maple => writeln!(out, "{name} := {rhs};"),
+                Format::Latex => writeln!(out, "{name} &= {rhs} \\\\"),
+                Format::Desmos => writeln!(out, "{name}={rhs}"),
+            };
+        }
+        if f == Format::Latex {
+            out.push_str("\\end{aligned}\n");
+        }
+        out
+    }
+
+    /// A complete function `name(params...)` returning all `roots`, with
+    /// common-subexpression temporaries: C `void name(double u, ..., double *out)`, Rust
+    /// `pub fn name(u: f64, ...) -> [f64; N]`, GLSL `void name(float u, ..., out float
+    /// out0, ...)`, JS `function`, Python `def` (SymPy or NumPy), MATLAB `function [o0, ...]
+    /// = name(...)`, Maple `proc`, Mathematica `name[u_, ...] := Module[...]`; LaTeX and
+    /// Desmos get the program lines of [`Graph::print_program`] with outputs
+    /// `name_0, name_1, ...`.
+    ///
+    /// ```
+    /// use geomkit_expr::{parse, Format, Graph};
+    /// let mut g = Graph::new();
+    /// let x = parse(&mut g, "abs(u) + sin(abs(u))").unwrap();
+    /// let text = g.print_function("f", &["u"], &[x], Format::C);
+    /// assert_eq!(text, "void f(double u, double *out) {\n    const double t0 = fabs(u);\n    out[0] = t0 + sin(t0);\n}\n");
+    /// ```
+    pub fn print_function(&self, name: &str, params: &[&str], roots: &[Id], f: Format) -> String {
+        let mut p = Printer::new(self, f);
+        let temps = p.plan(roots, &temp_prefix(self, roots));
+        let defs: Vec<(String, String)> = temps
+            .iter()
+            .map(|t| (p.names[t].clone(), p.definition(*t).0.to_string()))
+            .collect();
+        let results: Vec<String> = roots.iter().map(|r| p.piece(*r).0.to_string()).collect();
+        let n = roots.len();
+        let mut out = String::new();
+        let ind = "    ";
+        let join_params = |ty: &str, suffix: &str| -> String {
+            params
+                .iter()
+                .map(|v| format!("{ty}{v}{suffix}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        match f {
+            Format::C => {
+                let _ = writeln!(
+                    out,
+                    "void {name}({}, double *out) {{",
+                    join_params("double ", "")
+                );
+                for (t, d) in &defs {
+                    let _ = writeln!(out, "{ind}const double {t} = {d};");
+                }
+                for (i, r) in results.iter().enumerate() {
+                    let _ = writeln!(out, "{ind}out[{i}] = {r};");
+                }
+                out.push_str("}\n");
+            }
+            Format::Rust => {
+                let _ = writeln!(
+                    out,
+                    "pub fn {name}({}) -> [f64; {n}] {{",
+                    join_params("", ": f64")
+                );
+                for (t, d) in &defs {
+                    let _ = writeln!(out, "{ind}let {t} = {d};");
+                }
+                let _ = writeln!(out, "{ind}[{}]", results.join(", "));
+                out.push_str("}\n");
+            }
+            Format::Glsl => {
+                let outs: Vec<String> = (0..n).map(|i| format!("out float out{i}")).collect();
+                let _ = writeln!(
+                    out,
+                    "void {name}({}, {}) {{",
+                    join_params("float ", ""),
+                    outs.join(", ")
+                );
+                for (t, d) in &defs {
+                    let _ = writeln!(out, "{ind}float {t} = {d};");
+                }
+                for (i, r) in results.iter().enumerate() {
+                    let _ = writeln!(out, "{ind}out{i} = {r};");
+                }
+                out.push_str("}\n");
+            }
+            Format::Js => {
+                let _ = writeln!(out, "function {name}({}) {{", params.join(", "));
+                for (t, d) in &defs {
+                    let _ = writeln!(out, "{ind}const {t} = {d};");
+                }
+                let _ = writeln!(out, "{ind}return [{}];", results.join(", "));
+                out.push_str("}\n");
+            }
+            Format::Sympy | Format::Numpy => {
+                let _ = writeln!(out, "def {name}({}):", params.join(", "));
+                for (t, d) in &defs {
+                    let _ = writeln!(out, "{ind}{t} = {d}");
+                }
+                let _ = writeln!(out, "{ind}return ({},)", results.join(", "));
+            }
+            Format::Matlab => {
+                let outs: Vec<String> = (0..n).map(|i| format!("o{i}")).collect();
+                let _ = writeln!(
+                    out,
+                    "function [{}] = {name}({})",
+                    outs.join(", "),
+                    params.join(", ")
+                );
+                for (t, d) in &defs {
+                    let _ = writeln!(out, "{ind}{t} = {d};");
+                }
+                for (i, r) in results.iter().enumerate() {
+                    let _ = writeln!(out, "{ind}o{i} = {r};");
+                }
+                out.push_str("end\n");
+            }
+            Format::Maple => {
+                let _ = writeln!(out, "{name} := proc({})", params.join(", "));
+                if !defs.is_empty() {
+                    let locals: Vec<&str> = defs.iter().map(|d| d.0.as_str()).collect();
+                    let _ = writeln!(out, "{ind}local {};", locals.join(", "));
+                }
+                for (t, d) in &defs {
+                    let _ = writeln!(out, "{ind}{t} := {d};");
+                }
+                let _ = writeln!(out, "{ind}[{}];", results.join(", "));
+                out.push_str("end proc:\n");
+            }
+            Format::Mathematica => {
+                let pats: Vec<String> = params.iter().map(|v| format!("{v}_")).collect();
+                let locals: Vec<&str> = defs.iter().map(|d| d.0.as_str()).collect();
+                let _ = writeln!(
+                    out,
+                    "{name}[{}] := Module[{{{}}},",
+                    pats.join(", "),
+                    locals.join(", ")
+                );
+                for (t, d) in &defs {
+                    let _ = writeln!(out, "{ind}{t} = {d};");
+                }
+                let _ = writeln!(out, "{ind}{{{}}}\n]", results.join(", "));
+            }
+            Format::Latex | Format::Desmos => {
+                let names: Vec<String> = (0..n).map(|i| format!("{name}_{i}")).collect();
+                let outputs: Vec<(&str, Id)> = names
+                    .iter()
+                    .map(String::as_str)
+                    .zip(roots.iter().copied())
+                    .collect();
+                return self.print_program(&outputs, f);
+            }
+        }
+        out
+    }
+}
