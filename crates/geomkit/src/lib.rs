@@ -23,6 +23,7 @@ pub mod compose;
 mod error;
 pub mod exact;
 mod numeric;
+pub mod pointcalc;
 mod points;
 
 pub use error::{Error, Result};

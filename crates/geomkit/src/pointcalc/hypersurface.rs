@@ -1,0 +1,729 @@
+//! Point equations of hypersurfaces over k factors (spec/point-calculus.md §1, §4): a grid of
+//! experimental points (or source points of any dimension), each factor with its own nodes
+//! (levels), M(x_1..x_k) = Σ f^1_(i_1)(x_1) ··· f^k_(i_k)(x_k) A_(i_1..i_k).
+//!
+//! Nothing is solved: the model is its source points and nodes. Evaluation contracts one
+//! factor at a time (Π n_i multiply-adds for the first factor, then Π_(i≥2) n_i, ...); adding
+//! or removing a factor or a level touches only that factor's nodes and the values of the
+//! added or removed slice. The shares (function-parameters) of all source points at a point
+//! are a first-class result and sum to 1.
+//!
+//! ```
+//! use geomkit::pointcalc::{Factor, Hypersurface, Nodes};
+//! // y = a + 2b over a 3×2 grid of levels.
+//! let records: Vec<Vec<f64>> = [0.0, 1.0, 3.0].iter()
+//!     .flat_map(|&a| [0.0, 1.0].map(move |b| vec![a, b, a + 2.0 * b]))
+//!     .collect();
+//! let model = Hypersurface::from_records(&["a".into(), "b".into()], &records, &[], &Default::default())
+//!     .unwrap();
+//! assert_eq!(model.eval(&[3.0, 1.0]).unwrap(), vec![5.0]); // an experimental point
+//! assert!((model.eval(&[2.0, 0.5]).unwrap()[0] - 3.0).abs() < 1e-14);
+//! let shares = model.shares(&[2.0, 0.5]).unwrap();
+//! assert!((shares.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+//! ```
+
+use super::equation::{check_lebesgue, PointOptions, Warning};
+use super::nodes::Nodes;
+use crate::{Error, Result};
+use rayon::prelude::*;
+
+/// A factor of a multi-factor model: its name and its nodes (the levels).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Factor {
+    name: String,
+    nodes: Nodes,
+}
+
+impl Factor {
+    /// A factor named `name` with levels at `nodes`.
+    pub fn new(name: impl Into<String>, nodes: Nodes) -> Self {
+        Factor {
+            name: name.into(),
+            nodes,
+        }
+    }
+
+    /// The name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The nodes (levels).
+    pub fn nodes(&self) -> &Nodes {
+        &self.nodes
+    }
+}
+
+/// A point equation over k factors through a full grid of source points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Hypersurface {
+    factors: Vec<Factor>,
+    dim: usize,
+    /// Row-major over the factors (factor 0 slowest), `dim` values per cell.
+    values: Vec<f64>,
+    warnings: Vec<Warning>,
+}
+
+/// Work buffers of one evaluation (reused by the batched evaluators).
+struct Scratch {
+    bases: Vec<Vec<f64>>,
+    work: Vec<f64>,
+}
+
+impl Hypersurface {
+    /// The model through `values` (row-major over the factors, factor 0 slowest, `dim`
+    /// numbers per cell). Errors: no factors, duplicate factor names, dim = 0, a value count
+    /// other than dim · Π n_i, non-finite values, a large Lebesgue constant when strict.
+    pub fn new(
+        factors: Vec<Factor>,
+        dim: usize,
+        values: Vec<f64>,
+        options: &PointOptions,
+    ) -> Result<Self> {
+        if factors.is_empty() {
+            return Err(Error::Empty { what: "factors" });
+        }
+        if dim == 0 {
+            return Err(Error::ZeroDimension {
+                what: "source points",
+            });
+        }
+        for (i, f) in factors.iter().enumerate() {
+            if factors[..i].iter().any(|g| g.name == f.name) {
+                return Err(Error::InvalidOption {
+                    option: "factors",
+                    reason: "duplicate factor name",
+                });
+            }
+        }
+        let cells: usize = factors.iter().map(|f| f.nodes.len()).product();
+        if values.len() != cells * dim {
+            return Err(Error::PointCount {
+                what: "values of the grid".into(),
+                expected: cells * dim,
+                got: values.len(),
+            });
+        }
+        if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+            return Err(Error::NonFinite {
+                what: "source point",
+                index: k / dim,
+            });
+        }
+        let mut warnings = Vec::new();
+        for f in &factors {
+            if let Some(w) = check_lebesgue(&format!("factor {}", f.name), &f.nodes, options)? {
+                warnings.push(w);
+            }
+        }
+        Ok(Hypersurface {
+            factors,
+            dim,
+            values,
+            warnings,
+        })
+    }
+
+    /// The model sampling `f` at every grid cell (`f(levels, out)` writes dim values).
+    pub fn from_fn(
+        factors: Vec<Factor>,
+        dim: usize,
+        mut f: impl FnMut(&[f64], &mut [f64]),
+        options: &PointOptions,
+    ) -> Result<Self> {
+        let shape: Vec<usize> = factors.iter().map(|f| f.nodes.len()).collect();
+        let cells: usize = shape.iter().product();
+        let mut values = vec![0.0; cells * dim];
+        let mut x = vec![0.0; factors.len()];
+        for (c, out) in values.chunks_exact_mut(dim.max(1)).enumerate() {
+            let mut rest = c;
+            for k in (0..factors.len()).rev() {
+                x[k] = factors[k].nodes.values()[rest % shape[k]];
+                rest /= shape[k];
+            }
+            f(&x, out);
+        }
+        Hypersurface::new(factors, dim, values, options)
+    }
+
+    /// The model through experimental records: each record holds the k factor values then the
+    /// response (one or more numbers). The levels of a factor are the distinct values in its
+    /// column, or the nodes given for it in `nodes[k]` (data levels within 1e-9 of the node
+    /// span of a node are matched to it; useful for exact rational nodes like 1/3).
+    ///
+    /// Errors ([`Error::GridRecord`] names the record): wrong record length, non-finite
+    /// values, a level not among the given nodes, a cell given twice; [`Error::MissingCell`]
+    /// when the records do not cover the full grid.
+    pub fn from_records(
+        names: &[String],
+        records: &[Vec<f64>],
+        nodes: &[Option<Nodes>],
+        options: &PointOptions,
+    ) -> Result<Self> {
+        let k = names.len();
+        if k == 0 {
+            return Err(Error::Empty { what: "factors" });
+        }
+        let first = records.first().ok_or(Error::Empty { what: "records" })?;
+        if first.len() <= k {
+            return Err(Error::GridRecord {
+                record: 0,
+                reason: format!(
+                    "has {} values; need the {k} factors and at least one response",
+                    first.len()
+                ),
+            });
+        }
+        let width = first.len();
+        let dim = width - k;
+        for (r, rec) in records.iter().enumerate() {
+            if rec.len() != width {
+                return Err(Error::GridRecord {
+                    record: r,
+                    reason: format!("has {} values, expected {width}", rec.len()),
+                });
+            }
+            if let Some(c) = rec.iter().position(|x| !x.is_finite()) {
+                let column = names.get(c).cloned().unwrap_or_else(|| "response".into());
+                return Err(Error::GridRecord {
+                    record: r,
+                    reason: format!("the value of '{column}' is not a finite number"),
+                });
+            }
+        }
+        // Levels of each factor and the level index of every record.
+        let mut factors = Vec::with_capacity(k);
+        let mut index = vec![vec![0usize; k]; records.len()];
+        for f in 0..k {
+            let given = nodes.get(f).cloned().flatten();
+            let levels = match &given {
+                Some(n) => n.clone(),
+                None => {
+                    let mut v: Vec<f64> = records.iter().map(|r| r[f]).collect();
+                    v.sort_by(f64::total_cmp);
+                    v.dedup();
+                    Nodes::new(v)?
+                }
+            };
+            let (lo, hi) = levels.domain();
+            let tolerance = 1e-9 * (hi - lo).abs().max(lo.abs()).max(hi.abs()).max(1e-300);
+            for (r, rec) in records.iter().enumerate() {
+                let x = rec[f];
+                let vals = levels.values();
+                let j = vals.partition_point(|&v| v < x);
+                let near = [j.wrapping_sub(1), j]
+                    .into_iter()
+                    .filter(|&j| j < vals.len())
+                    .min_by(|&a, &b| (vals[a] - x).abs().total_cmp(&(vals[b] - x).abs()));
+                match near {
+                    Some(j) if (vals[j] - x).abs() <= tolerance => index[r][f] = j,
+                    _ => {
+                        return Err(Error::GridRecord {
+                            record: r,
+                            reason: format!(
+                                "level {}={x} is not one of the nodes given for it",
+                                names[f]
+                            ),
+                        })
+                    }
+                }
+            }
+            factors.push(Factor::new(names[f].clone(), levels));
+        }
+        let shape: Vec<usize> = factors.iter().map(|f| f.nodes.len()).collect();
+        let cells: usize = shape.iter().product();
+        let mut seen: Vec<Option<usize>> = vec![None; cells];
+        let mut values = vec![0.0; cells * dim];
+        for (r, rec) in records.iter().enumerate() {
+            let c = index[r]
+                .iter()
+                .zip(&shape)
+                .fold(0, |acc, (i, n)| acc * n + i);
+            if let Some(prev) = seen[c] {
+                return Err(Error::GridRecord {
+                    record: r,
+                    reason: format!(
+                        "duplicate cell {} (also record {prev})",
+                        describe_cell(&factors, &index[r])
+                    ),
+                });
+            }
+            seen[c] = Some(r);
+            values[c * dim..(c + 1) * dim].copy_from_slice(&rec[k..]);
+        }
+        let missing = seen.iter().filter(|s| s.is_none()).count();
+        if let Some(c) = seen.iter().position(Option::is_none) {
+            let idx = unflatten(c, &shape);
+            return Err(Error::MissingCell {
+                cell: describe_cell(&factors, &idx),
+                missing,
+            });
+        }
+        Hypersurface::new(factors, dim, values, options)
+    }
+
+    /// The factors.
+    pub fn factors(&self) -> &[Factor] {
+        &self.factors
+    }
+
+    /// Number of factors k.
+    pub fn k(&self) -> usize {
+        self.factors.len()
+    }
+
+    /// Dimension of the source points (1 for a scalar response).
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+
+    /// The source points, row-major over the factors (factor 0 slowest).
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// Number of levels of every factor.
+    pub fn shape(&self) -> Vec<usize> {
+        self.factors.iter().map(|f| f.nodes.len()).collect()
+    }
+
+    /// Warnings found when building.
+    pub fn warnings(&self) -> &[Warning] {
+        &self.warnings
+    }
+
+    /// The factor levels of grid cell `cell` (row-major index).
+    pub fn cell_levels(&self, cell: usize) -> Vec<f64> {
+        unflatten(cell, &self.shape())
+            .iter()
+            .zip(&self.factors)
+            .map(|(&i, f)| f.nodes.values()[i])
+            .collect()
+    }
+
+    /// Index of the factor named `name`.
+    pub fn factor_index(&self, name: &str) -> Result<usize> {
+        self.factors
+            .iter()
+            .position(|f| f.name == name)
+            .ok_or_else(|| Error::UnknownFactor { name: name.into() })
+    }
+
+    /// The box spanned by the factors' nodes: (low, high) per factor.
+    pub fn domain(&self) -> Vec<(f64, f64)> {
+        self.factors.iter().map(|f| f.nodes.domain()).collect()
+    }
+
+    fn scratch(&self) -> Scratch {
+        let shape = self.shape();
+        let mut work = 0;
+        let mut len = self.values.len();
+        for n in &shape {
+            len /= n;
+            work += len;
+        }
+        Scratch {
+            bases: shape.iter().map(|&n| vec![0.0; n]).collect(),
+            work: vec![0.0; work],
+        }
+    }
+
+    fn check_point(&self, x: &[f64]) -> Result<()> {
+        if x.len() != self.k() {
+            return Err(Error::DimensionMismatch {
+                what: "evaluation point",
+                index: 0,
+                expected: self.k(),
+                got: x.len(),
+            });
+        }
+        match x.iter().position(|v| !v.is_finite()) {
+            Some(index) => Err(Error::NonFinite {
+                what: "factor value",
+                index,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Contracts the values with per-factor vectors `bases` (one factor at a time) into out.
+    fn contract(&self, bases: &[Vec<f64>], work: &mut [f64], out: &mut [f64]) {
+        let mut src: &[f64] = &self.values;
+        let mut rest_work = work;
+        for (f, b) in bases.iter().enumerate() {
+            let n = b.len();
+            let len = src.len() / n;
+            let (next, tail) = rest_work.split_at_mut(len);
+            next.fill(0.0);
+            for (bi, block) in b.iter().zip(src.chunks_exact(len)) {
+                if *bi == 0.0 {
+                    continue;
+                }
+                for (o, v) in next.iter_mut().zip(block) {
+                    *o += bi * v;
+                }
+            }
+            if f + 1 == bases.len() {
+                out.copy_from_slice(next);
+                return;
+            }
+            src = next;
+            rest_work = tail;
+        }
+    }
+
+    fn eval_with(&self, x: &[f64], s: &mut Scratch, out: &mut [f64]) {
+        for ((f, b), &xf) in self.factors.iter().zip(s.bases.iter_mut()).zip(x) {
+            f.nodes.basis_into(xf, b);
+        }
+        self.contract(&s.bases, &mut s.work, out);
+    }
+
+    /// M(x) into `out` (length dim). Errors: x of the wrong length or not finite, wrong
+    /// buffer length. At a grid cell the result is exactly its source point.
+    pub fn eval_into(&self, x: &[f64], out: &mut [f64]) -> Result<()> {
+        self.check_point(x)?;
+        if out.len() != self.dim {
+            return Err(Error::BufferSize {
+                expected: self.dim,
+                got: out.len(),
+            });
+        }
+        let mut s = self.scratch();
+        self.eval_with(x, &mut s, out);
+        Ok(())
+    }
+
+    /// M(x).
+    pub fn eval(&self, x: &[f64]) -> Result<Vec<f64>> {
+        let mut out = vec![0.0; self.dim];
+        self.eval_into(x, &mut out)?;
+        Ok(out)
+    }
+
+    /// Evaluates at many points (`xs` row-major, k numbers each) into `out` (dim numbers
+    /// each), in parallel. Errors: lengths, non-finite factor values.
+    pub fn eval_many(&self, xs: &[f64], out: &mut [f64]) -> Result<()> {
+        let k = self.k();
+        if !xs.len().is_multiple_of(k) || out.len() != xs.len() / k * self.dim {
+            return Err(Error::BufferSize {
+                expected: xs.len() / k * self.dim,
+                got: out.len(),
+            });
+        }
+        if let Some(i) = xs.iter().position(|v| !v.is_finite()) {
+            return Err(Error::NonFinite {
+                what: "factor value of point",
+                index: i / k,
+            });
+        }
+        const CHUNK: usize = 512;
+        xs.par_chunks(CHUNK * k)
+            .zip(out.par_chunks_mut(CHUNK * self.dim))
+            .for_each(|(xc, oc)| {
+                let mut s = self.scratch();
+                for (x, o) in xc.chunks_exact(k).zip(oc.chunks_exact_mut(self.dim)) {
+                    self.eval_with(x, &mut s, o);
+                }
+            });
+        Ok(())
+    }
+
+    /// The gradient: ∂M/∂x_f for every factor f, `k * dim` numbers (factor-major).
+    pub fn gradient(&self, x: &[f64]) -> Result<Vec<f64>> {
+        self.check_point(x)?;
+        let mut s = self.scratch();
+        let mut l = Vec::with_capacity(self.k());
+        let mut d = Vec::with_capacity(self.k());
+        for (f, &xf) in self.factors.iter().zip(x) {
+            let n = f.nodes.len();
+            let (mut lf, mut df) = (vec![0.0; n], vec![0.0; n]);
+            f.nodes.basis_derivatives(xf, &mut lf, &mut df, None);
+            l.push(lf);
+            d.push(df);
+        }
+        let mut out = vec![0.0; self.k() * self.dim];
+        for f in 0..self.k() {
+            for g in 0..self.k() {
+                s.bases[g].copy_from_slice(if g == f { &d[g] } else { &l[g] });
+            }
+            self.contract(
+                &s.bases,
+                &mut s.work,
+                &mut out[f * self.dim..(f + 1) * self.dim],
+            );
+        }
+        Ok(out)
+    }
+
+    /// The shares of all source points in M(x) (row-major like the values, one number per
+    /// cell): the products of the factors' function-parameters. They sum to 1.
+    pub fn shares(&self, x: &[f64]) -> Result<Vec<f64>> {
+        self.check_point(x)?;
+        let mut shares = vec![1.0];
+        for (f, &xf) in self.factors.iter().zip(x) {
+            let b = f.nodes.basis(xf);
+            shares = shares
+                .iter()
+                .flat_map(|s| b.iter().map(move |bi| s * bi))
+                .collect();
+        }
+        Ok(shares)
+    }
+
+    fn stride(&self, factor: usize) -> (usize, usize, usize) {
+        let shape = self.shape();
+        let outer: usize = shape[..factor].iter().product();
+        let inner: usize = shape[factor + 1..].iter().product::<usize>() * self.dim;
+        (outer, shape[factor], inner)
+    }
+
+    /// The source points of level `level` of `factor` (the grid of the other factors,
+    /// row-major): what [`Hypersurface::add_level`] takes.
+    pub fn level_slice(&self, factor: usize, level: usize) -> Result<Vec<f64>> {
+        self.check_factor_level(factor, level)?;
+        let (outer, n, inner) = self.stride(factor);
+        Ok((0..outer)
+            .flat_map(|o| {
+                self.values[(o * n + level) * inner..][..inner]
+                    .iter()
+                    .copied()
+            })
+            .collect())
+    }
+
+    fn check_factor_level(&self, factor: usize, level: usize) -> Result<()> {
+        if factor >= self.k() {
+            return Err(Error::IndexOutOfRange {
+                what: "factor",
+                index: factor,
+                len: self.k(),
+            });
+        }
+        let n = self.factors[factor].nodes.len();
+        if level >= n {
+            return Err(Error::IndexOutOfRange {
+                what: "level",
+                index: level,
+                len: n,
+            });
+        }
+        Ok(())
+    }
+
+    fn rebuilt(&self, factors: Vec<Factor>, values: Vec<f64>) -> Result<Hypersurface> {
+        Hypersurface::new(factors, self.dim, values, &PointOptions::default())
+    }
+
+    /// The model without level `level` of `factor`: that factor's nodes lose a node (weights
+    /// updated from the positions), its slice of source points is dropped; nothing else
+    /// changes. Errors: indices out of range, the factor's last level (remove the factor).
+    pub fn remove_level(&self, factor: usize, level: usize) -> Result<Hypersurface> {
+        self.check_factor_level(factor, level)?;
+        let nodes = self.factors[factor].nodes.without(level)?;
+        let (outer, n, inner) = self.stride(factor);
+        let mut values = Vec::with_capacity(self.values.len() / n * (n - 1));
+        for o in 0..outer {
+            for i in (0..n).filter(|&i| i != level) {
+                values.extend_from_slice(&self.values[(o * n + i) * inner..][..inner]);
+            }
+        }
+        let mut factors = self.factors.clone();
+        factors[factor].nodes = nodes;
+        self.rebuilt(factors, values)
+    }
+
+    /// The model with a new level of `factor` at `value`, whose source points are `slice`
+    /// (the grid of the other factors, row-major, as [`Hypersurface::level_slice`] gives).
+    /// Errors: index out of range, a level already there, a slice of the wrong length.
+    pub fn add_level(&self, factor: usize, value: f64, slice: &[f64]) -> Result<Hypersurface> {
+        self.check_factor_level(factor, 0)?;
+        let (outer, n, inner) = self.stride(factor);
+        if slice.len() != outer * inner {
+            return Err(Error::PointCount {
+                what: "values of the new level".into(),
+                expected: outer * inner,
+                got: slice.len(),
+            });
+        }
+        let (nodes, at) = self.factors[factor].nodes.with_node(value)?;
+        let mut values = Vec::with_capacity(self.values.len() + slice.len());
+        for o in 0..outer {
+            for i in 0..=n {
+                if i == at {
+                    values.extend_from_slice(&slice[o * inner..(o + 1) * inner]);
+                } else {
+                    let src = if i < at { i } else { i - 1 };
+                    values.extend_from_slice(&self.values[(o * n + src) * inner..][..inner]);
+                }
+            }
+        }
+        let mut factors = self.factors.clone();
+        factors[factor].nodes = nodes;
+        self.rebuilt(factors, values)
+    }
+
+    /// The model with `factor` removed by keeping its level `level` (the section of the
+    /// model there). Errors: indices out of range, removing the only factor.
+    pub fn remove_factor(&self, factor: usize, level: usize) -> Result<Hypersurface> {
+        self.check_factor_level(factor, level)?;
+        if self.k() == 1 {
+            return Err(Error::TooFewPoints {
+                what: "factors",
+                got: 0,
+                min: 1,
+            });
+        }
+        let values = self.level_slice(factor, level)?;
+        let mut factors = self.factors.clone();
+        factors.remove(factor);
+        self.rebuilt(factors, values)
+    }
+
+    /// The model with `factor` fixed at the value `x` (contracted there) and removed.
+    pub fn fix_factor(&self, factor: usize, x: f64) -> Result<Hypersurface> {
+        self.check_factor_level(factor, 0)?;
+        if !x.is_finite() {
+            return Err(Error::NonFinite {
+                what: "factor value",
+                index: factor,
+            });
+        }
+        if self.k() == 1 {
+            return Err(Error::TooFewPoints {
+                what: "factors",
+                got: 0,
+                min: 1,
+            });
+        }
+        let b = self.factors[factor].nodes.basis(x);
+        let (outer, n, inner) = self.stride(factor);
+        let mut values = vec![0.0; outer * inner];
+        for o in 0..outer {
+            for (i, bi) in b.iter().enumerate() {
+                let src = &self.values[(o * n + i) * inner..][..inner];
+                for (v, s) in values[o * inner..(o + 1) * inner].iter_mut().zip(src) {
+                    *v += bi * s;
+                }
+            }
+        }
+        let mut factors = self.factors.clone();
+        factors.remove(factor);
+        self.rebuilt(factors, values)
+    }
+
+    /// The model with a new factor at position `position` (0..=k): `slices[i]` holds the
+    /// source points of its level i (the current grid, row-major). Errors: position out of
+    /// range, a name already used, slice count or lengths wrong.
+    pub fn add_factor(
+        &self,
+        position: usize,
+        factor: Factor,
+        slices: &[Vec<f64>],
+    ) -> Result<Hypersurface> {
+        if position > self.k() {
+            return Err(Error::IndexOutOfRange {
+                what: "factor position",
+                index: position,
+                len: self.k() + 1,
+            });
+        }
+        let n = factor.nodes.len();
+        if slices.len() != n {
+            return Err(Error::PointCount {
+                what: format!("slices of factor {}", factor.name),
+                expected: n,
+                got: slices.len(),
+            });
+        }
+        if let Some(s) = slices.iter().find(|s| s.len() != self.values.len()) {
+            return Err(Error::PointCount {
+                what: format!("values of a level of factor {}", factor.name),
+                expected: self.values.len(),
+                got: s.len(),
+            });
+        }
+        let shape = self.shape();
+        let outer: usize = shape[..position].iter().product();
+        let inner: usize = shape[position..].iter().product::<usize>() * self.dim;
+        let mut values = Vec::with_capacity(self.values.len() * n);
+        for o in 0..outer {
+            for s in slices {
+                values.extend_from_slice(&s[o * inner..(o + 1) * inner]);
+            }
+        }
+        let mut factors = self.factors.clone();
+        factors.insert(position, factor);
+        Hypersurface::new(factors, self.dim, values, &PointOptions::default())
+    }
+}
+
+/// Multi-index of a row-major flat index.
+pub(crate) fn unflatten(mut c: usize, shape: &[usize]) -> Vec<usize> {
+    let mut idx = vec![0; shape.len()];
+    for k in (0..shape.len()).rev() {
+        idx[k] = c % shape[k];
+        c /= shape[k];
+    }
+    idx
+}
+
+fn describe_cell(factors: &[Factor], idx: &[usize]) -> String {
+    factors
+        .iter()
+        .zip(idx)
+        .map(|(f, &i)| format!("{}={}", f.name, f.nodes.values()[i]))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn records() -> Vec<Vec<f64>> {
+        let mut r = Vec::new();
+        for a in [1.0, 2.0, 4.0] {
+            for b in [0.0, 0.5] {
+                r.push(vec![a, b, a * a - b]);
+            }
+        }
+        r
+    }
+
+    #[test]
+    fn grid_errors_name_the_record() {
+        let names = vec!["a".to_string(), "b".to_string()];
+        let mut r = records();
+        r[4][1] = 0.5;
+        r[5][1] = 0.5;
+        match Hypersurface::from_records(&names, &r, &[], &PointOptions::default()) {
+            Err(Error::GridRecord { record: 5, reason }) => assert!(reason.contains("duplicate")),
+            other => panic!("{other:?}"),
+        }
+        let mut r = records();
+        r.pop();
+        assert!(matches!(
+            Hypersurface::from_records(&names, &r, &[], &PointOptions::default()),
+            Err(Error::MissingCell { missing: 1, .. })
+        ));
+        let mut r = records();
+        r[2][2] = f64::NAN;
+        assert!(matches!(
+            Hypersurface::from_records(&names, &r, &[], &PointOptions::default()),
+            Err(Error::GridRecord { record: 2, .. })
+        ));
+    }
+
+    #[test]
+    fn gradient_matches_polynomial() {
+        let names = vec!["a".to_string(), "b".to_string()];
+        let m =
+            Hypersurface::from_records(&names, &records(), &[], &PointOptions::default()).unwrap();
+        let g = m.gradient(&[1.5, 0.2]).unwrap();
+        assert!(
+            (g[0] - 3.0).abs() < 1e-13 && (g[1] + 1.0).abs() < 1e-13,
+            "{g:?}"
+        );
+    }
+}

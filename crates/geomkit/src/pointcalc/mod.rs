@@ -1,0 +1,34 @@
+//! Method 4: point equations of curves, surfaces and hypersurfaces in the point
+//! Balyuba–Naidysh calculus, spec/point-calculus.md (Adoniev, Vereshchaga, Naidysh).
+//!
+//! - [`Nodes`]: node sets of a parameter (the paper's {0, 1/2, 1}, {0, 1/3, 1},
+//!   {0, 2/3, 1}, any positions, Chebyshev and equispaced presets), their cardinal
+//!   ("b-") functions in the barycentric form with derivatives, exact rational coefficients,
+//!   the Lebesgue constant.
+//! - [`PointEquation`]: curves M(t) = Σ f_i(t) A_i through points of any dimension,
+//!   equations (1)-(3) and any number of points.
+//! - [`PointSurface`]: surfaces through a net, rows first then across (each row with its own
+//!   nodes), the tensor product; [`printed_geomatrix`]: the paper's (9) as printed.
+//! - [`Hypersurface`]: k factors, each with its own levels; shares; adding and removing
+//!   factors and levels without a solve.
+//! - [`optimize`]: the global largest / smallest modeled response with a certified bound.
+//!
+//! ```
+//! use geomkit::pointcalc::{Nodes, PointEquation};
+//! use geomkit::bezier::ParamCurve;
+//! // Equation (1): M = A t̄(1 - 2t) + C 4tt̄ + B t(2t - 1).
+//! let eq = PointEquation::new(Nodes::paper_half(), vec![vec![0.0], vec![1.0], vec![0.0]]).unwrap();
+//! assert_eq!(eq.eval(0.25)[0], 0.75); // 4 · 0.25 · 0.75
+//! ```
+
+mod equation;
+mod hypersurface;
+mod nodes;
+mod optimize;
+mod surface;
+
+pub use equation::{PointEquation, PointOptions, Warning};
+pub use hypersurface::{Factor, Hypersurface};
+pub use nodes::{NodePreset, Nodes};
+pub use optimize::{optimize, Goal, OptimizeOptions, Optimum};
+pub use surface::{printed_geomatrix, printed_geomatrix_exact, PointSurface, PrintedSurface};
