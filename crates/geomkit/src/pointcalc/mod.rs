@@ -12,6 +12,8 @@
 //! - [`Hypersurface`]: k factors, each with its own levels; shares; adding and removing
 //!   factors and levels without a solve.
 //! - [`optimize`]: the global largest / smallest modeled response with a certified bound.
+//! - [`cardinal_expr`], `to_expr`: point equations as formulas (exact rational nodes) for the
+//!   expression printers of [`crate::expr`].
 //!
 //! ```
 //! use geomkit::pointcalc::{Nodes, PointEquation};
@@ -22,12 +24,14 @@
 //! ```
 
 mod equation;
+mod formula;
 mod hypersurface;
 mod nodes;
 mod optimize;
 mod surface;
 
 pub use equation::{PointEquation, PointOptions, Warning};
+pub use formula::cardinal_expr;
 pub use hypersurface::{Factor, Hypersurface};
 pub use nodes::{NodePreset, Nodes};
 pub use optimize::{optimize, Goal, OptimizeOptions, Optimum};
