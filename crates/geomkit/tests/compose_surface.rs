@@ -201,3 +201,52 @@ fn bad_grids_are_errors() {
     assert!(s.eval_many(&[0.0, f64::NAN], &mut out).is_err());
     assert!(s.eval_many(&[0.0, 0.5], &mut out[..2]).is_err());
 }
+
+#[test]
+fn bicubic_formula_is_small_and_equals_the_literal_formula() {
+    let mut rng = Rng(99);
+    let (n, m) = (10, 10);
+    let uk = random_knots(&mut rng, n);
+    let vk = random_knots(&mut rng, m);
+    let patches: Vec<Vec<BezierSurface>> = (0..n)
+        .map(|_| (0..m).map(|_| random_patch(&mut rng, 3, 3)).collect())
+        .collect();
+    let s = CompositeSurface::from_bezier(uk.clone(), vk.clone(), &patches).unwrap();
+    let f = s.formula().unwrap();
+    // 27 operations per coordinate of an inner patch: s t (Q0(t) + s (Q1(t) + s Q2(t))) in
+    // Horner form; the engine distributes each constant times a ramp over its two |.| terms,
+    // which costs the 6 operations above the 75 per patch.
+    let ops = f.op_count();
+    assert!(ops <= 81 * n * m, "{ops} operations for {} patches", n * m);
+    // Linear growth: 20×20 patches cost at most 4.1 times as much.
+    let big: Vec<Vec<BezierSurface>> = (0..2 * n)
+        .map(|_| (0..2 * m).map(|_| random_patch(&mut rng, 3, 3)).collect())
+        .collect();
+    let s2 = CompositeSurface::from_bezier(
+        random_knots(&mut rng, 2 * n),
+        random_knots(&mut rng, 2 * m),
+        &big,
+    )
+    .unwrap();
+    let ops2 = s2.formula().unwrap().op_count();
+    assert!(ops2 as f64 <= 4.1 * ops as f64, "{ops} -> {ops2}");
+    let us = dense(&uk);
+    let vs = dense(&vk);
+    let (mut pu, mut pv) = (Vec::new(), Vec::new());
+    for &u in &us {
+        for &v in &vs {
+            pu.push(u);
+            pv.push(v);
+        }
+    }
+    let mut out = vec![0.0; pu.len() * 3];
+    f.eval_batch(&[&pu, &pv], &mut out).unwrap();
+    let mut worst = 0.0f64;
+    for (k, p) in out.chunks_exact(3).enumerate() {
+        let q = s.eval(pu[k], pv[k]);
+        for c in 0..3 {
+            worst = worst.max((p[c] - q[c]).abs());
+        }
+    }
+    assert!(worst <= 1e-12 * 100.0, "{worst:e}");
+}

@@ -7,13 +7,18 @@
 //! - [`CompositeSurface`]: formulas (3)-(11) over an orthogonal grid of patches, its
 //!   [`ContinuityReport`] and a structural evaluator equal to the single formula.
 
+pub mod bodies;
+mod formula;
 mod grid;
 mod linear;
 mod poly;
 mod ramp;
+mod ruled;
 mod surface;
 
+pub use formula::{abs_sum_expr, ramp_expr, Formula};
 pub use linear::AbsSum;
 pub use poly::PolyPatch;
 pub use ramp::{ramp, ramp_checked, ramp_exact, simplest_rational};
+pub use ruled::{RuledCurve, RuledSurface};
 pub use surface::{CompositeSurface, ContinuityReport, GridLine, Jump, SurfaceKind, EDGE_SAMPLES};

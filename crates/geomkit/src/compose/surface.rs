@@ -24,11 +24,13 @@
 //! assert!((s.eval_formula(1.5, 0.5)[2] - 0.25).abs() < 1e-15);
 //! ```
 
+use super::formula::{coef, num, Formula};
 use super::grid::Axis;
 use super::poly::PolyPatch;
 use super::ramp::ramp;
 use crate::bezier::BezierSurface;
 use crate::bspline::BsplineSurface;
+use crate::expr::{Const, Graph, Id};
 use crate::points::check_eval_args;
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -403,6 +405,58 @@ impl CompositeSurface {
         out
     }
 
+    /// The single formula (9) (parametric: x, y, z in u, v) or (11) (explicit: z in x, y).
+    /// Each patch enters through its local coordinates s_i = P(u, u_i, u_(i+1) - u_i) and
+    /// t_j = P(v, v_j, v_(j+1) - v_j) (formula (3): the clamped arguments mapped onto the
+    /// patch's own domain [0, 1]²), and the four terms of (9),
+    /// `R_ij(u,v) - R_ij(u_i,v) - R_ij(u,v_j) + R_ij(u_i,v_j)`, are collected symbolically: for a polynomial patch they are
+    /// exactly s^[i>=1] t^[j>=1] times a polynomial, printed in Horner form. Knots print as
+    /// exact rationals (decimal inputs become their fractions).
+    pub fn formula(&self) -> Result<Formula> {
+        let mut g = Graph::new();
+        let (names, vars): (Vec<&str>, [&str; 2]) = match self.kind {
+            SurfaceKind::Parametric => (vec!["x", "y", "z"], ["u", "v"]),
+            SurfaceKind::Explicit => (vec!["z"], ["x", "y"]),
+        };
+        let names: Vec<String> = if self.dim <= 3 {
+            names[..self.dim].iter().map(|s| s.to_string()).collect()
+        } else {
+            (0..self.dim).map(|k| format!("x{k}")).collect()
+        };
+        let (uk, vk) = self.knots();
+        let u = g.var(vars[0]);
+        let v = g.var(vars[1]);
+        let ss = ramps(&mut g, u, uk)?;
+        let ts = ramps(&mut g, v, vk)?;
+        let (n, m) = self.cells();
+        let mut sums: Vec<Vec<Id>> = vec![Vec::with_capacity(n * m); self.dim];
+        for i in 0..n {
+            for j in 0..m {
+                let p = self.patch(i, j);
+                let (a0, b0) = (usize::from(i >= 1), usize::from(j >= 1));
+                for (k, sum) in sums.iter_mut().enumerate() {
+                    let h = horner2(&mut g, p, k, (a0, b0), ss[i], ts[j]);
+                    let mut factors = vec![(h, 1)];
+                    if a0 == 1 {
+                        factors.push((ss[i], 1));
+                    }
+                    if b0 == 1 {
+                        factors.push((ts[j], 1));
+                    }
+                    let term = g.prod(&factors);
+                    sum.push(term);
+                }
+            }
+        }
+        let roots = sums.iter().map(|terms| g.sum(terms)).collect();
+        Ok(Formula {
+            graph: g,
+            roots,
+            names,
+            vars: vars.iter().map(|s| s.to_string()).collect(),
+        })
+    }
+
     fn measure_continuity(&self) -> ContinuityReport {
         let (n, m) = self.cells();
         let (uk, vk) = self.knots();
@@ -553,4 +607,58 @@ fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Vec<PolyPatch
             e
         })
         .collect()
+}
+
+/// The ramps P(x, x_i, x_(i+1) - x_i) of every cell of one direction.
+fn ramps(g: &mut Graph, x: Id, knots: &[f64]) -> Result<Vec<Id>> {
+    knots
+        .windows(2)
+        .map(|w| {
+            // The width from the exact knots, so that consecutive ramps share |x - x_i|.
+            let a = num(g, w[0]);
+            let b = num(g, w[1]);
+            let width = g.sub(b, a);
+            let wf = g.as_const(width).map_or(w[1] - w[0], Const::to_f64);
+            super::ramp::check_width("knot interval", wf)?;
+            let two = g.int(2);
+            let t_a = g.sub(x, a);
+            let t_b = g.sub(x, b);
+            let abs_a = g.abs(t_a);
+            let abs_b = g.abs(t_b);
+            let diff = g.sub(abs_a, abs_b);
+            let sum = g.add(width, diff);
+            let den = g.mul(two, width);
+            Ok(g.div(sum, den))
+        })
+        .collect()
+}
+
+/// Σ_(a >= a0, b >= b0) c_ab s^(a-a0) t^(b-b0) for coordinate k, Horner in t inside
+/// Horner in s.
+fn horner2(g: &mut Graph, p: &PolyPatch, k: usize, (a0, b0): (usize, usize), s: Id, t: Id) -> Id {
+    let (deg_a, deg_b) = p.degrees();
+    let one = g.int(1);
+    let mut outer: Option<Id> = None;
+    for a in (a0..=deg_a).rev() {
+        let mut inner: Option<Id> = None;
+        for b in (b0..=deg_b).rev() {
+            let c = coef(g, p.coefficient(a, b)[k]);
+            inner = Some(match inner {
+                None => c,
+                Some(h) => {
+                    let th = g.mul(t, h);
+                    g.add(c, th)
+                }
+            });
+        }
+        let r = inner.unwrap_or(one);
+        outer = Some(match outer {
+            None => r,
+            Some(h) => {
+                let sh = g.mul(s, h);
+                g.add(r, sh)
+            }
+        });
+    }
+    outer.unwrap_or_else(|| g.int(0))
 }

@@ -1,0 +1,172 @@
+//! Building the single formulas as expressions of the engine ([`crate::expr`]): the ramp (1),
+//! piecewise-linear sums, and the printable [`Formula`] every construction returns.
+
+use super::linear::AbsSum;
+use super::ramp::check_width;
+use crate::exact::{rational_to_f64, Rational};
+use crate::expr::{Const, Format, Graph, Id};
+use crate::{Error, Result};
+use num_bigint::BigInt;
+
+/// Denominators up to this print as exact rationals; longer ones (rationals standing for
+/// irrational inputs such as cos(2π/5)) as decimals.
+const MAX_DENOMINATOR: u64 = 1_000_000;
+
+/// The engine constant for an exact rational: exact when its denominator is short, else the
+/// nearest f64.
+pub(crate) fn konst(q: &Rational) -> Const {
+    if q.denom() <= &BigInt::from(MAX_DENOMINATOR) {
+        Const::Rat(q.clone())
+    } else {
+        Const::Float(rational_to_f64(q))
+    }
+}
+
+/// The constant node of a rational.
+pub(crate) fn konst_id(g: &mut Graph, q: &Rational) -> Id {
+    g.constant(konst(q))
+}
+
+/// A patch coefficient: an exact integer when it is one, else the f64 (fast: no rational
+/// search for the many coefficients of large composites).
+pub(crate) fn coef(g: &mut Graph, x: f64) -> Id {
+    if x.fract() == 0.0 && x.abs() < 9.0e15 {
+        g.int(x as i64)
+    } else {
+        g.num(x)
+    }
+}
+
+/// The engine constant of an f64 input: its short rational ([`super::simplest_rational`]) when
+/// that is exact and short, else the f64 itself.
+pub(crate) fn num(g: &mut Graph, x: f64) -> Id {
+    match super::ramp::simplest_rational(x) {
+        Some(q) => konst_id(g, &q),
+        None => g.num(x),
+    }
+}
+
+/// P(t, a, w) of formula (1) as an expression in the node `t`, with a and w read as short
+/// rationals (exact when the inputs are decimals): `1/2 + |t - a|/(2w) - |t - a - w|/(2w)`.
+/// Errors: [`Error::RampWidth`] when w <= 0, [`Error::NonFinite`] for a non-finite a.
+///
+/// ```
+/// use geomkit::compose::ramp_expr;
+/// use geomkit::expr::{Format, Graph};
+/// let mut g = Graph::new();
+/// let t = g.var("t");
+/// let p = ramp_expr(&mut g, t, 0.0, 2.0).unwrap();
+/// assert_eq!(g.eval(p, &[("t", 1.0)]).unwrap(), 0.5);
+/// assert!(ramp_expr(&mut g, t, 0.0, 0.0).is_err());
+/// ```
+pub fn ramp_expr(g: &mut Graph, t: Id, a: f64, w: f64) -> Result<Id> {
+    check_width("ramp", w)?;
+    let a = super::linear::exact("ramp start", 0, a)?;
+    let w = super::linear::exact("ramp width", 0, w)?;
+    Ok(abs_sum_expr(g, &AbsSum::ramp(&a, &w)?, t))
+}
+
+/// An [`AbsSum`] as an expression in the node `t`: constant + slope·t + Σ c_k |t - k|.
+pub fn abs_sum_expr(g: &mut Graph, f: &AbsSum, t: Id) -> Id {
+    let mut terms: Vec<(Const, Id)> = Vec::new();
+    let one = g.int(1);
+    terms.push((konst(f.constant_term()), one));
+    if !num_traits::Zero::is_zero(f.slope()) {
+        terms.push((konst(f.slope()), t));
+    }
+    for (k, c) in f.terms() {
+        let shift = konst(&-k.clone());
+        let d = g.lin(&[
+            (Const::Rat(Rational::from_integer(1.into())), t),
+            (shift, one),
+        ]);
+        let a = g.abs(d);
+        terms.push((konst(c), a));
+    }
+    g.lin(&terms)
+}
+
+/// A single formula: named coordinate expressions in a graph of their own, over variables.
+///
+/// ```
+/// use geomkit::compose::bodies;
+/// let f = bodies::cube().unwrap().formula().unwrap();
+/// assert_eq!(f.names, vec!["x", "y", "z"]);
+/// assert!(f.print(geomkit::expr::Format::Maple).starts_with("x(u, v) = "));
+/// ```
+#[derive(Debug, Clone)]
+pub struct Formula {
+    /// The graph holding the expressions.
+    pub graph: Graph,
+    /// One expression per coordinate.
+    pub roots: Vec<Id>,
+    /// Coordinate names (`x`, `y`, `z`; `z` for explicit surfaces; `f` for functions).
+    pub names: Vec<String>,
+    /// Variables, in order (`u`, `v`; `x`, `y`; `t`; `x`).
+    pub vars: Vec<String>,
+}
+
+impl Formula {
+    /// Operations in the DAG after sharing (the engine's [`Graph::op_count`]).
+    pub fn op_count(&self) -> usize {
+        self.graph.op_count(&self.roots)
+    }
+
+    /// One line per coordinate, `x(u, v) = ...` inline in format `f` (shared subexpressions
+    /// are repeated; see [`Formula::print_program`] for temporaries).
+    pub fn print(&self, f: Format) -> String {
+        let vars = self.vars.join(", ");
+        let mut out = String::new();
+        for (name, &root) in self.names.iter().zip(&self.roots) {
+            out.push_str(&format!("{name}({vars}) = {}\n", self.graph.print(root, f)));
+        }
+        out
+    }
+
+    /// The formula as a program with common subexpressions in temporaries, in format `f`.
+    pub fn print_program(&self, f: Format) -> String {
+        let outputs: Vec<(&str, Id)> = self
+            .names
+            .iter()
+            .map(String::as_str)
+            .zip(self.roots.iter().copied())
+            .collect();
+        self.graph.print_program(&outputs, f)
+    }
+
+    /// Evaluates every coordinate at points given per variable (`inputs[k][i]`: variable k
+    /// at point i) into `out` (point-major, `names.len()` numbers per point), by the engine's
+    /// batched tape. Errors: [`Error::Expression`] for the engine's errors (shapes).
+    pub fn eval_batch(&self, inputs: &[&[f64]], out: &mut [f64]) -> Result<()> {
+        let vars: Vec<&str> = self.vars.iter().map(String::as_str).collect();
+        let tape = crate::expr::Tape::new(&self.graph, &self.roots, &vars).map_err(|e| {
+            Error::Expression {
+                what: "formula".into(),
+                message: e.to_string(),
+            }
+        })?;
+        let n = inputs.first().map_or(0, |x| x.len());
+        let d = self.roots.len();
+        if out.len() != n * d {
+            return Err(Error::BufferSize {
+                expected: n * d,
+                got: out.len(),
+            });
+        }
+        let mut cols = vec![vec![0.0; n]; d];
+        {
+            let mut refs: Vec<&mut [f64]> = cols.iter_mut().map(Vec::as_mut_slice).collect();
+            tape.eval_batch(inputs, &mut refs)
+                .map_err(|e| Error::Expression {
+                    what: "formula".into(),
+                    message: e.to_string(),
+                })?;
+        }
+        for (i, p) in out.chunks_exact_mut(d).enumerate() {
+            for k in 0..d {
+                p[k] = cols[k][i];
+            }
+        }
+        Ok(())
+    }
+}
