@@ -25,6 +25,10 @@ pub enum Command {
     /// Evaluate a saved model (Bézier or B-spline, curve or surface) on uniform samples of its
     /// domain or at given parameters.
     Eval(ModelEvalArgs),
+    /// Point equations (point BN-calculus): k-factor models through experimental points with
+    /// shares and optimum; curves and surfaces through source points.
+    #[command(subcommand)]
+    Pointcalc(crate::commands::pointcalc::PointcalcCommand),
     /// Run every method's demo: pictures, model files, index.html and a table of checks.
     Demo(DemoArgs),
 }

@@ -24,6 +24,7 @@ fn main() -> ExitCode {
         cli::Command::Bezier(command) => commands::bezier::run(command),
         cli::Command::Interpolate(command) => commands::interpolate::run(command),
         cli::Command::Eval(args) => commands::eval::run(args),
+        cli::Command::Pointcalc(command) => commands::pointcalc::run(command),
         cli::Command::Demo(args) => demo::run(&args),
     };
     match result {

@@ -3,3 +3,4 @@
 pub mod bezier;
 pub mod eval;
 pub mod interpolate;
+pub mod pointcalc;

@@ -24,21 +24,34 @@ use crate::exact::Rational;
 use crate::expr::{Graph, Id};
 use num_traits::One;
 
-/// The cardinal function ℓ_j of `nodes` in the variable `t`: c_j Π_(k≠j) (t - t_k) (exact).
+/// The cardinal function ℓ_j of `nodes` in the variable `t`: c_j Π_(k≠j) (t - t_k), exact
+/// for rational nodes ([`Nodes::is_rational`]), else with the f64 nodes and c_j rounded once
+/// (so 0.1 prints as 0.1, not as its dyadic value).
 pub fn cardinal_expr(g: &mut Graph, nodes: &Nodes, j: usize, t: Id) -> Id {
-    let x = nodes.exact_values();
-    let mut c = Rational::one();
-    let mut factors = Vec::with_capacity(x.len());
-    for (k, xk) in x.iter().enumerate() {
-        if k == j {
-            continue;
+    let mut factors = Vec::with_capacity(nodes.len());
+    if nodes.is_rational() {
+        let x = nodes.exact_values();
+        let mut c = Rational::one();
+        for (k, xk) in x.iter().enumerate() {
+            if k != j {
+                c /= &x[j] - xk;
+                let node = g.rat(xk.clone());
+                factors.push(g.sub(t, node));
+            }
         }
-        c /= &x[j] - xk;
-        let node = g.rat(xk.clone());
-        factors.push(g.sub(t, node));
+        factors.push(g.rat(c));
+    } else {
+        let x = nodes.values();
+        let mut p = 1.0;
+        for (k, &xk) in x.iter().enumerate() {
+            if k != j {
+                p *= x[j] - xk;
+                let node = g.num(xk);
+                factors.push(g.sub(t, node));
+            }
+        }
+        factors.push(g.num(1.0 / p));
     }
-    let c = g.rat(c);
-    factors.push(c);
     g.product(&factors)
 }
 

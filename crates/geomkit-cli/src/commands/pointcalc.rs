@@ -1,0 +1,961 @@
+//! `geomkit pointcalc ...`: point equations (spec/point-calculus.md): multi-factor models
+//! through experimental points (fit, eval, shares, optimize, formula) and curves and surfaces
+//! through source points (curve, surface).
+//!
+//! Every command reads and validates its input, computes, and only then writes its output
+//! (atomically): a failing command leaves no output file. Warnings (a large Lebesgue
+//! constant) go to standard error as `warning: ...` lines.
+
+use crate::figures::{linspace, surface_svg, Layer, Projection, SurfaceView};
+use crate::model::json_number;
+use crate::output::{write_stdout, Destination};
+use crate::svg::{palette, Axes, Figure, Stroke};
+use anyhow::{anyhow, bail, Context, Result};
+use clap::{Args, Subcommand};
+use geomkit::bezier::ParamCurve;
+use geomkit::exact::Rational;
+use geomkit::expr::{Format, Graph};
+use geomkit::pointcalc::{
+    optimize, Factor, Goal, Hypersurface, NodePreset, Nodes, OptimizeOptions, PointEquation,
+    PointOptions, PointSurface, PrintedSurface, Warning,
+};
+use serde::{Deserialize, Serialize};
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// `geomkit pointcalc ...`
+#[derive(Debug, Subcommand)]
+pub enum PointcalcCommand {
+    /// Fit a k-factor model through experimental points (a CSV grid of factor levels).
+    #[command(long_about = FIT_ABOUT)]
+    Fit(FitArgs),
+    /// Evaluate a model at the factor values of a CSV file (prints them with the response).
+    Eval(PcEvalArgs),
+    /// The share of every experimental point in the modeled point at given factor values.
+    Shares(SharesArgs),
+    /// The largest or smallest modeled response over the factors' box (global, certified).
+    Optimize(OptimizeArgs),
+    /// The model (or a curve from POINTS.json) as one formula per response.
+    Formula(FormulaArgs),
+    /// A point-equation curve through source points (JSON), as SVG or JSON samples.
+    Curve(CurveArgs),
+    /// A point-equation surface through a net of source points (JSON), as SVG or JSON.
+    Surface(SurfaceArgs),
+}
+
+const FIT_ABOUT: &str = "\
+Fit a k-factor model through experimental points (spec/point-calculus.md §4).
+
+EXPERIMENTS.csv has a header line naming the columns (commas, semicolons or tabs), then one
+experiment per line. The factor columns (--factors) must take a full grid of levels: every
+combination of the levels present, exactly once. Each factor's levels are its nodes; the
+model passes through every experimental point (no system is solved).
+
+--nodes a=0,1/3,1;b=... gives the nodes of some factors explicitly: exact rationals (kept
+exact in formulas) or presets (cheb1:N:LO:HI, cheb2:N:LO:HI, equi:N:LO:HI); the data levels
+are matched to them within 1e-9 of their span.";
+
+/// Arguments of `pointcalc fit`.
+#[derive(Debug, Args)]
+pub struct FitArgs {
+    /// Experiments: CSV with a header.
+    #[arg(value_name = "EXPERIMENTS.csv")]
+    pub input: PathBuf,
+    /// Factor columns, comma-separated.
+    #[arg(long, value_name = "A,B,..", value_delimiter = ',', required = true)]
+    pub factors: Vec<String>,
+    /// Response column(s), comma-separated (several make a vector response).
+    #[arg(long, value_name = "Y", value_delimiter = ',', required = true)]
+    pub response: Vec<String>,
+    /// Explicit nodes of some factors: "a=0,1/3,1;b=cheb2:5:0:1".
+    #[arg(long, value_name = "SPEC")]
+    pub nodes: Option<String>,
+    /// Fail (instead of warning) when a factor's Lebesgue constant is large.
+    #[arg(long)]
+    pub strict: bool,
+    /// Output model (JSON); default: standard output.
+    #[arg(short, long, value_name = "MODEL.json")]
+    pub output: Option<PathBuf>,
+}
+
+/// Arguments of `pointcalc eval`.
+#[derive(Debug, Args)]
+pub struct PcEvalArgs {
+    /// The model (from `pointcalc fit`).
+    #[arg(value_name = "MODEL.json")]
+    pub model: PathBuf,
+    /// Factor values: CSV with a header naming the factor columns.
+    #[arg(value_name = "AT.csv")]
+    pub at: PathBuf,
+    /// Output CSV; default: standard output.
+    #[arg(short, long, value_name = "OUT.csv")]
+    pub output: Option<PathBuf>,
+}
+
+/// Arguments of `pointcalc shares`.
+#[derive(Debug, Args)]
+pub struct SharesArgs {
+    /// The model.
+    #[arg(value_name = "MODEL.json")]
+    pub model: PathBuf,
+    /// The factor values: "a=1.5,b=2,c=0.3" (every factor).
+    #[arg(long, value_name = "A=X,..", allow_hyphen_values = true)]
+    pub at: String,
+}
+
+/// Arguments of `pointcalc optimize`.
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("goal").required(true).args(["max", "min"])))]
+pub struct OptimizeArgs {
+    /// The model (scalar response).
+    #[arg(value_name = "MODEL.json")]
+    pub model: PathBuf,
+    /// The largest response.
+    #[arg(long)]
+    pub max: bool,
+    /// The smallest response.
+    #[arg(long)]
+    pub min: bool,
+    /// Relative tolerance of the certified gap (to the range of the data) [default: 1e-9].
+    #[arg(long, value_name = "T")]
+    pub tolerance: Option<f64>,
+}
+
+/// Arguments of `pointcalc formula`.
+#[derive(Debug, Args)]
+pub struct FormulaArgs {
+    /// A model from `pointcalc fit`, or source points of a curve (POINTS.json, with --nodes).
+    #[arg(value_name = "MODEL.json")]
+    pub model: PathBuf,
+    /// Target syntax: maple, mathematica, sympy, numpy, matlab, latex, c, rust, glsl, js,
+    /// desmos.
+    #[arg(long, value_name = "FORMAT", value_parser = parse_format)]
+    pub format: Format,
+    /// For a curve: the nodes (as for `pointcalc curve`).
+    #[arg(long, value_name = "SPEC")]
+    pub nodes: Option<String>,
+}
+
+/// Arguments of `pointcalc curve`.
+#[derive(Debug, Args)]
+pub struct CurveArgs {
+    /// Source points: JSON array of points ([[x,y],...]) or {"points": [...]}.
+    #[arg(value_name = "POINTS.json")]
+    pub input: PathBuf,
+    /// Nodes: "0,1/3,1", "cheb1:N[:LO:HI]", "cheb2:N", "equi:N", "half", "third",
+    /// "two-thirds" [default: equally spaced j/(n-1), exact].
+    #[arg(long, value_name = "SPEC")]
+    pub nodes: Option<String>,
+    /// Fail (instead of warning) when the Lebesgue constant is large.
+    #[arg(long)]
+    pub strict: bool,
+    /// Samples over the node interval for JSON and SVG output [default: 201].
+    #[arg(long, value_name = "K")]
+    pub samples: Option<usize>,
+    /// Output: .svg (a picture) or .json (nodes, Lebesgue constant, samples); default: JSON
+    /// to standard output.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+}
+
+/// Arguments of `pointcalc surface`.
+#[derive(Debug, Args)]
+pub struct SurfaceArgs {
+    /// Net of source points: JSON [[[x,y,z],...],...] (rows of points) or {"net": ...}.
+    #[arg(value_name = "POINTS.json")]
+    pub input: PathBuf,
+    /// Nodes along every row [default: equally spaced, exact].
+    #[arg(long, value_name = "SPEC", conflicts_with = "row_nodes")]
+    pub nodes: Option<String>,
+    /// Nodes of each row, separated by ';' ("third;half;two-thirds").
+    #[arg(long, value_name = "SPEC;SPEC;..")]
+    pub row_nodes: Option<String>,
+    /// Nodes across the rows [default: equally spaced, exact].
+    #[arg(long, value_name = "SPEC")]
+    pub across: Option<String>,
+    /// The paper's geomatrix (9) exactly as printed (3×3 nets only; not affine invariant).
+    #[arg(long, conflicts_with_all = ["nodes", "row_nodes", "across"])]
+    pub printed: bool,
+    /// Samples per direction for JSON output [default: 21].
+    #[arg(long, value_name = "K")]
+    pub samples: Option<usize>,
+    /// Output: .svg or .json (a K×K grid of points); default: JSON to standard output.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+}
+
+fn parse_format(s: &str) -> Result<Format, String> {
+    Format::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = Format::ALL.iter().map(|f| f.name()).collect();
+        format!("unknown format '{s}' (one of {})", names.join(", "))
+    })
+}
+
+/// Runs a `pointcalc` subcommand.
+pub fn run(command: PointcalcCommand) -> Result<()> {
+    match command {
+        PointcalcCommand::Fit(args) => fit(args),
+        PointcalcCommand::Eval(args) => eval(args),
+        PointcalcCommand::Shares(args) => shares(args),
+        PointcalcCommand::Optimize(args) => optimize_cmd(args),
+        PointcalcCommand::Formula(args) => formula(args),
+        PointcalcCommand::Curve(args) => curve(args),
+        PointcalcCommand::Surface(args) => surface(args),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// node specifications
+
+/// Parses a node specification for `count` points (see `--nodes`).
+pub fn parse_nodes(spec: &str, count: Option<usize>) -> Result<Nodes> {
+    let s = spec.trim();
+    let nodes = match s {
+        "half" => Nodes::paper_half(),
+        "third" => Nodes::paper_third(),
+        "two-thirds" => Nodes::paper_two_thirds(),
+        _ if s.contains(':') => {
+            let parts: Vec<&str> = s.split(':').collect();
+            let preset = match parts[0] {
+                "cheb1" | "chebyshev1" => NodePreset::ChebyshevFirst,
+                "cheb2" | "chebyshev2" => NodePreset::ChebyshevSecond,
+                "equi" | "equispaced" => NodePreset::Equispaced,
+                p => bail!("unknown node preset '{p}' (cheb1, cheb2, equi)"),
+            };
+            let n: usize = parts[1]
+                .parse()
+                .map_err(|_| anyhow!("'{}' is not a node count", parts[1]))?;
+            let num = |i: usize, default: f64| -> Result<f64> {
+                parts.get(i).map_or(Ok(default), |x| {
+                    x.parse::<f64>()
+                        .map_err(|_| anyhow!("'{x}' is not a number (in node preset '{s}')"))
+                })
+            };
+            if parts.len() != 2 && parts.len() != 4 {
+                bail!("node preset '{s}': use NAME:N or NAME:N:LO:HI");
+            }
+            Nodes::preset(preset, n, num(2, 0.0)?, num(3, 1.0)?)?
+        }
+        _ => {
+            let items: Vec<&str> = s.split(',').map(str::trim).collect();
+            if items.iter().any(|x| x.contains('/')) {
+                let exact = items
+                    .iter()
+                    .map(|x| parse_rational(x))
+                    .collect::<Result<Vec<_>>>()?;
+                Nodes::from_rationals(exact)?
+            } else {
+                let v = items
+                    .iter()
+                    .map(|x| {
+                        x.parse::<f64>()
+                            .map_err(|_| anyhow!("'{x}' is not a number (in nodes '{s}')"))
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                Nodes::new(v)?
+            }
+        }
+    };
+    if let Some(n) = count {
+        if nodes.len() != n {
+            bail!("nodes '{s}' give {} nodes for {n} points", nodes.len());
+        }
+    }
+    Ok(nodes)
+}
+
+fn parse_rational(x: &str) -> Result<Rational> {
+    if let Ok(r) = x.parse::<Rational>() {
+        return Ok(r);
+    }
+    let f: f64 = x
+        .parse()
+        .map_err(|_| anyhow!("'{x}' is not a number or fraction"))?;
+    geomkit::exact::rational_from_f64(f).ok_or_else(|| anyhow!("'{x}' is not finite"))
+}
+
+/// Equally spaced exact nodes j/(n-1) (one node: 0).
+fn default_nodes(n: usize) -> Result<Nodes> {
+    if n == 1 {
+        return Ok(Nodes::new(vec![0.0])?);
+    }
+    let d = (n - 1) as i64;
+    Ok(Nodes::from_rationals(
+        (0..n as i64)
+            .map(|j| Rational::new(j.into(), d.into()))
+            .collect(),
+    )?)
+}
+
+fn warn(warnings: &[Warning]) {
+    let mut err = std::io::stderr();
+    for w in warnings {
+        let _ = writeln!(err, "warning: {w}");
+    }
+}
+
+fn options(strict: bool) -> PointOptions {
+    PointOptions::default().with_strict(strict)
+}
+
+// ---------------------------------------------------------------------------------------------
+// model files
+
+/// A factor in a model file.
+#[derive(Debug, Serialize, Deserialize)]
+struct FactorFile {
+    name: String,
+    nodes: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    exact: Option<Vec<String>>,
+}
+
+/// A fitted model file.
+#[derive(Debug, Serialize, Deserialize)]
+struct ModelFile {
+    #[serde(rename = "type")]
+    kind: String,
+    factors: Vec<FactorFile>,
+    response: Vec<String>,
+    /// Row-major over the factors (first factor slowest), one number per response.
+    values: Vec<f64>,
+}
+
+const MODEL_TYPE: &str = "pointcalc-model";
+
+fn model_json(model: &Hypersurface, response: &[String]) -> String {
+    let factors = model
+        .factors()
+        .iter()
+        .map(|f| FactorFile {
+            name: f.name().to_string(),
+            nodes: f.nodes().values().to_vec(),
+            exact: f.nodes().is_rational().then(|| {
+                f.nodes()
+                    .exact_values()
+                    .iter()
+                    .map(|r| r.to_string())
+                    .collect()
+            }),
+        })
+        .collect();
+    let file = ModelFile {
+        kind: MODEL_TYPE.into(),
+        factors,
+        response: response.to_vec(),
+        values: model.values().to_vec(),
+    };
+    serde_json::to_string_pretty(&file).expect("serializable") + "\n"
+}
+
+fn read_model(path: &Path) -> Result<(Hypersurface, Vec<String>)> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {name}"))?;
+    let file: ModelFile =
+        serde_json::from_str(&text).map_err(|e| anyhow!("{name}: not a pointcalc model ({e})"))?;
+    if file.kind != MODEL_TYPE {
+        bail!("{name}: type is '{}', expected '{MODEL_TYPE}'", file.kind);
+    }
+    let mut factors = Vec::new();
+    for f in file.factors {
+        let nodes = match &f.exact {
+            Some(e) => Nodes::from_rationals(
+                e.iter()
+                    .map(|x| parse_rational(x))
+                    .collect::<Result<Vec<_>>>()?,
+            ),
+            None => Nodes::new(f.nodes),
+        }
+        .with_context(|| format!("{name}: factor {}", f.name))?;
+        factors.push(Factor::new(f.name, nodes));
+    }
+    let dim = file.response.len();
+    let model = Hypersurface::new(factors, dim, file.values, &PointOptions::default())
+        .with_context(|| name.clone())?;
+    Ok((model, file.response))
+}
+
+// ---------------------------------------------------------------------------------------------
+// CSV with a header
+
+struct NamedCsv {
+    name: String,
+    columns: Vec<String>,
+    /// (line number, cells)
+    rows: Vec<(usize, Vec<String>)>,
+}
+
+impl NamedCsv {
+    fn read(path: &Path) -> Result<NamedCsv> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {name}"))?;
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .map(|(i, l)| (i + 1, l.trim()))
+            .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+        let (_, header) = lines
+            .next()
+            .ok_or_else(|| anyhow!("{name}: empty file (expected a header line)"))?;
+        let sep = [',', ';', '\t']
+            .into_iter()
+            .find(|c| header.contains(*c))
+            .unwrap_or(',');
+        let split = |l: &str| -> Vec<String> {
+            l.split(sep)
+                .map(|c| c.trim().trim_matches('"').trim().to_string())
+                .collect()
+        };
+        let columns = split(header);
+        let mut rows = Vec::new();
+        for (line, l) in lines {
+            let cells = split(l);
+            if cells.len() != columns.len() {
+                bail!(
+                    "{name} line {line}: {} cells, but the header has {}",
+                    cells.len(),
+                    columns.len()
+                );
+            }
+            rows.push((line, cells));
+        }
+        if rows.is_empty() {
+            bail!("{name}: no data lines after the header");
+        }
+        Ok(NamedCsv {
+            name,
+            columns,
+            rows,
+        })
+    }
+
+    fn column(&self, want: &str) -> Result<usize> {
+        self.columns.iter().position(|c| c == want).ok_or_else(|| {
+            anyhow!(
+                "{}: no column '{want}' in the header (columns: {})",
+                self.name,
+                self.columns.join(", ")
+            )
+        })
+    }
+
+    /// The numbers of `columns` in every row; errors name the line and column.
+    fn numbers(&self, columns: &[String]) -> Result<Vec<Vec<f64>>> {
+        let idx = columns
+            .iter()
+            .map(|c| self.column(c))
+            .collect::<Result<Vec<_>>>()?;
+        self.rows
+            .iter()
+            .map(|(line, cells)| {
+                idx.iter()
+                    .map(|&i| {
+                        let cell = &cells[i];
+                        match cell.parse::<f64>() {
+                            Ok(x) if x.is_finite() => Ok(x),
+                            _ => Err(anyhow!(
+                                "{} line {line}: column '{}': {cell:?} is not a finite number",
+                                self.name,
+                                self.columns[i]
+                            )),
+                        }
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// fit, eval, shares, optimize, formula
+
+fn fit(args: FitArgs) -> Result<()> {
+    let csv = NamedCsv::read(&args.input)?;
+    let mut columns = args.factors.clone();
+    columns.extend(args.response.iter().cloned());
+    for (i, c) in columns.iter().enumerate() {
+        if columns[..i].contains(c) {
+            bail!("column '{c}' is named twice in --factors/--response");
+        }
+    }
+    let records = csv.numbers(&columns)?;
+    let mut given: Vec<Option<Nodes>> = vec![None; args.factors.len()];
+    if let Some(spec) = &args.nodes {
+        for part in spec.split(';').filter(|p| !p.trim().is_empty()) {
+            let (name, nodes) = part
+                .split_once('=')
+                .ok_or_else(|| anyhow!("--nodes: '{part}' is not NAME=NODES"))?;
+            let f = args
+                .factors
+                .iter()
+                .position(|x| x == name.trim())
+                .ok_or_else(|| anyhow!("--nodes: '{}' is not one of --factors", name.trim()))?;
+            given[f] = Some(
+                parse_nodes(nodes, None).with_context(|| format!("--nodes for {}", name.trim()))?,
+            );
+        }
+    }
+    let model = Hypersurface::from_records(&args.factors, &records, &given, &options(args.strict))
+        .map_err(|e| match e {
+            geomkit::Error::GridRecord { record, reason } => {
+                // "(also record N)" names the other record: as a line of the file.
+                let reason = match reason.split_once("(also record ") {
+                    Some((head, tail)) => {
+                        let n: usize = tail.trim_end_matches(')').parse().unwrap_or(0);
+                        let line = csv.rows.get(n).map_or(0, |r| r.0);
+                        format!("{head}(also line {line})")
+                    }
+                    None => reason,
+                };
+                anyhow!("{} line {}: {reason}", csv.name, csv.rows[record].0)
+            }
+            e => anyhow!(e).context(csv.name.clone()),
+        })?;
+    warn(model.warnings());
+    Destination::from_option(args.output.as_deref())
+        .write(model_json(&model, &args.response).as_bytes())
+}
+
+fn eval(args: PcEvalArgs) -> Result<()> {
+    let (model, response) = read_model(&args.model)?;
+    let csv = NamedCsv::read(&args.at)?;
+    let names: Vec<String> = model.factors().iter().map(|f| f.name().into()).collect();
+    let rows = csv.numbers(&names)?;
+    let xs: Vec<f64> = rows.iter().flatten().copied().collect();
+    let mut out = vec![0.0; rows.len() * model.dim()];
+    model.eval_many(&xs, &mut out)?;
+    let mut text = names.join(",");
+    for r in &response {
+        text.push(',');
+        text.push_str(r);
+    }
+    text.push('\n');
+    for (x, y) in rows.iter().zip(out.chunks_exact(model.dim())) {
+        let cells: Vec<String> = x.iter().chain(y).map(|v| format!("{v}")).collect();
+        text.push_str(&cells.join(","));
+        text.push('\n');
+    }
+    Destination::from_option(args.output.as_deref()).write(text.as_bytes())
+}
+
+/// Parses "a=1,b=2" into the model's factor order.
+fn parse_at(model: &Hypersurface, at: &str) -> Result<Vec<f64>> {
+    let mut x = vec![None; model.k()];
+    for part in at.split(',').filter(|p| !p.trim().is_empty()) {
+        let (name, value) = part
+            .split_once('=')
+            .ok_or_else(|| anyhow!("--at: '{part}' is not NAME=VALUE"))?;
+        let f = model.factor_index(name.trim())?;
+        let v: f64 = value
+            .trim()
+            .parse()
+            .ok()
+            .filter(|v: &f64| v.is_finite())
+            .ok_or_else(|| {
+                anyhow!(
+                    "--at: {}: '{}' is not a finite number",
+                    name.trim(),
+                    value.trim()
+                )
+            })?;
+        x[f] = Some(v);
+    }
+    x.iter()
+        .enumerate()
+        .map(|(f, v)| {
+            v.ok_or_else(|| anyhow!("--at: no value for factor '{}'", model.factors()[f].name()))
+        })
+        .collect()
+}
+
+fn point_object(model: &Hypersurface, x: &[f64]) -> String {
+    let items: Vec<String> = model
+        .factors()
+        .iter()
+        .zip(x)
+        .map(|(f, v)| format!("{}:{}", json_string(f.name()), json_number(*v)))
+        .collect();
+    format!("{{{}}}", items.join(","))
+}
+
+fn json_string(s: &str) -> String {
+    serde_json::to_string(s).expect("string")
+}
+
+fn shares(args: SharesArgs) -> Result<()> {
+    let (model, _) = read_model(&args.model)?;
+    let x = parse_at(&model, &args.at)?;
+    let shares = model.shares(&x)?;
+    let items: Vec<String> = shares
+        .iter()
+        .enumerate()
+        .map(|(c, s)| {
+            format!(
+                "{{\"point\":{},\"share\":{}}}",
+                point_object(&model, &model.cell_levels(c)),
+                json_number(*s)
+            )
+        })
+        .collect();
+    write_stdout(format!("{{\"shares\":[{}]}}\n", items.join(",")).as_bytes())
+}
+
+fn optimize_cmd(args: OptimizeArgs) -> Result<()> {
+    let (model, _) = read_model(&args.model)?;
+    let goal = if args.max { Goal::Max } else { Goal::Min };
+    let mut opts = OptimizeOptions::default();
+    if let Some(t) = args.tolerance {
+        opts = opts.with_tolerance(t);
+    }
+    let best = optimize(&model, goal, &opts)?;
+    if !best.certified {
+        warn_text(&format!(
+            "the box budget ran out: the optimum is within {} of the value (not certified to the tolerance)",
+            json_number(best.gap)
+        ));
+    }
+    write_stdout(
+        format!(
+            "{{\"at\":{},\"value\":{},\"bound\":{},\"gap\":{},\"certified\":{}}}\n",
+            point_object(&model, &best.at),
+            json_number(best.value),
+            json_number(best.bound),
+            json_number(best.gap),
+            best.certified
+        )
+        .as_bytes(),
+    )
+}
+
+fn warn_text(text: &str) {
+    let _ = writeln!(std::io::stderr(), "warning: {text}");
+}
+
+fn formula(args: FormulaArgs) -> Result<()> {
+    let mut g = Graph::new();
+    let text = std::fs::read_to_string(&args.model)
+        .with_context(|| format!("cannot read {}", args.model.display()))?;
+    let is_model = serde_json::from_str::<serde_json::Value>(&text)
+        .map(|v| v.get("type").and_then(|t| t.as_str()) == Some(MODEL_TYPE))
+        .unwrap_or(false);
+    let lines: Vec<(String, String)> = if is_model {
+        let (model, response) = read_model(&args.model)?;
+        let vars: Vec<_> = model.factors().iter().map(|f| g.var(f.name())).collect();
+        let exprs = model.to_expr(&mut g, &vars);
+        response
+            .into_iter()
+            .zip(exprs)
+            .map(|(name, e)| (name, g.print(e, args.format)))
+            .collect()
+    } else {
+        let eq = read_curve(&args.model, args.nodes.as_deref(), false)?;
+        let t = g.var("t");
+        let exprs = eq.to_expr(&mut g, t);
+        let names = ["x", "y", "z"];
+        exprs
+            .into_iter()
+            .enumerate()
+            .map(|(d, e)| {
+                let name = names.get(d).map_or(format!("x{d}"), |s| s.to_string());
+                (name, g.print(e, args.format))
+            })
+            .collect()
+    };
+    let mut out = String::new();
+    for (name, f) in lines {
+        out.push_str(&format!("{name} = {f}\n"));
+    }
+    write_stdout(out.as_bytes())
+}
+
+// ---------------------------------------------------------------------------------------------
+// curves and surfaces
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum PointsFile {
+    Bare(Vec<Vec<f64>>),
+    Wrapped { points: Vec<Vec<f64>> },
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum NetFile {
+    Bare(Vec<Vec<Vec<f64>>>),
+    Wrapped { net: Vec<Vec<Vec<f64>>> },
+}
+
+fn read_json<T: for<'de> Deserialize<'de>>(path: &Path, what: &str) -> Result<T> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {name}"))?;
+    serde_json::from_str(&text).map_err(|e| anyhow!("{name}: not {what} ({e})"))
+}
+
+fn read_curve(path: &Path, nodes: Option<&str>, strict: bool) -> Result<PointEquation> {
+    let points = match read_json::<PointsFile>(path, "a JSON array of points")? {
+        PointsFile::Bare(p) | PointsFile::Wrapped { points: p } => p,
+    };
+    let nodes = match nodes {
+        Some(spec) => parse_nodes(spec, Some(points.len()))?,
+        None => default_nodes(points.len().max(1))?,
+    };
+    let eq = PointEquation::with_options(nodes, points, &options(strict))
+        .with_context(|| path.display().to_string())?;
+    Ok(eq)
+}
+
+fn check_samples(samples: Option<usize>, default: usize) -> Result<usize> {
+    let k = samples.unwrap_or(default);
+    if !(2..=1_000_000).contains(&k) {
+        bail!("--samples must be between 2 and 1000000, got {k}");
+    }
+    Ok(k)
+}
+
+/// The SVG of point-equation curves (dimension 1-3) through their source points.
+pub fn curves_svg(
+    title: &str,
+    subtitle: &str,
+    curves: &[(&PointEquation, String)],
+) -> Result<String> {
+    let dim = curves.first().map_or(2, |c| c.0.dim());
+    let proj = Projection::for_dim(dim)?;
+    let axes = if dim == 2 {
+        Axes::Equal
+    } else if dim == 1 {
+        Axes::Chart {
+            x: "t".into(),
+            y: "x".into(),
+        }
+    } else {
+        Axes::Bare
+    };
+    let mut fig = Figure::new(title, axes).subtitle(subtitle);
+    for (k, (eq, legend)) in curves.iter().enumerate() {
+        let (a, b) = eq.domain();
+        let pts: Vec<[f64; 2]> = linspace(a, b, 400)
+            .into_iter()
+            .map(|t| proj.point(t, &eq.eval(t)))
+            .collect();
+        let stroke = Stroke::solid(palette::SERIES[k % palette::SERIES.len()], 2.2);
+        fig.line(pts, stroke);
+        fig.legend(stroke, None, legend.clone());
+    }
+    if let Some((eq, _)) = curves.first() {
+        let dots: Vec<[f64; 2]> = (0..eq.nodes().len())
+            .map(|i| proj.point(eq.nodes().values()[i], eq.point(i)))
+            .collect();
+        fig.dots(dots, 4.0, palette::OLD_VERTEX);
+    }
+    Ok(fig.render())
+}
+
+fn curve(args: CurveArgs) -> Result<()> {
+    let eq = read_curve(&args.input, args.nodes.as_deref(), args.strict)?;
+    warn(eq.warnings());
+    let k = check_samples(args.samples, 201)?;
+    let dest = Destination::from_option(args.output.as_deref());
+    if args
+        .output
+        .as_deref()
+        .and_then(|p| p.extension())
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+    {
+        let svg = curves_svg(
+            "Point-equation curve",
+            &format!("{} source points", eq.nodes().len()),
+            &[(&eq, format!("M(t), nodes {:?}", eq.nodes().values()))],
+        )?;
+        return dest.write(svg.as_bytes());
+    }
+    let (a, b) = eq.domain();
+    let samples: Vec<String> = linspace(a, b, k)
+        .into_iter()
+        .map(|t| {
+            let p: Vec<String> = std::iter::once(t)
+                .chain(eq.eval(t))
+                .map(json_number)
+                .collect();
+            format!("[{}]", p.join(","))
+        })
+        .collect();
+    let nodes: Vec<String> = eq
+        .nodes()
+        .values()
+        .iter()
+        .map(|v| json_number(*v))
+        .collect();
+    let text = format!(
+        "{{\"type\":\"pointcalc-curve\",\"nodes\":[{}],\"lebesgue\":{},\"samples\":[\n{}\n]}}\n",
+        nodes.join(","),
+        json_number(eq.nodes().lebesgue_constant()),
+        samples.join(",\n")
+    );
+    dest.write(text.as_bytes())
+}
+
+impl SurfaceView for PointSurface {
+    fn view_dim(&self) -> usize {
+        self.dim()
+    }
+    fn view_domain(&self) -> ((f64, f64), (f64, f64)) {
+        self.domain()
+    }
+    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
+        self.eval_grid(us, vs, out)
+    }
+}
+
+impl SurfaceView for PrintedSurface {
+    fn view_dim(&self) -> usize {
+        self.dim()
+    }
+    fn view_domain(&self) -> ((f64, f64), (f64, f64)) {
+        ((0.0, 1.0), (0.0, 1.0))
+    }
+    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
+        self.eval_grid(us, vs, out)
+    }
+}
+
+/// The surface of `pointcalc surface` (either kind).
+pub enum AnySurface {
+    /// Rows first, then across.
+    Rows(PointSurface),
+    /// The printed geomatrix (9).
+    Printed(PrintedSurface),
+}
+
+impl AnySurface {
+    fn view(&self) -> &dyn SurfaceView {
+        match self {
+            AnySurface::Rows(s) => s,
+            AnySurface::Printed(s) => s,
+        }
+    }
+}
+
+fn build_surface(args: &SurfaceArgs, net: Vec<Vec<Vec<f64>>>) -> Result<AnySurface> {
+    if args.printed {
+        return Ok(AnySurface::Printed(PrintedSurface::new(net)?));
+    }
+    let rows = net.len();
+    let row_nodes: Vec<Nodes> = match (&args.row_nodes, &args.nodes) {
+        (Some(spec), _) => {
+            let specs: Vec<&str> = spec.split(';').collect();
+            if specs.len() != rows {
+                bail!("--row-nodes has {} node sets for {rows} rows", specs.len());
+            }
+            specs
+                .iter()
+                .zip(&net)
+                .enumerate()
+                .map(|(i, (s, row))| {
+                    parse_nodes(s, Some(row.len())).with_context(|| format!("row {i}"))
+                })
+                .collect::<Result<_>>()?
+        }
+        (None, Some(spec)) => net
+            .iter()
+            .map(|row| parse_nodes(spec, Some(row.len())))
+            .collect::<Result<_>>()?,
+        (None, None) => net
+            .iter()
+            .map(|row| default_nodes(row.len().max(1)))
+            .collect::<Result<_>>()?,
+    };
+    let across = match &args.across {
+        Some(spec) => parse_nodes(spec, Some(rows)).context("--across")?,
+        None => default_nodes(rows.max(1))?,
+    };
+    let s = PointSurface::rows_then_across(row_nodes, across, net)?;
+    warn(s.warnings());
+    Ok(AnySurface::Rows(s))
+}
+
+fn surface(args: SurfaceArgs) -> Result<()> {
+    let net = match read_json::<NetFile>(&args.input, "a JSON net of points")? {
+        NetFile::Bare(n) | NetFile::Wrapped { net: n } => n,
+    };
+    let flat: Vec<f64> = net.iter().flatten().flatten().copied().collect();
+    let cols = net.iter().map(Vec::len).max().unwrap_or(0);
+    let surface =
+        build_surface(&args, net.clone()).with_context(|| args.input.display().to_string())?;
+    let k = check_samples(args.samples, 21)?;
+    let dest = Destination::from_option(args.output.as_deref());
+    let view = surface.view();
+    let dim = view.view_dim();
+    if args
+        .output
+        .as_deref()
+        .and_then(|p| p.extension())
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+    {
+        let regular = net.iter().all(|r| r.len() == cols);
+        let svg = surface_svg(
+            "Point-equation surface",
+            if args.printed {
+                "the geomatrix (9) as printed"
+            } else {
+                "rows first, then across"
+            },
+            &[
+                Layer::Wireframe {
+                    surface: view,
+                    count: 12,
+                    stroke: Stroke::solid(palette::CURVE.color, 1.0),
+                    legend: "surface".into(),
+                },
+                Layer::Points {
+                    points: &flat,
+                    dim,
+                    grid: regular.then_some((net.len(), cols)),
+                    stroke: None,
+                    vertex: palette::NEW_VERTEX,
+                    radius: 3.5,
+                    legend: "source points".into(),
+                },
+            ],
+        )?;
+        return dest.write(svg.as_bytes());
+    }
+    let ((u0, u1), (v0, v1)) = view.view_domain();
+    let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, k));
+    let mut out = vec![0.0; k * k * dim];
+    view.view_grid(&us, &vs, &mut out)?;
+    let pts: Vec<String> = out
+        .chunks_exact(dim)
+        .map(|p| {
+            let c: Vec<String> = p.iter().map(|v| json_number(*v)).collect();
+            format!("[{}]", c.join(","))
+        })
+        .collect();
+    let text =
+        format!(
+        "{{\"type\":\"pointcalc-surface-samples\",\"u\":[{}],\"v\":[{}],\"points\":[\n{}\n]}}\n",
+        us.iter().map(|v| json_number(*v)).collect::<Vec<_>>().join(","),
+        vs.iter().map(|v| json_number(*v)).collect::<Vec<_>>().join(","),
+        pts.join(",\n")
+    );
+    dest.write(text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_node_specs() {
+        assert_eq!(parse_nodes("0,1/3,1", None).unwrap(), Nodes::paper_third());
+        assert_eq!(parse_nodes("third", Some(3)).unwrap(), Nodes::paper_third());
+        assert_eq!(parse_nodes("cheb2:5", None).unwrap().len(), 5);
+        assert_eq!(
+            parse_nodes("cheb1:4:-1:1", None).unwrap(),
+            Nodes::preset(NodePreset::ChebyshevFirst, 4, -1.0, 1.0).unwrap()
+        );
+        assert!(parse_nodes("0,1,1", None).is_err());
+        assert!(parse_nodes("0,x,1", None).is_err());
+        assert!(parse_nodes("half", Some(4)).is_err());
+        assert!(parse_nodes("cheb3:4", None).is_err());
+    }
+}

@@ -1,0 +1,330 @@
+//! End-to-end tests of `geomkit pointcalc ...`: fit / eval / shares / optimize / formula on a
+//! 3-factor experiment, curves and surfaces, and bad input (one error line naming the row,
+//! non-zero exit, no output file).
+
+use serde_json::Value;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn geomkit(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_geomkit"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the geomkit binary runs")
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    fs::write(&path, text).unwrap();
+    path
+}
+
+fn ok(out: &Output) -> String {
+    assert!(
+        out.status.success(),
+        "failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout.clone()).unwrap()
+}
+
+/// y = b·ln(a/10) + c b² - 0.01 a c on a 3×3×3 grid: quadratic in b and linear in c, so the
+/// model is exact in b and c.
+fn response(a: f64, b: f64, c: f64) -> f64 {
+    b * (a / 10.0).ln() + c * b * b - 0.01 * a * c
+}
+
+fn experiments() -> String {
+    let mut s = String::from("run,a,b,c,y\n");
+    let mut run = 0;
+    for a in [10.0, 20.0, 40.0] {
+        for b in [0.1, 0.5, 0.9] {
+            for c in [-1.0, 0.0, 1.0] {
+                run += 1;
+                s.push_str(&format!("{run},{a},{b},{c},{}\n", response(a, b, c)));
+            }
+        }
+    }
+    s
+}
+
+fn fitted(dir: &Path) {
+    write(dir, "exp.csv", &experiments());
+    ok(&geomkit(
+        dir,
+        &[
+            "pointcalc",
+            "fit",
+            "exp.csv",
+            "--factors",
+            "a,b,c",
+            "--response",
+            "y",
+            "-o",
+            "model.json",
+        ],
+    ));
+}
+
+#[test]
+fn fit_eval_passes_through_the_experiments() {
+    let dir = tempfile::tempdir().unwrap();
+    fitted(dir.path());
+    let model: Value =
+        serde_json::from_str(&fs::read_to_string(dir.path().join("model.json")).unwrap()).unwrap();
+    assert_eq!(model["type"], "pointcalc-model");
+    assert_eq!(model["values"].as_array().unwrap().len(), 27);
+    write(dir.path(), "at.csv", "c,b,a\n1,0.9,40\n0.5,0.3,15\n");
+    let out = ok(&geomkit(
+        dir.path(),
+        &["pointcalc", "eval", "model.json", "at.csv"],
+    ));
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], "a,b,c,y");
+    let first: Vec<f64> = lines[1].split(',').map(|x| x.parse().unwrap()).collect();
+    assert_eq!(first[..3], [40.0, 0.9, 1.0]);
+    assert_eq!(first[3], response(40.0, 0.9, 1.0)); // an experimental point: exact
+    let second: Vec<f64> = lines[2].split(',').map(|x| x.parse().unwrap()).collect();
+    // Exact in b and c; in a a quadratic through ln(1), ln(2), ln(4): close to ln(1.5).
+    assert!((second[3] - response(15.0, 0.3, 0.5)).abs() < 0.01);
+}
+
+#[test]
+fn shares_sum_to_one_and_optimize_finds_the_corner() {
+    let dir = tempfile::tempdir().unwrap();
+    fitted(dir.path());
+    let out = ok(&geomkit(
+        dir.path(),
+        &[
+            "pointcalc",
+            "shares",
+            "model.json",
+            "--at",
+            "a=15,b=0.3,c=0.5",
+        ],
+    ));
+    let v: Value = serde_json::from_str(&out).unwrap();
+    let shares = v["shares"].as_array().unwrap();
+    assert_eq!(shares.len(), 27);
+    let sum: f64 = shares.iter().map(|s| s["share"].as_f64().unwrap()).sum();
+    assert!((sum - 1.0).abs() < 1e-14);
+    assert_eq!(shares[0]["point"]["a"], 10.0);
+    assert_eq!(shares[26]["point"]["c"], 1.0);
+    let out = ok(&geomkit(
+        dir.path(),
+        &["pointcalc", "optimize", "model.json", "--max"],
+    ));
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["at"]["a"], 40.0);
+    assert_eq!(v["at"]["b"], 0.9);
+    assert_eq!(v["at"]["c"], 1.0);
+    assert_eq!(v["value"].as_f64().unwrap(), response(40.0, 0.9, 1.0));
+    assert_eq!(v["certified"], true);
+    let out = ok(&geomkit(
+        dir.path(),
+        &["pointcalc", "optimize", "model.json", "--min"],
+    ));
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert!(v["value"].as_f64().unwrap() <= response(10.0, 0.9, -1.0) + 1e-12);
+}
+
+#[test]
+fn formula_output() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "pts.json", "[[0,0],[1,2],[3,0]]");
+    let out = ok(&geomkit(
+        dir.path(),
+        &[
+            "pointcalc",
+            "formula",
+            "pts.json",
+            "--nodes",
+            "0,1/3,1",
+            "--format",
+            "sympy",
+        ],
+    ));
+    assert!(out.starts_with("x = "), "{out}");
+    assert!(out.contains("Rational(1, 3)"), "{out}");
+    fitted(dir.path());
+    let out = ok(&geomkit(
+        dir.path(),
+        &["pointcalc", "formula", "model.json", "--format", "c"],
+    ));
+    assert!(
+        out.starts_with("y = ") && out.contains('a') && out.contains('c'),
+        "{out}"
+    );
+    let bad = geomkit(
+        dir.path(),
+        &["pointcalc", "formula", "model.json", "--format", "cobol"],
+    );
+    assert!(!bad.status.success());
+}
+
+#[test]
+fn curves_and_surfaces() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "pts.json", r#"{"points":[[0,0],[1,2],[3,0]]}"#);
+    ok(&geomkit(
+        dir.path(),
+        &[
+            "pointcalc",
+            "curve",
+            "pts.json",
+            "--nodes",
+            "third",
+            "-o",
+            "c.svg",
+        ],
+    ));
+    assert!(fs::read_to_string(dir.path().join("c.svg"))
+        .unwrap()
+        .starts_with("<svg"));
+    let out = ok(&geomkit(
+        dir.path(),
+        &[
+            "pointcalc",
+            "curve",
+            "pts.json",
+            "--nodes",
+            "third",
+            "--samples",
+            "4",
+        ],
+    ));
+    let v: Value = serde_json::from_str(&out).unwrap();
+    let s = v["samples"].as_array().unwrap();
+    assert_eq!(s.len(), 4);
+    // t = 1/3 is not a sample; t = 1 is B exactly.
+    assert_eq!(s[3], serde_json::json!([1.0, 3.0, 0.0]));
+    // A close C warns (Lebesgue constant) but succeeds; --strict fails.
+    let warned = geomkit(
+        dir.path(),
+        &["pointcalc", "curve", "pts.json", "--nodes", "0,1/20,1"],
+    );
+    assert!(warned.status.success());
+    assert!(String::from_utf8_lossy(&warned.stderr).starts_with("warning: the Lebesgue constant"));
+    let strict = geomkit(
+        dir.path(),
+        &[
+            "pointcalc",
+            "curve",
+            "pts.json",
+            "--nodes",
+            "0,1/20,1",
+            "--strict",
+            "-o",
+            "s.json",
+        ],
+    );
+    assert!(!strict.status.success());
+    assert!(!dir.path().join("s.json").exists());
+
+    let net = "[[[0,0,0],[1,0,0.5],[2,0,0]],[[0,1,0.5],[1,1,1.5],[2,1,0.3]],[[0,2,0],[1,2,0.6],[2,2,0.1]]]";
+    write(dir.path(), "net.json", net);
+    let out = ok(&geomkit(
+        dir.path(),
+        &[
+            "pointcalc",
+            "surface",
+            "net.json",
+            "--row-nodes",
+            "third;half;two-thirds",
+            "--across",
+            "half",
+            "--samples",
+            "3",
+        ],
+    ));
+    let v: Value = serde_json::from_str(&out).unwrap();
+    let pts = v["points"].as_array().unwrap();
+    assert_eq!(pts.len(), 9);
+    assert_eq!(pts[4], serde_json::json!([1.0, 1.0, 1.5])); // (1/2, 1/2): the centre point
+    let out = ok(&geomkit(
+        dir.path(),
+        &[
+            "pointcalc",
+            "surface",
+            "net.json",
+            "--printed",
+            "--samples",
+            "3",
+        ],
+    ));
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_ne!(v["points"][4], serde_json::json!([1.0, 1.0, 1.5])); // misses it
+    ok(&geomkit(
+        dir.path(),
+        &["pointcalc", "surface", "net.json", "-o", "s.svg"],
+    ));
+    assert!(dir.path().join("s.svg").exists());
+}
+
+#[test]
+fn bad_experiments_name_the_line_and_leave_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            "a,b,y\n1,2,4\n1,x,5\n",
+            "line 3: column 'b': \"x\" is not a finite number",
+        ),
+        (
+            "a,b,y\n1,2,4\n1,3,5\n1,2,6\n2,2,1\n2,3,0\n",
+            "line 4: duplicate cell a=1, b=2 (also line 2)",
+        ),
+        (
+            "a,b,y\n1,2,4\n1,3,5\n2,2,1\n",
+            "do not form a grid: no record for a=2, b=3",
+        ),
+        (
+            "a,b,y\n1,2,4\n1,3\n",
+            "line 3: 2 cells, but the header has 3",
+        ),
+        ("a,q,y\n1,2,4\n", "no column 'b' in the header"),
+    ];
+    for (text, want) in cases {
+        write(dir.path(), "bad.csv", text);
+        let out = geomkit(
+            dir.path(),
+            &[
+                "pointcalc",
+                "fit",
+                "bad.csv",
+                "--factors",
+                "a,b",
+                "--response",
+                "y",
+                "-o",
+                "m.json",
+            ],
+        );
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(!out.status.success(), "{text}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(
+            err.starts_with("error: ") && err.contains(want),
+            "{err} (want {want})"
+        );
+        assert!(!dir.path().join("m.json").exists());
+    }
+    fitted(dir.path());
+    let out = geomkit(
+        dir.path(),
+        &["pointcalc", "shares", "model.json", "--at", "a=1,b=2"],
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no value for factor 'c'"));
+    let out = geomkit(
+        dir.path(),
+        &[
+            "pointcalc",
+            "shares",
+            "model.json",
+            "--at",
+            "a=1,b=2,c=3,d=4",
+        ],
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown factor 'd'"));
+}
