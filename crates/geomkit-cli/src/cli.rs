@@ -29,6 +29,10 @@ pub enum Command {
     /// shares and optimum; curves and surfaces through source points.
     #[command(subcommand)]
     Pointcalc(crate::commands::pointcalc::PointcalcCommand),
+    /// Single analytic formulas (spec/composite-surfaces.md): closed bodies and composite
+    /// surfaces as one formula in Maple, Mathematica, SymPy, ... syntax.
+    #[command(subcommand)]
+    Compose(crate::commands::compose::ComposeCommand),
     /// Run every method's demo: pictures, model files, index.html and a table of checks.
     Demo(DemoArgs),
 }

@@ -25,6 +25,7 @@ fn main() -> ExitCode {
         cli::Command::Interpolate(command) => commands::interpolate::run(command),
         cli::Command::Eval(args) => commands::eval::run(args),
         cli::Command::Pointcalc(command) => commands::pointcalc::run(command),
+        cli::Command::Compose(command) => commands::compose::run(command),
         cli::Command::Demo(args) => demo::run(&args),
     };
     match result {

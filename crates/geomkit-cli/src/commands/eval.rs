@@ -100,6 +100,9 @@ pub fn run(args: ModelEvalArgs) -> Result<()> {
             ),
         },
     };
+    if let Some(done) = super::compose::eval_if_scene(&args)? {
+        return Ok(done);
+    }
     let model = read_any_model(&args.model)?;
     let progress = Progress::start();
     let dest = Destination::from_option(args.output.as_deref());

@@ -1,6 +1,7 @@
 //! Implementations of the subcommands, one file per method.
 
 pub mod bezier;
+pub mod compose;
 pub mod eval;
 pub mod interpolate;
 pub mod pointcalc;

@@ -1,0 +1,642 @@
+//! `geomkit compose`: single analytic formulas of spec/composite-surfaces.md — closed bodies
+//! ruled over contours (formula (2)) and composite surfaces of patches (formulas (3)-(11)),
+//! printed in eleven syntaxes, or drawn / meshed by the structural evaluator.
+//!
+//! Scene files (JSON):
+//! - `{"type":"composite_surface","u_knots":[...],"v_knots":[...],"patches":[[P,...],...]}`,
+//!   `patches[i][j]` on cell [u_i, u_(i+1)] × [v_j, v_(j+1)], P = `{"bezier":[[[x,y,z],...],...]}`
+//!   (its [0, 1]² mapped onto the cell);
+//! - `{"type":"composite_explicit","x_knots":[...],"y_knots":[...],"patches":[...]}` with
+//!   1-D Bézier nets `{"bezier":[[[z],...],...]}`.
+
+use crate::figures::{linspace, surface_svg, Layer, SurfaceView};
+use crate::output::{Destination, RowSink, TableFormat};
+use crate::progress::Progress;
+use crate::svg::palette;
+use crate::table::{extension, Table};
+use anyhow::{anyhow, bail, Context, Result};
+use clap::{Args, Subcommand, ValueEnum};
+use geomkit::bezier::BezierSurface;
+use geomkit::compose::{bodies, CompositeSurface, Formula, GridLine, RuledSurface};
+use geomkit::expr::Format;
+use serde_json::{json, Map, Value};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// `geomkit compose ...`
+#[derive(Debug, Subcommand)]
+pub enum ComposeCommand {
+    /// A closed body as one formula (the paper's cube, and box, pyramid, cone, cylinder,
+    /// prism, frustum): formula text, or OUT .json / .obj (mesh) / .svg (wireframe).
+    Body(BodyArgs),
+    /// A composite surface of patches (SCENE.json) as one formula (9)/(11), with its
+    /// continuity report.
+    Patches(PatchesArgs),
+}
+
+/// The bodies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BodyKind {
+    /// The paper's cube with vertices (±1, ±1, ±1).
+    Cube,
+    /// A box of sizes --size A,B,C centred at the origin.
+    Box,
+    /// A pyramid of height --height over a square of side --side (or a regular --ngon of
+    /// circumradius --radius).
+    Pyramid,
+    /// A cone of base --radius and --height, base included.
+    Cone,
+    /// A cylinder of --radius and --height with both caps.
+    Cylinder,
+    /// A prism of --height over a regular --ngon of circumradius --radius (or --polygon).
+    Prism,
+    /// A frustum of bottom --radius, top --top-radius and --height with both caps.
+    Frustum,
+}
+
+/// Arguments of `compose body`.
+#[derive(Debug, Args)]
+pub struct BodyArgs {
+    /// Which body.
+    #[arg(value_enum)]
+    pub body: BodyKind,
+    /// Box sizes A,B,C [default: 2,2,2].
+    #[arg(long, value_name = "A,B,C", allow_hyphen_values = true)]
+    pub size: Option<String>,
+    /// Height [default: 2].
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    pub height: Option<f64>,
+    /// Radius (circumradius of a regular polygon) [default: 1].
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    pub radius: Option<f64>,
+    /// Top radius of a frustum [default: radius/2].
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    pub top_radius: Option<f64>,
+    /// Base side of a square pyramid [default: 2].
+    #[arg(long, value_name = "A", allow_negative_numbers = true)]
+    pub side: Option<f64>,
+    /// Regular polygon with N vertices as the base of a prism or pyramid.
+    #[arg(long, value_name = "N")]
+    pub ngon: Option<usize>,
+    /// Polygon "x,y;x,y;..." as the base of a prism or pyramid.
+    #[arg(
+        long,
+        value_name = "X,Y;...",
+        allow_hyphen_values = true,
+        conflicts_with = "ngon"
+    )]
+    pub polygon: Option<String>,
+    /// Syntax of the formula.
+    #[arg(long, value_name = "F", default_value = "maple")]
+    pub format: String,
+    /// Print with common subexpressions in temporaries.
+    #[arg(long)]
+    pub program: bool,
+    /// Output: .json (formula in every syntax), .obj (mesh), .svg (picture); default: the
+    /// formula on stdout.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Sample grid of a mesh or picture (KxL) [default: 121x61].
+    #[arg(long, value_name = "KxL")]
+    pub samples: Option<String>,
+}
+
+/// Arguments of `compose patches`.
+#[derive(Debug, Args)]
+pub struct PatchesArgs {
+    /// The scene (JSON).
+    pub scene: PathBuf,
+    /// Syntax of the formula.
+    #[arg(long, value_name = "F", default_value = "maple")]
+    pub format: String,
+    /// Print with common subexpressions in temporaries.
+    #[arg(long)]
+    pub program: bool,
+    /// Print the continuity report as JSON {"max_jump":..,"jumps":[..]} instead of the formula.
+    #[arg(long)]
+    pub report_json: bool,
+    /// Output: .obj (mesh), .svg (picture), .txt (the formula); default: stdout.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Sample grid of a mesh or picture (KxL) [default: 101x101].
+    #[arg(long, value_name = "KxL")]
+    pub samples: Option<String>,
+}
+
+/// Runs `geomkit compose ...`.
+pub fn run(command: ComposeCommand) -> Result<()> {
+    match command {
+        ComposeCommand::Body(args) => run_body(args),
+        ComposeCommand::Patches(args) => run_patches(args),
+    }
+}
+
+fn format_of(name: &str) -> Result<Format> {
+    Format::from_name(name).ok_or_else(|| {
+        anyhow!(
+            "unknown --format {name:?}: expected one of {}",
+            Format::ALL.map(Format::name).join(", ")
+        )
+    })
+}
+
+fn samples_of(text: Option<&str>, default: (usize, usize)) -> Result<(usize, usize)> {
+    let Some(t) = text else { return Ok(default) };
+    let parse = |x: &str| -> Result<usize> {
+        match x.trim().parse::<usize>() {
+            Ok(k) if (2..=4000).contains(&k) => Ok(k),
+            _ => bail!("--samples: {x:?} is not a count from 2 to 4000"),
+        }
+    };
+    match t.split_once(['x', 'X', ',']) {
+        None => Ok((parse(t)?, parse(t)?)),
+        Some((a, b)) => Ok((parse(a)?, parse(b)?)),
+    }
+}
+
+fn numbers(text: &str, what: &str) -> Result<Vec<f64>> {
+    text.split(',')
+        .map(|x| match x.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => bail!("{what}: {:?} is not a finite number", x.trim()),
+        })
+        .collect()
+}
+
+fn polygon_of(args: &BodyArgs) -> Result<Vec<[f64; 2]>> {
+    if let Some(p) = &args.polygon {
+        return p
+            .split(';')
+            .enumerate()
+            .map(
+                |(k, xy)| match numbers(xy, &format!("--polygon vertex {k}"))?.as_slice() {
+                    [x, y] => Ok([*x, *y]),
+                    _ => bail!("--polygon vertex {k}: give x,y"),
+                },
+            )
+            .collect();
+    }
+    Ok(bodies::regular_polygon(
+        args.ngon.unwrap_or(6),
+        args.radius.unwrap_or(1.0),
+    )?)
+}
+
+/// The body of `args` and a description.
+pub fn build_body(args: &BodyArgs) -> Result<(RuledSurface, String)> {
+    let h = args.height.unwrap_or(2.0);
+    let r = args.radius.unwrap_or(1.0);
+    Ok(match args.body {
+        BodyKind::Cube => (bodies::cube()?, "the paper's cube (±1, ±1, ±1)".into()),
+        BodyKind::Box => {
+            let s = numbers(args.size.as_deref().unwrap_or("2,2,2"), "--size")?;
+            let [a, b, c] = s[..] else {
+                bail!("--size: give three sizes A,B,C (got {})", s.len())
+            };
+            (
+                bodies::rectangular_box(a, b, c)?,
+                format!("box {a}×{b}×{c}"),
+            )
+        }
+        BodyKind::Pyramid => {
+            if args.ngon.is_some() || args.polygon.is_some() {
+                (
+                    bodies::pyramid(&polygon_of(args)?, h)?,
+                    format!("pyramid of height {h}"),
+                )
+            } else {
+                let a = args.side.unwrap_or(2.0);
+                (
+                    bodies::square_pyramid(a, h)?,
+                    format!("square pyramid, side {a}, height {h}"),
+                )
+            }
+        }
+        BodyKind::Cone => (bodies::cone(r, h)?, format!("cone, radius {r}, height {h}")),
+        BodyKind::Cylinder => (
+            bodies::cylinder(r, h)?,
+            format!("cylinder with caps, radius {r}, height {h}"),
+        ),
+        BodyKind::Prism => (
+            bodies::prism(&polygon_of(args)?, h)?,
+            format!("prism of height {h}"),
+        ),
+        BodyKind::Frustum => {
+            let r1 = args.top_radius.unwrap_or(r / 2.0);
+            (
+                bodies::frustum(r, r1, h)?,
+                format!("frustum, radii {r} and {r1}, height {h}"),
+            )
+        }
+    })
+}
+
+fn formula_text(f: &Formula, format: Format, program: bool) -> String {
+    if program {
+        f.print_program(format)
+    } else {
+        f.print(format)
+    }
+}
+
+/// The formula in every syntax, with its size, as JSON.
+fn formula_json(f: &Formula, what: &str, extra: Value) -> String {
+    let mut printed = Map::new();
+    for fmt in Format::ALL {
+        printed.insert(fmt.name().into(), Value::String(f.print(fmt)));
+    }
+    let mut v = json!({
+        "type": "formula",
+        "what": what,
+        "variables": f.vars,
+        "coordinates": f.names,
+        "op_count": f.op_count(),
+        "formulas": printed,
+    });
+    if let (Value::Object(o), Value::Object(e)) = (&mut v, extra) {
+        o.extend(e);
+    }
+    let mut s = serde_json::to_string_pretty(&v).expect("serializable");
+    s.push('\n');
+    s
+}
+
+/// Evaluations on a grid, for pictures and meshes (structural evaluators).
+pub struct GridView<'a> {
+    dim: usize,
+    domain: ((f64, f64), (f64, f64)),
+    grid: Box<dyn Fn(&[f64], &[f64], &mut [f64]) -> geomkit::Result<()> + 'a>,
+}
+
+impl SurfaceView for GridView<'_> {
+    fn view_dim(&self) -> usize {
+        self.dim.max(2)
+    }
+    fn view_domain(&self) -> ((f64, f64), (f64, f64)) {
+        self.domain
+    }
+    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
+        if self.dim == 1 {
+            // Heights z(x, y) drawn as (x, y, z).
+            let mut z = vec![0.0; us.len() * vs.len()];
+            (self.grid)(us, vs, &mut z)?;
+            for (a, &u) in us.iter().enumerate() {
+                for (b, &v) in vs.iter().enumerate() {
+                    let k = a * vs.len() + b;
+                    out[k * 3..k * 3 + 3].copy_from_slice(&[u, v, z[k]]);
+                }
+            }
+            return Ok(());
+        }
+        (self.grid)(us, vs, out)
+    }
+}
+
+impl GridView<'_> {
+    fn out_dim(&self) -> usize {
+        if self.dim == 1 {
+            3
+        } else {
+            self.dim
+        }
+    }
+}
+
+pub fn ruled_view(s: &RuledSurface) -> GridView<'_> {
+    GridView {
+        dim: 3,
+        domain: s.domain(),
+        grid: Box::new(|us, vs, out| s.eval_grid(us, vs, out)),
+    }
+}
+
+pub fn composite_view(s: &CompositeSurface) -> GridView<'_> {
+    GridView {
+        dim: s.dim(),
+        domain: s.domain(),
+        grid: Box::new(|us, vs, out| s.eval_grid(us, vs, out)),
+    }
+}
+
+/// A wireframe picture.
+pub fn picture(view: &GridView<'_>, title: &str, subtitle: &str, lines: usize) -> Result<String> {
+    surface_svg(
+        title,
+        subtitle,
+        &[Layer::Wireframe {
+            surface: view,
+            count: lines,
+            stroke: palette::CURVE.with_opacity(0.8),
+            legend: "structural evaluator".into(),
+        }],
+    )
+}
+
+/// A triangulated K×L grid as Wavefront OBJ text.
+fn obj_text(view: &GridView<'_>, (k, l): (usize, usize), what: &str) -> Result<String> {
+    let ((u0, u1), (v0, v1)) = view.domain;
+    let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, l));
+    let d = view.out_dim();
+    let mut pts = vec![0.0; k * l * d];
+    view.view_grid(&us, &vs, &mut pts)?;
+    let mut s = format!(
+        "# geomkit {}: {what}, {k}x{l} grid\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    for p in pts.chunks_exact(d) {
+        let z = if d > 2 { p[2] } else { 0.0 };
+        s.push_str(&format!("v {:?} {:?} {:?}\n", p[0], p[1], z));
+    }
+    for i in 0..k - 1 {
+        for j in 0..l - 1 {
+            let a = i * l + j + 1;
+            s.push_str(&format!(
+                "f {a} {} {}\nf {a} {} {}\n",
+                a + l,
+                a + l + 1,
+                a + l + 1,
+                a + 1
+            ));
+        }
+    }
+    Ok(s)
+}
+
+fn run_body(args: BodyArgs) -> Result<()> {
+    let format = format_of(&args.format)?;
+    let (body, what) = build_body(&args)?;
+    let f = body.formula()?;
+    let dest = Destination::from_option(args.output.as_deref());
+    match args.output.as_deref().map(extension) {
+        None => dest.write(formula_text(&f, format, args.program).as_bytes()),
+        Some(Some(e)) if e == "json" => dest.write(formula_json(&f, &what, json!({})).as_bytes()),
+        Some(Some(e)) if e == "obj" => {
+            let k = samples_of(args.samples.as_deref(), (121, 61))?;
+            dest.write(obj_text(&ruled_view(&body), k, &what)?.as_bytes())
+        }
+        Some(Some(e)) if e == "svg" => {
+            let first = f.print(Format::Maple);
+            let line = first.lines().next().unwrap_or_default();
+            dest.write(picture(&ruled_view(&body), &what, line, 16)?.as_bytes())
+        }
+        Some(Some(e)) if e == "txt" => {
+            dest.write(formula_text(&f, format, args.program).as_bytes())
+        }
+        _ => bail!(
+            "cannot tell the output format of {}: name it .json, .obj, .svg or .txt",
+            args.output.as_deref().unwrap_or(Path::new("")).display()
+        ),
+    }
+}
+
+/// Reads a scene file.
+pub fn read_scene(path: &Path) -> Result<CompositeSurface> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    parse_scene(&text).with_context(|| path.display().to_string())
+}
+
+/// Whether JSON text is a composite scene (for `geomkit eval`).
+pub fn is_scene(text: &str) -> bool {
+    serde_json::from_str::<Value>(text)
+        .ok()
+        .and_then(|v| v.get("type").and_then(Value::as_str).map(str::to_string))
+        .is_some_and(|t| t == "composite_surface" || t == "composite_explicit")
+}
+
+fn number_list(v: Option<&Value>, place: &str) -> Result<Vec<f64>> {
+    let arr = v
+        .and_then(Value::as_array)
+        .ok_or_else(|| anyhow!("missing or non-array \"{place}\""))?;
+    arr.iter()
+        .enumerate()
+        .map(|(k, x)| {
+            x.as_f64()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| anyhow!("{place}[{k}] is not a finite number"))
+        })
+        .collect()
+}
+
+/// Parses a scene (see the module docs).
+pub fn parse_scene(text: &str) -> Result<CompositeSurface> {
+    let v: Value = serde_json::from_str(text).map_err(|e| anyhow!("invalid JSON: {e}"))?;
+    let ty = v.get("type").and_then(Value::as_str).unwrap_or("");
+    let (ku, kv) = match ty {
+        "composite_surface" => ("u_knots", "v_knots"),
+        "composite_explicit" => ("x_knots", "y_knots"),
+        other => bail!(
+            "\"type\" must be \"composite_surface\" or \"composite_explicit\", found {other:?}"
+        ),
+    };
+    let uk = number_list(v.get(ku), ku)?;
+    let vk = number_list(v.get(kv), kv)?;
+    let rows = v
+        .get("patches")
+        .and_then(Value::as_array)
+        .ok_or_else(|| anyhow!("missing or non-array \"patches\""))?;
+    let mut patches = Vec::with_capacity(rows.len());
+    for (i, row) in rows.iter().enumerate() {
+        let row = row
+            .as_array()
+            .ok_or_else(|| anyhow!("patches[{i}] must be an array of patches"))?;
+        let mut out = Vec::with_capacity(row.len());
+        for (j, p) in row.iter().enumerate() {
+            let place = format!("patches[{i}][{j}]");
+            let Some(net) = p.get("bezier") else {
+                if p.get("x").is_some() || p.get("z").is_some() || p.is_string() {
+                    bail!(
+                        "{place}: expression patches are not supported yet; give \
+                         {{\"bezier\": [[[x,y,z],...],...]}}"
+                    );
+                }
+                bail!("{place}: expected {{\"bezier\": [[[x,y,z],...],...]}}");
+            };
+            let net: Vec<Vec<Vec<f64>>> =
+                serde_json::from_value(net.clone()).map_err(|e| anyhow!("{place}.bezier: {e}"))?;
+            out.push(BezierSurface::new(net).with_context(|| format!("{place}.bezier"))?);
+        }
+        patches.push(out);
+    }
+    let polys = patches
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(geomkit::compose::PolyPatch::from_bezier)
+                .collect()
+        })
+        .collect();
+    let kind = if ty == "composite_explicit" {
+        geomkit::compose::SurfaceKind::Explicit
+    } else {
+        geomkit::compose::SurfaceKind::Parametric
+    };
+    Ok(CompositeSurface::from_poly(uk, vk, polys, kind)?)
+}
+
+/// The continuity report as JSON.
+pub fn report_json(s: &CompositeSurface) -> String {
+    let r = s.continuity();
+    let jumps: Vec<Value> = r
+        .jumps
+        .iter()
+        .map(|j| {
+            let (dir, line) = match j.line {
+                GridLine::U(i) => ("u", i),
+                GridLine::V(k) => ("v", k),
+            };
+            json!({"line": dir, "index": line, "cell": j.cell, "max_jump": j.max_jump, "at": j.at})
+        })
+        .collect();
+    let (uk, vk) = s.knots();
+    let names = match s.kind() {
+        geomkit::compose::SurfaceKind::Parametric => ("u", "v"),
+        geomkit::compose::SurfaceKind::Explicit => ("x", "y"),
+    };
+    let v = json!({
+        "max_jump": r.max_jump,
+        "tolerance": r.tolerance,
+        "continuous": r.is_continuous(),
+        "statement": r.statement(names.0, names.1, (uk, vk)),
+        "jumps": jumps,
+    });
+    format!(
+        "{}\n",
+        serde_json::to_string_pretty(&v).expect("serializable")
+    )
+}
+
+fn run_patches(args: PatchesArgs) -> Result<()> {
+    let format = format_of(&args.format)?;
+    let s = read_scene(&args.scene)?;
+    let dest = Destination::from_option(args.output.as_deref());
+    if args.report_json {
+        return dest.write(report_json(&s).as_bytes());
+    }
+    let (uk, vk) = s.knots();
+    let names = match s.kind() {
+        geomkit::compose::SurfaceKind::Parametric => ("u", "v"),
+        geomkit::compose::SurfaceKind::Explicit => ("x", "y"),
+    };
+    let statement = s.continuity().statement(names.0, names.1, (uk, vk));
+    let (n, m) = s.cells();
+    let what = format!("composite surface of {n}×{m} patches");
+    match args.output.as_deref().map(extension) {
+        Some(Some(e)) if e == "obj" => {
+            let k = samples_of(args.samples.as_deref(), (101, 101))?;
+            dest.write(obj_text(&composite_view(&s), k, &what)?.as_bytes())?;
+        }
+        Some(Some(e)) if e == "svg" => {
+            dest.write(
+                picture(
+                    &composite_view(&s),
+                    &what,
+                    &statement,
+                    2 * n.max(m).min(20) + 1,
+                )?
+                .as_bytes(),
+            )?;
+        }
+        Some(Some(e)) if e == "json" => {
+            let f = s.formula()?;
+            dest.write(
+                formula_json(
+                    &f,
+                    &what,
+                    json!({"continuity": serde_json::from_str::<Value>(&report_json(&s))?}),
+                )
+                .as_bytes(),
+            )?;
+        }
+        None | Some(Some(_)) => {
+            let f = s.formula()?;
+            dest.write(formula_text(&f, format, args.program).as_bytes())?;
+        }
+        Some(None) => bail!("cannot tell the output format: name OUT .txt, .json, .obj or .svg"),
+    }
+    let _ = writeln!(std::io::stderr(), "continuity: {statement}");
+    Ok(())
+}
+
+/// `geomkit eval` on a scene: a K×L grid of the domain or the (u, v) pairs of a file, by the
+/// structural evaluator (equal to the single formula).
+pub fn eval_scene(
+    path: &Path,
+    samples: Option<(usize, usize)>,
+    at: Option<&Path>,
+    output: Option<&Path>,
+) -> Result<()> {
+    let s = read_scene(path)?;
+    let format = match output.map(extension) {
+        None => TableFormat::Csv,
+        Some(Some(e)) if e == "csv" => TableFormat::Csv,
+        Some(Some(e)) if e == "npy" => TableFormat::Npy,
+        Some(_) => bail!("name the output .csv or .npy"),
+    };
+    let uv: Vec<f64> = match (samples, at) {
+        (Some((k, l)), _) => {
+            let ((u0, u1), (v0, v1)) = s.domain();
+            let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, l));
+            us.iter()
+                .flat_map(|&u| vs.iter().flat_map(move |&v| [u, v]))
+                .collect()
+        }
+        (None, Some(p)) => {
+            let t = Table::read(p, &Progress::hidden())?;
+            let (_, c) = t.as_records()?;
+            if c != 2 {
+                bail!(
+                    "{}: {c} column(s), but a surface takes two (u, v)",
+                    t.name()
+                );
+            }
+            t.data
+        }
+        (None, None) => bail!("give --samples or --at"),
+    };
+    let d = s.dim();
+    let mut pts = vec![0.0; uv.len() / 2 * d];
+    s.eval_many(&uv, &mut pts)?;
+    let names: Vec<&str> = match s.kind() {
+        geomkit::compose::SurfaceKind::Parametric => vec!["u", "v", "x", "y", "z"],
+        geomkit::compose::SurfaceKind::Explicit => vec!["x", "y", "z"],
+    };
+    let header: Vec<String> = names.iter().take(2 + d).map(|s| s.to_string()).collect();
+    let n = uv.len() / 2;
+    Destination::from_option(output).write_with(|w| {
+        let mut sink = RowSink::start(w, format, &[n, d + 2], &header)?;
+        let mut rows = Vec::with_capacity(n * (d + 2));
+        for (q, p) in uv.chunks_exact(2).zip(pts.chunks_exact(d)) {
+            rows.extend_from_slice(q);
+            rows.extend_from_slice(p);
+        }
+        sink.push(w, &rows)?;
+        sink.finish()
+    })
+}
+
+/// `geomkit eval` hook: evaluates MODEL if it is a composite scene (`Some(())`), else `None`.
+pub fn eval_if_scene(args: &crate::cli::ModelEvalArgs) -> Result<Option<()>> {
+    if extension(&args.model).as_deref() != Some("json") {
+        return Ok(None);
+    }
+    let Ok(text) = std::fs::read_to_string(&args.model) else {
+        return Ok(None);
+    };
+    if !is_scene(&text) {
+        return Ok(None);
+    }
+    let samples = args.samples.map(|s| (s.0, s.1.unwrap_or(s.0)));
+    if let Some((k, l)) = samples {
+        if !(2..=10_000).contains(&k) || !(2..=10_000).contains(&l) {
+            bail!("--samples: each count must be from 2 to 10000 (got {k}x{l})");
+        }
+    }
+    eval_scene(
+        &args.model,
+        samples,
+        args.at.as_deref(),
+        args.output.as_deref(),
+    )
+    .map(Some)
+}
