@@ -323,7 +323,7 @@ struct ModelFile {
 
 const MODEL_TYPE: &str = "pointcalc-model";
 
-fn model_json(model: &Hypersurface, response: &[String]) -> String {
+pub fn model_json(model: &Hypersurface, response: &[String]) -> String {
     let factors = model
         .factors()
         .iter()

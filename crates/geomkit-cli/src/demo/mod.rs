@@ -8,6 +8,7 @@
 
 mod bezier;
 mod bspline;
+mod pointcalc;
 
 use crate::cli::DemoArgs;
 use crate::model::{to_json, ErrorReport, Model};
@@ -21,7 +22,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// Every method's list of demo items, in the order shown.
-const MODULES: &[fn() -> Vec<Item>] = &[bezier::items, bspline::items];
+const MODULES: &[fn() -> Vec<Item>] = &[bezier::items, bspline::items, pointcalc::items];
 
 /// One demo item: a figure or table of a paper, reproduced.
 pub struct Item {
