@@ -19,13 +19,30 @@ pub(crate) fn validate_points(what: &'static str, dim: usize, data: &[f64]) -> R
             got: data.len() % dim,
         });
     }
-    if let Some(k) = data.iter().position(|x| !x.is_finite()) {
+    if let Some(k) = first_non_finite(data) {
         return Err(Error::NonFinite {
             what: "control point",
             index: k / dim,
         });
     }
     Ok(())
+}
+
+/// Index of the first non-finite number. Large inputs are first scanned in parallel by a
+/// vectorizable test (x - x is NaN exactly for infinities and NaN).
+pub(crate) fn first_non_finite(data: &[f64]) -> Option<usize> {
+    let suspect = |c: &[f64]| c.iter().fold(0.0, |a, x| a + (x - x)) != 0.0;
+    let any = if data.len() >= 1 << 16 {
+        use rayon::prelude::*;
+        data.par_chunks(1 << 14).any(suspect)
+    } else {
+        suspect(data)
+    };
+    if any {
+        data.iter().position(|x| !x.is_finite())
+    } else {
+        None
+    }
 }
 
 /// Flattens `Vec<Vec<f64>>` points, checking that all have the same dimension.

@@ -5,8 +5,8 @@ mod common;
 use common::Rng;
 use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
-    interpolate_curve, paper_dense_inner_points, BsplineCurve, EndCondition, InterpolationOptions,
-    Parametrization,
+    interpolate_curve, interpolate_curve_flat, paper_dense_inner_points, BsplineCurve,
+    EndCondition, InterpolationOptions, Parametrization,
 };
 use geomkit::Error;
 
@@ -322,6 +322,86 @@ fn paper_averaged_fragments_do_not_converge() {
     assert!(errors[3] > 0.9 * errors[1], "{errors:?}");
 }
 
+/// Batched evaluation (span hints, bucket table, specialized kernels) gives the values of
+/// single-point evaluation bit for bit, sorted or not, at knots and outside the domain.
+#[test]
+fn batched_evaluation_equals_single_points() {
+    let mut rng = Rng(17);
+    for dim in [1usize, 2, 3, 4] {
+        let pts: Vec<Vec<f64>> = (0..300)
+            .map(|_| (0..dim).map(|_| 5.0 * rng.uniform()).collect())
+            .collect();
+        for param in [Parametrization::Uniform, Parametrization::ChordLength] {
+            let fit = interpolate_curve(
+                &pts,
+                &InterpolationOptions::default().with_parametrization(param),
+            )
+            .unwrap();
+            let (a, b) = fit.curve.domain();
+            let mut ts: Vec<f64> = (0..5000)
+                .map(|_| (a + b) / 2.0 + (b - a + 2.0) / 2.0 * rng.uniform())
+                .collect();
+            ts.extend(fit.curve.knots().iter().copied());
+            for sorted in [false, true] {
+                if sorted {
+                    ts.sort_by(f64::total_cmp);
+                }
+                let mut got = vec![0.0; ts.len() * dim];
+                fit.curve.eval_many_par(&ts, &mut got).unwrap();
+                for (t, g) in ts.iter().zip(got.chunks_exact(dim)) {
+                    assert_eq!(
+                        g,
+                        fit.curve.eval(*t).as_slice(),
+                        "dim {dim} {param:?} t={t}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Far from the origin (parameters up to 1e5) the span polynomials must still be formed in
+/// local coordinates: samples at exactly representable parameters k/8 against direct
+/// evaluation, within the reported bound.
+#[test]
+fn forward_differences_far_from_the_origin() {
+    let n = 100_000;
+    let flat: Vec<f64> = (0..n)
+        .flat_map(|i| {
+            let x = i as f64 * 0.1;
+            [x.sin(), (0.7 * x).cos(), 0.001 * x]
+        })
+        .collect();
+    let opts = InterpolationOptions::default().with_parametrization(Parametrization::Uniform);
+    let fit = interpolate_curve_flat(3, &flat, &opts).unwrap();
+    assert_eq!(fit.curve.domain(), (0.0, (n - 1) as f64));
+    let ts: Vec<f64> = (0..8 * (n - 1) + 1).map(|k| k as f64 / 8.0).collect();
+    fd_against_direct(&fit.curve, &ts);
+}
+
+/// Samples `ts.len()` uniform parameters by forward differences and checks them against
+/// direct evaluation at `ts` (the same parameters): within the reported bound plus the
+/// direct evaluation's own rounding (a few eps of the scale). Returns (bound, scale).
+fn fd_against_direct(curve: &BsplineCurve, ts: &[f64]) -> (f64, f64) {
+    let count = ts.len();
+    let mut fd = vec![0.0; count * 3];
+    let report = curve.sample_uniform_fd(count, &mut fd).unwrap();
+    let mut direct = vec![0.0; count * 3];
+    curve.eval_many_par(ts, &mut direct).unwrap();
+    let err = fd
+        .iter()
+        .zip(&direct)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(
+        err <= report.bound + 8.0 * f64::EPSILON * scale,
+        "{count} samples: {err:e} > {:e}",
+        report.bound
+    );
+    (report.bound, scale)
+}
+
 #[test]
 fn forward_differences_stay_within_their_bound() {
     let pts = wiggly(200, 3, 9);
@@ -332,31 +412,12 @@ fn forward_differences_stay_within_their_bound() {
         )
         .unwrap();
         for count in [2usize, 7, 1000, 200_001] {
-            let mut fd = vec![0.0; count * 3];
-            let report = fit.curve.sample_uniform_fd(count, &mut fd).unwrap();
             let (a, b) = fit.curve.domain();
             let ts: Vec<f64> = (0..count)
                 .map(|k| a + k as f64 * (b - a) / (count - 1) as f64)
                 .collect();
-            let mut direct = vec![0.0; count * 3];
-            fit.curve.eval_many_par(&ts, &mut direct).unwrap();
-            let err = fd
-                .iter()
-                .zip(&direct)
-                .map(|(x, y)| (x - y).abs())
-                .fold(0.0, f64::max);
-            // The direct evaluation has its own rounding (a few eps of the scale).
-            let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            assert!(
-                err <= report.bound + 8.0 * f64::EPSILON * scale,
-                "{param:?} {count}: {err:e} > {:e}",
-                report.bound
-            );
-            assert!(
-                report.bound < 1e-9 * scale,
-                "{count}: bound {:e}",
-                report.bound
-            );
+            let (bound, scale) = fd_against_direct(&fit.curve, &ts);
+            assert!(bound < 1e-9 * scale, "{param:?} {count}: bound {bound:e}");
         }
     }
     let fit = interpolate_curve(&pts, &InterpolationOptions::default()).unwrap();

@@ -173,6 +173,24 @@ fn heights_over_a_regular_grid() {
             assert!((out[a * 3 + b] - s.eval(*x, *y)[0]).abs() < 1e-14);
         }
     }
+    // So does the scattered batch, and it rejects mismatched inputs.
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let (us, vs): (Vec<f64>, Vec<f64>) = (0..1000)
+        .map(|k| {
+            let f = k as f64 / 999.0;
+            (u0 + (u1 - u0) * f, v0 + (v1 - v0) * (1.0 - f * f))
+        })
+        .unzip();
+    let mut batch = vec![0.0; us.len()];
+    s.eval_many_par(&us, &vs, &mut batch).unwrap();
+    for ((u, v), got) in us.iter().zip(&vs).zip(&batch) {
+        let want = s.eval(*u, *v)[0];
+        assert!((got - want).abs() < 1e-14, "({u}, {v}): {got} vs {want}");
+    }
+    assert!(s.eval_many_par(&us[1..], &vs, &mut batch[1..]).is_err());
+    assert!(s
+        .eval_many_par(&[f64::NAN], &[0.0], &mut batch[..1])
+        .is_err());
     // Bicubic polynomials are reproduced exactly by not-a-knot.
     let zp: Vec<f64> = (0..rows * cols)
         .map(|k| {

@@ -50,6 +50,16 @@ pub(crate) fn find_span(knots: &[f64], degree: usize, n_control: usize, t: f64) 
 /// `out`; `left`/`right` are scratch of length p+1.
 #[inline]
 pub(crate) fn basis_funs(knots: &[f64], span: usize, t: f64, degree: usize, out: &mut [f64]) {
+    if degree == 3 {
+        out[..4].copy_from_slice(&basis_funs_cubic(knots, span, t));
+    } else {
+        basis_funs_any(knots, span, t, degree, out);
+    }
+}
+
+/// [`basis_funs`] for any degree (the book's loops).
+#[inline]
+fn basis_funs_any(knots: &[f64], span: usize, t: f64, degree: usize, out: &mut [f64]) {
     let mut left = [0.0f64; 8];
     let mut right = [0.0f64; 8];
     debug_assert!(degree < 8);
@@ -65,6 +75,27 @@ pub(crate) fn basis_funs(knots: &[f64], span: usize, t: f64, degree: usize, out:
         }
         out[j] = saved;
     }
+}
+
+/// [`basis_funs`] for degree 3, unrolled: the same operations in the same order (the same
+/// values, bit for bit), six divisions.
+#[inline(always)]
+fn basis_funs_cubic(knots: &[f64], s: usize, t: f64) -> [f64; 4] {
+    let k = &knots[s - 2..s + 4];
+    let (l1, l2, l3) = (t - k[2], t - k[1], t - k[0]);
+    let (r1, r2, r3) = (k[3] - t, k[4] - t, k[5] - t);
+    let temp = 1.0 / (r1 + l1);
+    let (a0, a1) = (0.0 + r1 * temp, l1 * temp);
+    let temp = a0 / (r1 + l2);
+    let (b0, saved) = (0.0 + r1 * temp, l2 * temp);
+    let temp = a1 / (r2 + l1);
+    let (b1, b2) = (saved + r2 * temp, l1 * temp);
+    let temp = b0 / (r1 + l3);
+    let (c0, saved) = (0.0 + r1 * temp, l3 * temp);
+    let temp = b1 / (r2 + l2);
+    let (c1, saved) = (saved + r2 * temp, l2 * temp);
+    let temp = b2 / (r3 + l1);
+    [c0, c1, saved + r3 * temp, l1 * temp]
 }
 
 /// Basis functions and their derivatives up to order `nd` on span s (NURBS Book A2.3):
@@ -151,15 +182,34 @@ pub(crate) fn uniform_cubic_basis(u: f64, out: &mut [f64]) {
     out[3] = u3 / 6.0;
 }
 
-fn detect_uniform_step(knots: &[f64]) -> Option<f64> {
-    let h = knots[1] - knots[0];
-    if h <= 0.0 {
+/// The span holding x on uniform knots of spacing 1/`inv_h` starting at `k0`, clamped to the
+/// domain spans p ..= n_c - 1 (NaN goes to the first). Uniform-knot code multiplies by the
+/// rounded 1/h (one more rounding, no division on the critical path); a point within
+/// rounding of a knot may land in the neighbouring span, whose polynomial agrees there.
+#[inline]
+pub(crate) fn uniform_span(k0: f64, inv_h: f64, p: usize, n_c: usize, x: f64) -> usize {
+    // Clamped to [p, n_c - 1] >= 0 first, truncation is floor (and needs no libm call);
+    // NaN converts to 0.
+    let s = ((x - k0) * inv_h).clamp(p as f64, (n_c - 1) as f64);
+    (s as usize).max(p)
+}
+
+/// The spacing h of uniform knots, or `None`. Uniform means within 4 ulps *of h* of
+/// k_0 + k·h, so that the uniform basis (formula (1)) differs from the Cox–de Boor basis of
+/// the actual knots only by rounding: integer knots qualify, knots that carry the rounding
+/// of a computed spacing such as i/4095 do not (there a deviation of ulp(x) is ~x/h ulps of
+/// the spacing, which the uniform basis would turn into errors of that size).
+pub(crate) fn detect_uniform_step(knots: &[f64]) -> Option<f64> {
+    let n = knots.len();
+    let h = (knots[n - 1] - knots[0]) / (n - 1) as f64;
+    if h.is_nan() || h <= 0.0 {
         return None;
     }
-    let uniform = knots.iter().enumerate().all(|(k, &x)| {
-        (x - (knots[0] + k as f64 * h)).abs()
-            <= 4.0 * f64::EPSILON * (knots[0].abs() + k as f64 * h)
-    });
+    let tol = 4.0 * f64::EPSILON * h;
+    let uniform = knots
+        .iter()
+        .enumerate()
+        .all(|(k, &x)| (x - (knots[0] + k as f64 * h)).abs() <= tol);
     uniform.then_some(h)
 }
 
@@ -202,6 +252,25 @@ impl BsplineCurve {
             control,
             uniform_step,
         })
+    }
+
+    /// [`BsplineCurve::from_flat`] for parts built by this crate that are valid by
+    /// construction (finite control points, valid knots): skips the validation passes.
+    pub(crate) fn from_trusted(
+        degree: usize,
+        knots: Vec<f64>,
+        dim: usize,
+        control: Vec<f64>,
+    ) -> Self {
+        debug_assert!(check_knots(&knots, degree, control.len() / dim).is_ok());
+        let uniform_step = detect_uniform_step(&knots);
+        BsplineCurve {
+            degree,
+            dim,
+            knots,
+            control,
+            uniform_step,
+        }
     }
 
     /// Dimension of the points.
@@ -247,20 +316,18 @@ impl BsplineCurve {
         self.uniform_step.is_some()
     }
 
+    /// The knot spacing when the knots are uniform.
+    #[inline]
+    pub(crate) fn uniform_step(&self) -> Option<f64> {
+        self.uniform_step
+    }
+
     /// The knot span holding t (clamped to the domain).
     #[inline]
     pub(crate) fn span(&self, t: f64) -> usize {
         let (p, n_c) = (self.degree, self.n_control());
         match self.uniform_step {
-            Some(h) => {
-                let s = ((t - self.knots[0]) / h).floor();
-                let s = if s.is_nan() {
-                    p as f64
-                } else {
-                    s.clamp(p as f64, (n_c - 1) as f64)
-                };
-                s as usize
-            }
+            Some(h) => uniform_span(self.knots[0], 1.0 / h, p, n_c, t),
             None => find_span(&self.knots, p, n_c, t),
         }
     }
@@ -318,7 +385,7 @@ impl BsplineCurve {
         let p = self.degree;
         let mut basis = [0.0f64; 8];
         match self.uniform_step {
-            Some(h) if p == 3 => uniform_cubic_basis((t - self.knots[s]) / h, &mut basis),
+            Some(h) if p == 3 => uniform_cubic_basis((t - self.knots[s]) * (1.0 / h), &mut basis),
             _ => basis_funs(&self.knots, s, t, p, &mut basis[..=p]),
         }
         out.iter_mut().for_each(|o| *o = 0.0);
@@ -375,6 +442,19 @@ mod tests {
             assert!((a[0] - b[0]).abs() < 1e-11 && (a[1] - b[1]).abs() < 1e-11);
         }
         assert!(!c.is_uniform());
+    }
+
+    #[test]
+    fn unrolled_cubic_basis_is_the_books_bit_for_bit() {
+        let knots = [0.0, 0.1, 0.35, 0.4, 1.0, 1.7, 1.75, 3.0, 3.1, 4.0];
+        for s in 3..6 {
+            for k in 0..=20 {
+                let t = knots[s] + (knots[s + 1] - knots[s]) * k as f64 / 20.0;
+                let mut any = [0.0; 4];
+                basis_funs_any(&knots, s, t, 3, &mut any);
+                assert_eq!(basis_funs_cubic(&knots, s, t), any, "span {s}, t {t}");
+            }
+        }
     }
 
     #[test]

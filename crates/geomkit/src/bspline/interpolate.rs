@@ -22,9 +22,10 @@
 
 use super::banded::{BandLu, BandMatrix, CyclicLu};
 use super::curve::{basis_funs, basis_funs_derivs, BsplineCurve};
-use super::uniform::UniformSystem;
+use super::tridiag::TridiagSystem;
 use crate::points::flatten_points;
 use crate::{Error, Result};
+use rayon::prelude::*;
 
 /// How the ends of an open interpolating curve are determined.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -138,13 +139,7 @@ pub fn interpolate_curve_flat(
         options.parametrization,
         options.end == EndCondition::Periodic,
     )?;
-    let system = Solver1d::new(&t, &options.end, options.parametrization)?;
-    let mut control = vec![0.0; system.n_control() * dim];
-    system.solve(points, dim, &mut control)?;
-    Ok(CurveInterpolation {
-        curve: BsplineCurve::from_flat(3, system.knots.clone(), dim, control)?,
-        parameters: system.parameters.clone(),
-    })
+    Solver1d::new(t, &options.end, options.parametrization)?.interpolate(points, dim)
 }
 
 /// Interpolates row-major points at given parameters (SciPy's `make_interp_spline(x, y)`):
@@ -200,13 +195,7 @@ pub fn interpolate_curve_at(
         });
     }
     let points = &points[..n * dim];
-    let system = Solver1d::new(parameters, end, Parametrization::ChordLength)?;
-    let mut control = vec![0.0; system.n_control() * dim];
-    system.solve(points, dim, &mut control)?;
-    Ok(CurveInterpolation {
-        curve: BsplineCurve::from_flat(3, system.knots.clone(), dim, control)?,
-        parameters: system.parameters.clone(),
-    })
+    Solver1d::new(parameters.to_vec(), end, Parametrization::ChordLength)?.interpolate(points, dim)
 }
 
 /// Parameters t_0 = 0 < t_1 < ... (N values, or N+1 with the closing one for closed curves).
@@ -230,17 +219,26 @@ pub(crate) fn parameters_from(
 ) -> Result<Vec<f64>> {
     let n = points.len() / dim;
     let count = if closed { n + 1 } else { n };
+    if kind == Parametrization::Uniform && t0.fract() == 0.0 && t0.abs() + (count as f64) < 2e15 {
+        // Integers: t0 + i is exactly the running sum, and fills in parallel.
+        let mut t = Vec::with_capacity(count);
+        (0..count)
+            .into_par_iter()
+            .map(|i| t0 + i as f64)
+            .collect_into_vec(&mut t);
+        return Ok(t);
+    }
     let mut t = Vec::with_capacity(count);
     t.push(t0);
     for i in 1..count {
-        let (a, b) = (
-            &points[(i - 1) * dim..i * dim],
-            &points[(i % n) * dim..(i % n + 1) * dim],
-        );
         let step = match kind {
             Parametrization::Uniform => 1.0,
             Parametrization::ChordLength | Parametrization::Centripetal => {
-                let d = crate::numeric::distance(a, b);
+                let j = if i == n { 0 } else { i };
+                let d = crate::numeric::distance(
+                    &points[(i - 1) * dim..i * dim],
+                    &points[j * dim..(j + 1) * dim],
+                );
                 if d == 0.0 {
                     return Err(Error::RepeatedPoint { index: i - 1 });
                 }
@@ -277,21 +275,16 @@ enum EndRhs {
 
 #[derive(Debug, Clone)]
 enum Kind {
-    /// Open curve: rows [interp t_0, start row, interp t_1..t_(N-2), end row, interp t_(N-1)].
+    /// Open curve: rows [start, interp t_0..t_(N-1) (×`interp_scale`), end], tridiagonal
+    /// plus the two end rows.
     Open {
-        lu: BandLu,
+        sys: TridiagSystem,
         start: EndRhs,
         end: EndRhs,
         /// Factors that equilibrated the two end rows (their right-hand sides get them too).
         scales: [f64; 2],
-    },
-    /// Open curve with uniform parameters: T = tridiag(1, 4, 1) plus the two end rows,
-    /// rows ordered [start, interp t_0..t_(N-1) (×6), end].
-    Uniform {
-        sys: UniformSystem,
-        start: EndRhs,
-        end: EndRhs,
-        scales: [f64; 2],
+        /// 6 for uniform parameters (rows (1, 4, 1)), 1 otherwise (rows of basis values).
+        interp_scale: f64,
     },
     /// Periodic: N unknowns p_0..p_(N-1), control [p_(N-1) p_0 .. p_(N-1) p_0 p_1].
     Periodic { lu: CyclicLu },
@@ -307,15 +300,13 @@ pub(crate) struct Solver1d {
     pub knots: Vec<f64>,
     /// Parameters of the reference points.
     pub parameters: Vec<f64>,
-    /// Data parameters t (with the closing one for periodic), for Bessel tangents.
-    t: Vec<f64>,
     kind: Kind,
 }
 
 impl Solver1d {
     /// Builds and factors the system for parameters `t` (N values; N+1 for periodic, the
     /// last closing the curve).
-    pub fn new(t: &[f64], end: &EndCondition, param: Parametrization) -> Result<Self> {
+    pub fn new(t: Vec<f64>, end: &EndCondition, param: Parametrization) -> Result<Self> {
         let closed = *end == EndCondition::Periodic;
         let n = if closed { t.len() - 1 } else { t.len() };
         let min = if closed { 3 } else { 2 };
@@ -339,6 +330,16 @@ impl Solver1d {
             EndCondition::Periodic => Self::periodic(t),
             _ => Self::open(t, end, end),
         }
+    }
+
+    /// Solves for `points` (N × dim) and moves the knots and parameters into the result.
+    pub fn interpolate(self, points: &[f64], dim: usize) -> Result<CurveInterpolation> {
+        let mut control = vec![0.0; self.n_control() * dim];
+        self.solve(points, dim, &mut control)?;
+        Ok(CurveInterpolation {
+            curve: BsplineCurve::from_trusted(3, self.knots, dim, control),
+            parameters: self.parameters,
+        })
     }
 
     /// Number of control points of the result.
@@ -369,17 +370,16 @@ impl Solver1d {
         Ok(Solver1d {
             knots: (0..n + 8).map(|k| k as f64 - 3.0).collect(),
             parameters,
-            t: Vec::new(),
             kind: Kind::Repeat { lu },
         })
     }
 
-    fn periodic(t: &[f64]) -> Result<Self> {
+    fn periodic(mut t: Vec<f64>) -> Result<Self> {
         let n = t.len() - 1;
         let period = t[n] - t[0];
         let mut knots = Vec::with_capacity(n + 7);
         knots.extend((1..=3).rev().map(|k| t[n - k] - period));
-        knots.extend_from_slice(t);
+        knots.extend_from_slice(&t);
         knots.extend((1..=3).map(|k| t[k] + period));
         let (mut lower, mut diag, mut upper) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let mut basis = [0.0; 4];
@@ -391,16 +391,18 @@ impl Solver1d {
         }
         Ok(Solver1d {
             knots,
-            parameters: t[..n].to_vec(),
-            t: t.to_vec(),
             kind: Kind::Periodic {
                 lu: CyclicLu::new(&lower, &diag, &upper)?,
+            },
+            parameters: {
+                t.truncate(n);
+                t
             },
         })
     }
 
     /// An open system with (possibly different) conditions at its two ends.
-    pub(crate) fn new_mixed(t: &[f64], start: &EndCondition, end: &EndCondition) -> Result<Self> {
+    pub(crate) fn new_mixed(t: Vec<f64>, start: &EndCondition, end: &EndCondition) -> Result<Self> {
         if t.len() < 2 {
             return Err(Error::TooFewPoints {
                 what: "reference points",
@@ -411,9 +413,9 @@ impl Solver1d {
         Self::open(t, start, end)
     }
 
-    fn open(t: &[f64], start_cond: &EndCondition, end_cond: &EndCondition) -> Result<Self> {
+    fn open(t: Vec<f64>, start_cond: &EndCondition, end_cond: &EndCondition) -> Result<Self> {
         let n = t.len();
-        let knots = open_knots(t);
+        let knots = open_knots(&t);
         let nc = n + 2;
         let deriv = |span: usize, at: f64, k: usize| -> Vec<f64> {
             basis_funs_derivs(&knots, span, at, 3, k)[k].clone()
@@ -492,62 +494,45 @@ impl Solver1d {
         };
         let start = equilibrate(row_for(start_cond, true)?);
         let finish = equilibrate(row_for(end_cond, false)?);
-        if is_uniform(t) {
-            if let Some(sys) =
-                UniformSystem::new(nc, (start.0, start.1.clone()), (finish.0, finish.1.clone()))
-            {
-                return Ok(Solver1d {
-                    knots,
-                    parameters: t.to_vec(),
-                    t: t.to_vec(),
-                    kind: Kind::Uniform {
-                        sys,
-                        start: start.2,
-                        end: finish.2,
-                        scales: [start.3, finish.3],
-                    },
-                });
-            }
-        }
-        let mut a = BandMatrix::zeros(nc, 3, 3);
-        let mut put_row = |row: usize, first: usize, coeffs: &[f64]| {
-            for (k, &v) in coeffs.iter().enumerate() {
-                if v != 0.0 {
-                    a.set(row, first + k, v);
-                }
+        let end_rows = || ((start.0, start.1.clone()), (finish.0, finish.1.clone()));
+        let (sys, interp_scale) = match is_uniform(&t) {
+            true => (TridiagSystem::toeplitz(nc, end_rows().0, end_rows().1), 6.0),
+            false => (None, 1.0),
+        };
+        let (sys, interp_scale) = match sys {
+            Some(sys) => (Some(sys), interp_scale),
+            None => {
+                // Row r = i + 1 interpolates at t_i: basis values on controls i, i+1, i+2.
+                let inner = |r: usize| {
+                    let i = r - 1;
+                    let mut basis = [0.0; 4];
+                    if i + 1 == n {
+                        basis_funs(&knots, nc - 1, t[i], 3, &mut basis);
+                        [basis[1], basis[2], basis[3]]
+                    } else {
+                        basis_funs(&knots, 3 + i, t[i], 3, &mut basis);
+                        [basis[0], basis[1], basis[2]]
+                    }
+                };
+                let (s0, s1) = end_rows();
+                (TridiagSystem::general(nc, inner, s0, s1), 1.0)
             }
         };
-        let mut basis = [0.0; 4];
-        for i in 0..n {
-            let span = (3 + i).min(nc - 1);
-            basis_funs(&knots, span, t[i], 3, &mut basis);
-            put_row(Self::open_row(i, n), span - 3, &basis);
-        }
-        put_row(1, start.0, &start.1);
-        put_row(nc - 2, finish.0, &finish.1);
+        let sys = sys.ok_or(Error::Numerical {
+            operation: "banded solve",
+            reason: "the interpolation system is singular",
+        })?;
         Ok(Solver1d {
             knots,
-            parameters: t.to_vec(),
-            t: t.to_vec(),
+            parameters: t,
             kind: Kind::Open {
-                lu: a.factor()?,
+                sys,
                 start: start.2,
                 end: finish.2,
                 scales: [start.3, finish.3],
+                interp_scale,
             },
         })
-    }
-
-    /// Row of the open system holding the interpolation condition at t_i.
-    #[inline]
-    fn open_row(i: usize, n: usize) -> usize {
-        if i == 0 {
-            0
-        } else if i == n - 1 {
-            n + 1
-        } else {
-            i + 1
-        }
     }
 
     /// The right-hand side of an end row (before equilibration). Errors: a given tangent of
@@ -590,18 +575,68 @@ impl Solver1d {
                     .map(|c| points[e * dim + c] + f * (points[e * dim + c] - points[nb * dim + c]))
                     .collect()
             }
-            EndRhs::Estimated if at_start => bessel_tangent(points, dim, &self.t),
+            EndRhs::Estimated if at_start => bessel_tangent(points, dim, &self.parameters),
             EndRhs::Estimated => {
                 // The last three points and parameters, reversed (t negated).
                 let k = n.min(3);
                 let rev_pts = reversed(&points[(n - k) * dim..], dim);
-                let rev_t: Vec<f64> = self.t[n - k..n].iter().rev().map(|v| -v).collect();
+                let rev_t: Vec<f64> = self.parameters[n - k..n].iter().rev().map(|v| -v).collect();
                 bessel_tangent(&rev_pts, dim, &rev_t)
                     .iter()
                     .map(|v| -v)
                     .collect()
             }
         })
+    }
+
+    /// The right-hand sides of the two end rows of an open system, equilibrated.
+    fn open_ends(&self, points: &[f64], dim: usize) -> Result<[Vec<f64>; 2]> {
+        let Kind::Open {
+            start, end, scales, ..
+        } = &self.kind
+        else {
+            unreachable!("open_ends on an open system only")
+        };
+        let value = |rhs, at_start, scale: f64| -> Result<Vec<f64>> {
+            let v = self.end_value(rhs, at_start, points, dim)?;
+            Ok(v.iter().map(|x| x * scale).collect())
+        };
+        Ok([
+            value(start, true, scales[0])?,
+            value(end, false, scales[1])?,
+        ])
+    }
+
+    /// Whether [`Solver1d::solve_in_place`] applies: open systems whose end rows do not ask
+    /// for a given tangent (of one point's dimension, not a whole row's).
+    pub fn solves_in_place(&self) -> bool {
+        matches!(&self.kind, Kind::Open { start, end, .. }
+            if !matches!(start, EndRhs::Given(_)) && !matches!(end, EndRhs::Given(_)))
+    }
+
+    /// [`Solver1d::solve`] in place, for systems where [`Solver1d::solves_in_place`]: `buf`
+    /// (`n_control() * dim`) holds the N points in its rows 1..=N and receives the control
+    /// points.
+    pub fn solve_in_place(&self, buf: &mut [f64], dim: usize) -> Result<()> {
+        let Kind::Open {
+            sys, interp_scale, ..
+        } = &self.kind
+        else {
+            unreachable!("solve_in_place on an open system only")
+        };
+        let n = self.parameters.len();
+        debug_assert_eq!(buf.len(), (n + 2) * dim);
+        let ends = self.open_ends(&buf[dim..(n + 1) * dim], dim)?;
+        let scale = *interp_scale;
+        if scale != 1.0 {
+            buf[dim..(n + 1) * dim]
+                .par_chunks_mut(1 << 14)
+                .for_each(|o| o.iter_mut().for_each(|x| *x *= scale));
+        }
+        buf[..dim].copy_from_slice(&ends[0]);
+        buf[(n + 1) * dim..].copy_from_slice(&ends[1]);
+        sys.solve(buf, dim);
+        check_solution(buf, dim)
     }
 
     /// Control points (row-major, `n_control() * dim`) interpolating `points` (N × dim).
@@ -611,42 +646,20 @@ impl Solver1d {
         debug_assert_eq!(out.len(), self.n_control() * dim);
         match &self.kind {
             Kind::Open {
-                lu,
-                start,
-                end,
-                scales,
+                sys, interp_scale, ..
             } => {
-                for i in 0..n {
-                    let r = Self::open_row(i, n);
-                    out[r * dim..(r + 1) * dim].copy_from_slice(&points[i * dim..(i + 1) * dim]);
-                }
-                for (row, rhs, at_start, scale) in
-                    [(1, start, true, scales[0]), (n, end, false, scales[1])]
-                {
-                    let v = self.end_value(rhs, at_start, points, dim)?;
-                    for (o, x) in out[row * dim..(row + 1) * dim].iter_mut().zip(&v) {
-                        *o = x * scale;
-                    }
-                }
-                lu.solve(out, dim);
-            }
-            Kind::Uniform {
-                sys,
-                start,
-                end,
-                scales,
-            } => {
-                for (o, p) in out[dim..(n + 1) * dim].iter_mut().zip(points) {
-                    *o = 6.0 * p;
-                }
-                for (row, rhs, at_start, scale) in
-                    [(0, start, true, scales[0]), (n + 1, end, false, scales[1])]
-                {
-                    let v = self.end_value(rhs, at_start, points, dim)?;
-                    for (o, x) in out[row * dim..(row + 1) * dim].iter_mut().zip(&v) {
-                        *o = x * scale;
-                    }
-                }
+                let ends = self.open_ends(points, dim)?;
+                let scale = *interp_scale;
+                out[dim..(n + 1) * dim]
+                    .par_chunks_mut(1 << 14)
+                    .zip(points.par_chunks(1 << 14))
+                    .for_each(|(o, p)| {
+                        for (o, p) in o.iter_mut().zip(p) {
+                            *o = scale * p;
+                        }
+                    });
+                out[..dim].copy_from_slice(&ends[0]);
+                out[(n + 1) * dim..].copy_from_slice(&ends[1]);
                 sys.solve(out, dim);
             }
             Kind::Periodic { lu } => {
@@ -681,27 +694,30 @@ impl Solver1d {
                 }
             }
         }
-        if let Some(index) = out.iter().position(|v| !v.is_finite()) {
-            return Err(Error::NonFinite {
-                what: "computed control point",
-                index: index / dim,
-            });
-        }
-        Ok(())
+        check_solution(out, dim)
     }
 }
 
-/// Whether parameters are equally spaced (to 4 ulps of their range).
-fn is_uniform(t: &[f64]) -> bool {
-    let n = t.len();
-    if n < 2 {
-        return false;
+/// Errors when a computed control point is not finite (overflow on extreme input).
+fn check_solution(out: &[f64], dim: usize) -> Result<()> {
+    match crate::points::first_non_finite(out) {
+        Some(index) => Err(Error::NonFinite {
+            what: "computed control point",
+            index: index / dim,
+        }),
+        None => Ok(()),
     }
-    let h = (t[n - 1] - t[0]) / (n - 1) as f64;
-    let tol = 4.0 * f64::EPSILON * t[0].abs().max(t[n - 1].abs());
-    t.iter()
-        .enumerate()
-        .all(|(i, &v)| (v - (t[0] + i as f64 * h)).abs() <= tol)
+}
+
+/// Whether parameters are exactly equally spaced (all differences equal, as the integers of
+/// the uniform parametrization are): then the rows are exactly (1, 4, 1)/6. Nearly uniform
+/// parameters (a rounded spacing such as 1/4095) take the general rows of their actual knots,
+/// so that the curve interpolates at exactly the given parameters.
+fn is_uniform(t: &[f64]) -> bool {
+    t.len() >= 2 && {
+        let h = t[1] - t[0];
+        t.windows(2).all(|w| w[1] - w[0] == h)
+    }
 }
 
 /// Knots for an open curve: t_0..t_(N-1) with three more beyond each end, spaced like the

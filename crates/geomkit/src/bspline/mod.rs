@@ -18,7 +18,7 @@ mod interpolate;
 mod sample;
 mod surface;
 mod tiles;
-mod uniform;
+mod tridiag;
 
 pub use curve::BsplineCurve;
 pub use interpolate::{

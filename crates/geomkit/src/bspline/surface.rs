@@ -13,7 +13,10 @@
 //! assert!((p[2] - 6.0).abs() < 1e-13);
 //! ```
 
-use super::curve::{basis_funs, basis_funs_derivs, find_span};
+use super::curve::{
+    basis_funs, basis_funs_derivs, detect_uniform_step, find_span, uniform_cubic_basis,
+    uniform_span,
+};
 use super::interpolate::{EndCondition, Parametrization, Solver1d};
 use crate::points::{check_eval_args, check_knots, flatten_grid, unit_normal, validate_points};
 use crate::{Error, Result};
@@ -30,6 +33,9 @@ pub struct BsplineSurface {
     n_u: usize,
     n_v: usize,
     control: Vec<f64>,
+    /// Knot spacing per direction when uniform (spans by one division, basis by formula (1)
+    /// for cubics).
+    steps: (Option<f64>, Option<f64>),
 }
 
 impl BsplineSurface {
@@ -68,6 +74,7 @@ impl BsplineSurface {
         }
         check_knots(&knots_u, degree.0, n_u)?;
         check_knots(&knots_v, degree.1, n_v)?;
+        let steps = (detect_uniform_step(&knots_u), detect_uniform_step(&knots_v));
         Ok(BsplineSurface {
             degree,
             dim,
@@ -76,6 +83,7 @@ impl BsplineSurface {
             n_u,
             n_v,
             control,
+            steps,
         })
     }
 
@@ -113,17 +121,11 @@ impl BsplineSurface {
     }
 
     fn basis_u(&self, u: f64) -> (usize, [f64; 8]) {
-        let s = find_span(&self.knots_u, self.degree.0, self.n_u, u);
-        let mut b = [0.0; 8];
-        basis_funs(&self.knots_u, s, u, self.degree.0, &mut b[..=self.degree.0]);
-        (s, b)
+        axis_basis(&self.knots_u, self.degree.0, self.n_u, self.steps.0, u)
     }
 
     fn basis_v(&self, v: f64) -> (usize, [f64; 8]) {
-        let s = find_span(&self.knots_v, self.degree.1, self.n_v, v);
-        let mut b = [0.0; 8];
-        basis_funs(&self.knots_v, s, v, self.degree.1, &mut b[..=self.degree.1]);
-        (s, b)
+        axis_basis(&self.knots_v, self.degree.1, self.n_v, self.steps.1, v)
     }
 
     /// Writes S(u, v) into `out` (length dim).
@@ -187,6 +189,10 @@ impl BsplineSurface {
         }
         let (p, q) = self.degree;
         let vb: Vec<(usize, [f64; 8])> = vs.iter().map(|&v| self.basis_v(v)).collect();
+        if (p, q, d) == (3, 3, 1) {
+            self.eval_grid_bicubic_scalar(us, &vb, out);
+            return Ok(());
+        }
         let row_len = self.n_v * d;
         out.par_chunks_mut(vs.len() * d)
             .zip(us.par_iter())
@@ -212,6 +218,78 @@ impl BsplineSurface {
                     }
                 },
             );
+        Ok(())
+    }
+
+    /// [`BsplineSurface::eval_grid`] for bicubic height surfaces: per output row, four net
+    /// rows combined into one (vectorized), then four terms per point.
+    fn eval_grid_bicubic_scalar(&self, us: &[f64], vb: &[(usize, [f64; 8])], out: &mut [f64]) {
+        let n_v = self.n_v;
+        out.par_chunks_mut(vb.len())
+            .zip(us.par_iter())
+            .for_each_init(
+                || vec![0.0; n_v],
+                |row, (chunk, &u)| {
+                    let (su, bu) = self.basis_u(u);
+                    let net = &self.control[(su - 3) * n_v..(su + 1) * n_v];
+                    let (r0, rest) = net.split_at(n_v);
+                    let (r1, rest) = rest.split_at(n_v);
+                    let (r2, r3) = rest.split_at(n_v);
+                    for ((((x, a), b), c), e) in row.iter_mut().zip(r0).zip(r1).zip(r2).zip(r3) {
+                        *x = bu[0] * a + bu[1] * b + bu[2] * c + bu[3] * e;
+                    }
+                    for ((sv, bv), o) in vb.iter().zip(chunk.iter_mut()) {
+                        let r = &row[sv - 3..sv + 1];
+                        *o = bv[0] * r[0] + bv[1] * r[1] + bv[2] * r[2] + bv[3] * r[3];
+                    }
+                },
+            );
+    }
+
+    /// Evaluates at scattered points (us[k], vs[k]) into `out` (row-major, `dim` per point),
+    /// in parallel over blocks; uniform knots locate spans by one division. Errors: `us` and
+    /// `vs` of different lengths, wrong buffer length, non-finite parameters.
+    ///
+    /// ```
+    /// use geomkit::bspline::{interpolate_heights, EndCondition};
+    /// let z: Vec<f64> = (0..20).map(|k| ((k / 5) * (k % 5)) as f64).collect();
+    /// let s = interpolate_heights(&z, 4, 5, (0.0, 0.0), (1.0, 1.0), &EndCondition::NotAKnot).unwrap();
+    /// let mut out = [0.0; 2];
+    /// s.eval_many_par(&[1.0, 2.5], &[3.0, 0.5], &mut out).unwrap();
+    /// assert!((out[0] - 3.0).abs() < 1e-12 && (out[1] - 1.25).abs() < 1e-12);
+    /// ```
+    pub fn eval_many_par(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
+        let d = self.dim;
+        if us.len() != vs.len() {
+            return Err(Error::BufferSize {
+                expected: us.len(),
+                got: vs.len(),
+            });
+        }
+        check_eval_args("parameter u", us, us.len(), d, out)?;
+        check_eval_args("parameter v", vs, vs.len(), d, out)?;
+        let bicubic_scalar = (self.degree, d) == ((3, 3), 1);
+        out.par_chunks_mut(4096 * d)
+            .zip(us.par_chunks(4096).zip(vs.par_chunks(4096)))
+            .for_each(|(o, (us, vs))| {
+                if bicubic_scalar {
+                    for ((o, &u), &v) in o.iter_mut().zip(us).zip(vs) {
+                        let (su, bu) = self.basis_u(u);
+                        let (sv, bv) = self.basis_v(v);
+                        let mut acc = 0.0;
+                        for (a, w) in bu[..4].iter().enumerate() {
+                            let k = (su - 3 + a) * self.n_v + sv - 3;
+                            let r = &self.control[k..k + 4];
+                            acc += w * (bv[0] * r[0] + bv[1] * r[1] + bv[2] * r[2] + bv[3] * r[3]);
+                        }
+                        *o = acc;
+                    }
+                } else {
+                    for ((o, &u), &v) in o.chunks_exact_mut(d).zip(us).zip(vs) {
+                        self.eval_into(u, v, o);
+                    }
+                }
+            });
         Ok(())
     }
 
@@ -431,10 +509,23 @@ pub fn interpolate_surface_flat(
     }
     // Drop a closing row / column equal to the first one for periodic directions.
     let m = closed_rows(grid, rows, cols, dim, &options.end_u);
-    let grid_t = transpose(&grid[..m * cols * dim], m, cols, dim);
-    let n = closed_rows(&grid_t, cols, m, dim, &options.end_v);
-    let grid_t = &grid_t[..n * m * dim];
-    let grid: Vec<f64> = transpose(grid_t, n, m, dim);
+    let closed_cols = options.end_v == EndCondition::Periodic
+        && cols >= 2
+        && (0..m).all(|i| {
+            let row = &grid[i * cols * dim..(i + 1) * cols * dim];
+            row[..dim] == row[(cols - 1) * dim..]
+        });
+    let n = if closed_cols { cols - 1 } else { cols };
+    let grid: std::borrow::Cow<[f64]> = if closed_cols {
+        grid[..m * cols * dim]
+            .chunks_exact(cols * dim)
+            .flat_map(|row| &row[..n * dim])
+            .copied()
+            .collect::<Vec<f64>>()
+            .into()
+    } else {
+        grid[..m * cols * dim].into()
+    };
     for (count, end) in [(m, &options.end_u), (n, &options.end_v)] {
         let min = if *end == EndCondition::Periodic { 3 } else { 2 };
         if count < min {
@@ -447,20 +538,83 @@ pub fn interpolate_surface_flat(
     }
     let p = options.parametrization;
     let tu = grid_parameters(&grid, m, n, dim, p, options.end_u == EndCondition::Periodic)?;
+    // Along v the lines are the columns (uniform parameters need no grid).
+    let grid_t = match p {
+        Parametrization::Uniform => Vec::new(),
+        _ => transpose(&grid, m, n, dim),
+    };
     let tv = grid_parameters(
-        grid_t,
+        &grid_t,
         n,
         m,
         dim,
         p,
         options.end_v == EndCondition::Periodic,
     )?;
-    let sys_u = Solver1d::new(&tu, &options.end_u, p)?;
-    let sys_v = Solver1d::new(&tv, &options.end_v, p)?;
+    let sys_u = Solver1d::new(tu, &options.end_u, p)?;
+    let sys_v = Solver1d::new(tv, &options.end_v, p)?;
     separable(&grid, m, n, dim, &sys_u, &sys_v)
 }
 
-/// The separable solve: rows along v, then (transposed) along u.
+/// Solves every row of a row-major grid (rows of `n` points of `dim`) into `out` (rows of
+/// `sys.n_control()` points), in parallel. Open systems solve blocks of [`ROW_BLOCK`] rows
+/// interleaved as one system with ROW_BLOCK·dim right-hand sides: the sweeps' latency
+/// chains then run side by side and vectorize.
+fn solve_grid_rows(
+    sys: &Solver1d,
+    grid: &[f64],
+    n: usize,
+    dim: usize,
+    out: &mut [f64],
+) -> Result<()> {
+    let nc = sys.n_control();
+    if !sys.solves_in_place() {
+        return out
+            .par_chunks_mut(nc * dim)
+            .zip(grid.par_chunks(n * dim))
+            .try_for_each(|(o, row)| sys.solve(row, dim, o));
+    }
+    out.par_chunks_mut(ROW_BLOCK * nc * dim)
+        .zip(grid.par_chunks(ROW_BLOCK * n * dim))
+        .try_for_each_init(Vec::new, |buf, (o, rows)| {
+            let b = rows.len() / (n * dim);
+            let w = b * dim;
+            buf.clear();
+            buf.resize(nc * w, 0.0);
+            for (r, row) in rows.chunks_exact(n * dim).enumerate() {
+                for (k, p) in row.chunks_exact(dim).enumerate() {
+                    buf[(k + 1) * w + r * dim..][..dim].copy_from_slice(p);
+                }
+            }
+            sys.solve_in_place(buf, w)?;
+            for (r, row) in o.chunks_exact_mut(nc * dim).enumerate() {
+                for (j, c) in row.chunks_exact_mut(dim).enumerate() {
+                    c.copy_from_slice(&buf[j * w + r * dim..][..dim]);
+                }
+            }
+            Ok(())
+        })
+}
+
+/// Rows solved together by [`solve_grid_rows`].
+const ROW_BLOCK: usize = 8;
+
+/// The span holding x and the basis functions on it, along one direction.
+#[inline]
+fn axis_basis(knots: &[f64], p: usize, n: usize, step: Option<f64>, x: f64) -> (usize, [f64; 8]) {
+    let mut b = [0.0; 8];
+    if let (Some(h), 3) = (step, p) {
+        let inv = 1.0 / h;
+        let s = uniform_span(knots[0], inv, p, n, x);
+        uniform_cubic_basis((x - knots[s]) * inv, &mut b[..4]);
+        return (s, b);
+    }
+    let s = find_span(knots, p, n, x);
+    basis_funs(knots, s, x, p, &mut b[..=p]);
+    (s, b)
+}
+
+/// The separable solve: rows along v, then along u.
 pub(crate) fn separable(
     grid: &[f64],
     m: usize,
@@ -469,12 +623,21 @@ pub(crate) fn separable(
     sys_u: &Solver1d,
     sys_v: &Solver1d,
 ) -> Result<SurfaceInterpolation> {
-    let r = solve_rows(sys_v, grid, m, n, dim)?;
-    let nv = sys_v.n_control();
-    let rt = transpose(&r, m, nv, dim);
-    let ct = solve_rows(sys_u, &rt, nv, m, dim)?;
-    let nu = sys_u.n_control();
-    let control = transpose(&ct, nv, nu, dim);
+    let (nu, nv) = (sys_u.n_control(), sys_v.n_control());
+    let width = nv * dim;
+    let control = if sys_u.solves_in_place() {
+        // Open in u: the rows' solutions go straight into rows 1..=m of the net, and the
+        // columns are solved in place with whole rows as right-hand sides (no transposes).
+        let mut control = vec![0.0; nu * width];
+        solve_grid_rows(sys_v, grid, n, dim, &mut control[width..(m + 1) * width])?;
+        sys_u.solve_in_place(&mut control, width)?;
+        control
+    } else {
+        let r = solve_rows(sys_v, grid, m, n, dim)?;
+        let rt = transpose(&r, m, nv, dim);
+        let ct = solve_rows(sys_u, &rt, nv, m, dim)?;
+        transpose(&ct, nv, nu, dim)
+    };
     Ok(SurfaceInterpolation {
         surface: BsplineSurface::from_flat(
             (3, 3),
@@ -526,7 +689,7 @@ pub fn interpolate_heights(
     let fit = interpolate_surface_flat(rows, cols, 1, z, &opts)?;
     let s = fit.surface;
     let map = |k: &[f64], o: f64, h: f64| k.iter().map(|t| o + t * h).collect::<Vec<_>>();
-    BsplineSurface::from_flat(
+    let mut mapped = BsplineSurface::from_flat(
         s.degree,
         map(&s.knots_u, origin.0, dx),
         map(&s.knots_v, origin.1, dy),
@@ -534,7 +697,11 @@ pub fn interpolate_heights(
         s.n_v,
         1,
         s.control,
-    )
+    )?;
+    // Uniform by construction: the solve used the exact rows (1, 4, 1)/6 of integer knots,
+    // and evaluation must too (the mapped knots carry rounding of o + t·h).
+    mapped.steps = (Some(dx), Some(dy));
+    Ok(mapped)
 }
 
 /// Interpolates heights z[i][j] (row-major, `xs.len() × ys.len()`) given at the grid
@@ -583,7 +750,7 @@ pub fn interpolate_heights_at(
         }
     }
     let p = Parametrization::ChordLength;
-    let sys_u = Solver1d::new(xs, end, p)?;
-    let sys_v = Solver1d::new(ys, end, p)?;
+    let sys_u = Solver1d::new(xs.to_vec(), end, p)?;
+    let sys_v = Solver1d::new(ys.to_vec(), end, p)?;
     Ok(separable(z, xs.len(), ys.len(), 1, &sys_u, &sys_v)?.surface)
 }

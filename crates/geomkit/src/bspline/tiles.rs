@@ -142,12 +142,12 @@ impl CurveTiler {
         };
         let (start_end, finish_end) = (end(lo == 0), end(hi == self.n));
         let t = parameters_from(points, d, self.options.parametrization, false, t_start)?;
-        let mut control = vec![0.0; (local_n + 2) * d];
-        Solver1d::new_mixed(&t, &start_end, &finish_end)?.solve(points, d, &mut control)?;
+        let fit = Solver1d::new_mixed(t, &start_end, &finish_end)?.interpolate(points, d)?;
+        debug_assert_eq!(fit.curve.n_control(), local_n + 2);
         let (w0, w1) = (plan.write.start - lo, plan.write.end - lo);
         Ok(TileSolution {
-            control: control[w0 * d..w1 * d].to_vec(),
-            parameters: t,
+            control: fit.curve.control_flat()[w0 * d..w1 * d].to_vec(),
+            parameters: fit.parameters,
         })
     }
 }
@@ -234,7 +234,7 @@ pub fn interpolate_surface_tiled(
             } else {
                 &natural
             };
-            let sys_u = Solver1d::new_mixed(&tu[ru.clone()], end_u0, end_u1)?;
+            let sys_u = Solver1d::new_mixed(tu[ru.clone()].to_vec(), end_u0, end_u1)?;
             for pv in &plan_v {
                 let rv = &pv.read;
                 let end_v0 = if rv.start == 0 {
@@ -247,7 +247,7 @@ pub fn interpolate_surface_tiled(
                 } else {
                     &natural
                 };
-                let sys_v = Solver1d::new_mixed(&tv[rv.clone()], end_v0, end_v1)?;
+                let sys_v = Solver1d::new_mixed(tv[rv.clone()].to_vec(), end_v0, end_v1)?;
                 let (m, n) = (ru.len(), rv.len());
                 let mut block = Vec::with_capacity(m * n * dim);
                 for i in ru.clone() {
@@ -367,7 +367,7 @@ pub fn paper_fragments_averaged(
 pub(crate) fn paper_inner(points: &[f64], dim: usize) -> Result<Vec<f64>> {
     let n = points.len() / dim;
     let t: Vec<f64> = (0..n).map(|i| i as f64).collect();
-    let system = Solver1d::new(&t, &EndCondition::Repeat, super::Parametrization::Uniform)?;
+    let system = Solver1d::new(t, &EndCondition::Repeat, super::Parametrization::Uniform)?;
     let mut out = vec![0.0; system.n_control() * dim];
     system.solve(points, dim, &mut out)?;
     Ok(out[3 * dim..(n + 1) * dim].to_vec())

@@ -1,0 +1,508 @@
+//! The O(N) solver of open interpolation systems. With the rows ordered [start condition,
+//! interpolation at t_0..t_(N-1), end condition], the interpolation rows of a cubic B-spline
+//! at its knots are tridiagonal (three basis functions are non-zero at a knot), so the
+//! system is a tridiagonal T plus two end rows. T is solved by Thomas sweeps — without
+//! pivoting, which is stable here: collocation matrices of B-splines are totally positive
+//! (de Boor) — and the end rows by the Woodbury identity with the two columns T^-1 e_0 and
+//! T^-1 e_(n-1), which decay geometrically away from their end and are kept only while above
+//! rounding.
+//!
+//! Uniform parameters (the paper's case, heights over regular grids) give the constant rows
+//! (1, 4, 1)/6 of formula (1): a Toeplitz T whose Thomas pivots converge to 2 + √3 within 30
+//! rows (stored up to there, then constant): O(1) memory besides the output. There the
+//! sweeps also run in parallel over chunks: the influence of a row decays like
+//! (2 - √3)^k = 0.268^k, so a chunk started [`HALO`] rows early from zero and ended
+//! [`HALO`] rows late equals the global sweeps to rounding (0.268^40 ≈ 1e-23).
+
+use rayon::prelude::*;
+
+/// Toeplitz pivots stored explicitly; beyond, they equal the limit to the last bit.
+const STORED: usize = 64;
+
+/// Rows a parallel chunk of the Toeplitz sweeps starts early / ends late.
+const HALO: usize = 40;
+
+/// Numbers per parallel chunk of the Toeplitz sweeps (rows × columns).
+const CHUNK: usize = 3 << 16;
+
+/// Entries of the decaying columns below this (relative to their first) are dropped.
+const NEGLIGIBLE: f64 = 1e-40;
+
+/// How T is solved.
+#[derive(Debug, Clone)]
+enum Tri {
+    /// T = tridiag(1, 4, 1).
+    Toeplitz { inv_pivot: Vec<f64>, inv_limit: f64 },
+    /// A general tridiagonal T, factored: per row [m_r, 1/d_r, c_r/d_r] (forward
+    /// multiplier, inverse pivot, upper entry over the pivot).
+    General { factors: Vec<[f64; 3]> },
+}
+
+/// A tridiagonal T of order `n`, plus a rank-2 correction replacing its first and last rows.
+#[derive(Debug, Clone)]
+pub(crate) struct TridiagSystem {
+    n: usize,
+    tri: Tri,
+    /// T^-1 e_0 (its leading entries), and T^-1 e_(n-1) from the last entry backwards.
+    z: [Vec<f64>; 2],
+    /// Correction rows: (first column, coefficients) to add to rows 0 and n-1 of T.
+    rows: [(usize, Vec<f64>); 2],
+    /// Inverse of the 2×2 capacitance matrix I + V^T Z.
+    cap_inv: [[f64; 2]; 2],
+}
+
+impl TridiagSystem {
+    /// The system whose rows 1..n-2 are (1, 4, 1) and whose rows 0 and n-1 are `start` and
+    /// `end` (first column, coefficients). `None` when it is singular.
+    pub fn toeplitz(n: usize, start: (usize, Vec<f64>), end: (usize, Vec<f64>)) -> Option<Self> {
+        if n < 2 {
+            return None;
+        }
+        let mut inv_pivot = Vec::with_capacity(STORED.min(n));
+        let mut d = 4.0f64;
+        for _ in 0..STORED.min(n) {
+            inv_pivot.push(1.0 / d);
+            d = 4.0 - 1.0 / d;
+        }
+        let tri = Tri::Toeplitz {
+            inv_pivot,
+            inv_limit: 1.0 / (2.0 + 3f64.sqrt()),
+        };
+        Self::with_end_rows(n, tri, start, end, [(0, 4.0), (1, 1.0)], [1.0, 4.0])
+    }
+
+    /// The system whose rows r = 1..n-2 are `inner(r)` = (r-1, r, r+1 entries) and whose
+    /// rows 0 and n-1 are `start` and `end`. `None` when it is singular.
+    pub fn general(
+        n: usize,
+        inner: impl Fn(usize) -> [f64; 3],
+        start: (usize, Vec<f64>),
+        end: (usize, Vec<f64>),
+    ) -> Option<Self> {
+        if n < 2 {
+            return None;
+        }
+        // T's own rows 0 and n-1 are e_0 and e_(n-1): T stays totally positive.
+        let mut factors = Vec::with_capacity(n);
+        factors.push([0.0, 1.0, 0.0]);
+        let mut prev_u = 0.0;
+        for r in 1..n {
+            let [a, b, c] = if r + 1 == n {
+                [0.0, 1.0, 0.0]
+            } else {
+                inner(r)
+            };
+            // prev pivot d = 1/inv, prev upper = u·d: m = a/d_prev, d = b - m·c_prev
+            //   = b - a·u_prev.
+            let d = b - a * prev_u;
+            if !(d.is_finite() && d.abs() > 1e-14 * (a.abs() + b.abs() + c.abs())) {
+                return None;
+            }
+            let m = a * factors[r - 1][1];
+            prev_u = c / d;
+            factors.push([m, 1.0 / d, prev_u]);
+        }
+        Self::with_end_rows(
+            n,
+            Tri::General { factors },
+            start,
+            end,
+            [(0, 1.0), (1, 0.0)],
+            [0.0, 1.0],
+        )
+    }
+
+    /// Adds the Woodbury part: the decaying columns, the correction rows (the wanted end rows
+    /// minus T's own, `t_first` = T's row 0 as (column, value) and `t_last` = T's row n-1
+    /// entries at columns n-2, n-1), and the capacitance matrix.
+    fn with_end_rows(
+        n: usize,
+        tri: Tri,
+        start: (usize, Vec<f64>),
+        end: (usize, Vec<f64>),
+        t_first: [(usize, f64); 2],
+        t_last: [f64; 2],
+    ) -> Option<Self> {
+        let mut sys = TridiagSystem {
+            n,
+            tri,
+            z: [Vec::new(), Vec::new()],
+            rows: [(0, Vec::new()), (0, Vec::new())],
+            cap_inv: [[1.0, 0.0], [0.0, 1.0]],
+        };
+        sys.z = [sys.decaying_column(true), sys.decaying_column(false)];
+        let sub = |(first, c): (usize, Vec<f64>), t_row: [(usize, f64); 2]| {
+            let lo = first.min(t_row[0].0);
+            let hi = (first + c.len() - 1).max(t_row[1].0);
+            let mut full = vec![0.0; hi - lo + 1];
+            for (k, v) in c.iter().enumerate() {
+                full[first + k - lo] += v;
+            }
+            for (j, v) in t_row {
+                full[j - lo] -= v;
+            }
+            (lo, full)
+        };
+        sys.rows = [
+            sub(start, t_first),
+            sub(end, [(n - 2, t_last[0]), (n - 1, t_last[1])]),
+        ];
+        // Capacitance C = I + V^T Z, Z = [T^-1 e_0, T^-1 e_(n-1)].
+        let mut c = [[1.0, 0.0], [0.0, 1.0]];
+        for (a, (first, coeffs)) in sys.rows.iter().enumerate() {
+            for (k, v) in coeffs.iter().enumerate() {
+                c[a][0] += v * sys.z_at(0, first + k);
+                c[a][1] += v * sys.z_at(1, first + k);
+            }
+        }
+        let det = c[0][0] * c[1][1] - c[0][1] * c[1][0];
+        let scale = c.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        if det.is_nan() || det.abs() <= 1e-13 * scale * scale {
+            return None;
+        }
+        sys.cap_inv = [
+            [c[1][1] / det, -c[0][1] / det],
+            [-c[1][0] / det, c[0][0] / det],
+        ];
+        Some(sys)
+    }
+
+    /// T^-1 e_0 (`first`) or T^-1 e_(n-1) (stored from the last entry backwards), up to
+    /// where it falls below rounding.
+    fn decaying_column(&self, first: bool) -> Vec<f64> {
+        let n = self.n;
+        match &self.tri {
+            Tri::Toeplitz { .. } => {
+                // Persymmetric: both columns are the same. Solve on a truncated system: the
+                // tail is below 0.268^80 ≈ 1e-46.
+                let m = n.min(160);
+                let mut z = vec![0.0; m];
+                z[0] = 1.0;
+                let trunc = TridiagSystem {
+                    n: m,
+                    tri: self.tri.clone(),
+                    z: [Vec::new(), Vec::new()],
+                    rows: [(0, Vec::new()), (0, Vec::new())],
+                    cap_inv: [[1.0, 0.0], [0.0, 1.0]],
+                };
+                trunc.solve_t(&mut z, 1);
+                z.truncate(80.min(n));
+                z
+            }
+            Tri::General { factors } if first => {
+                // Forward: y_0 = 1, y_r = -m_r y_(r-1) until negligible; backward from there.
+                let mut y = vec![1.0];
+                for f in &factors[1..] {
+                    let next = -f[0] * y[y.len() - 1];
+                    if next.abs() < NEGLIGIBLE {
+                        break;
+                    }
+                    y.push(next);
+                }
+                let mut x_next = 0.0;
+                for r in (0..y.len()).rev() {
+                    y[r] = factors[r][1] * y[r] - factors[r][2] * x_next;
+                    x_next = y[r];
+                }
+                y
+            }
+            Tri::General { factors } => {
+                // e_(n-1) passes the forward sweep unchanged; backward x_r = -u_r x_(r+1).
+                let mut z = vec![factors[n - 1][1]];
+                for r in (0..n - 1).rev() {
+                    let next = -factors[r][2] * z[z.len() - 1];
+                    if next.abs() < NEGLIGIBLE * z[0].abs() {
+                        break;
+                    }
+                    z.push(next);
+                }
+                z
+            }
+        }
+    }
+
+    /// Entry j of T^-1 e_0 (`which` = 0) or T^-1 e_(n-1) (`which` = 1).
+    #[inline]
+    fn z_at(&self, which: usize, j: usize) -> f64 {
+        let k = if which == 0 { j } else { self.n - 1 - j };
+        self.z[which].get(k).copied().unwrap_or(0.0)
+    }
+
+    /// Inverse Toeplitz pivot of row r.
+    #[inline]
+    fn inv(inv_pivot: &[f64], inv_limit: f64, r: usize) -> f64 {
+        if r < inv_pivot.len() {
+            inv_pivot[r]
+        } else {
+            inv_limit
+        }
+    }
+
+    /// Solves T x = b in place (b row-major n × cols).
+    fn solve_t(&self, b: &mut [f64], cols: usize) {
+        let n = self.n;
+        match &self.tri {
+            Tri::Toeplitz {
+                inv_pivot,
+                inv_limit,
+            } => {
+                let inv = |r| Self::inv(inv_pivot, *inv_limit, r);
+                let chunks = (n * cols / CHUNK).min(n / (8 * HALO));
+                if chunks >= 2 && rayon::current_num_threads() > 1 {
+                    return toeplitz_par(b, cols, n, chunks, &inv);
+                }
+                for r in 1..n {
+                    let l = inv(r - 1);
+                    let (prev, cur) = b[(r - 1) * cols..(r + 1) * cols].split_at_mut(cols);
+                    for (x, p) in cur.iter_mut().zip(prev.iter()) {
+                        *x -= l * p;
+                    }
+                }
+                let last = inv(n - 1);
+                for x in &mut b[(n - 1) * cols..n * cols] {
+                    *x *= last;
+                }
+                for r in (0..n - 1).rev() {
+                    let i = inv(r);
+                    let (cur, next) = b[r * cols..(r + 2) * cols].split_at_mut(cols);
+                    for (x, nx) in cur.iter_mut().zip(next.iter()) {
+                        *x = (*x - nx) * i;
+                    }
+                }
+            }
+            Tri::General { factors } => {
+                for r in 1..n {
+                    let m = factors[r][0];
+                    let (prev, cur) = b[(r - 1) * cols..(r + 1) * cols].split_at_mut(cols);
+                    for (x, p) in cur.iter_mut().zip(prev.iter()) {
+                        *x -= m * p;
+                    }
+                }
+                let last = factors[n - 1][1];
+                for x in &mut b[(n - 1) * cols..n * cols] {
+                    *x *= last;
+                }
+                for r in (0..n - 1).rev() {
+                    let [_, i, u] = factors[r];
+                    let (cur, next) = b[r * cols..(r + 2) * cols].split_at_mut(cols);
+                    for (x, nx) in cur.iter_mut().zip(next.iter()) {
+                        *x = *x * i - u * nx;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Solves the full system in place (b row-major n × cols).
+    pub fn solve(&self, b: &mut [f64], cols: usize) {
+        self.solve_t(b, cols);
+        let n = self.n;
+        for c in 0..cols {
+            let mut w = [0.0; 2];
+            for (a, (first, coeffs)) in self.rows.iter().enumerate() {
+                w[a] = coeffs
+                    .iter()
+                    .enumerate()
+                    .map(|(k, v)| v * b[(first + k) * cols + c])
+                    .sum();
+            }
+            let g0 = self.cap_inv[0][0] * w[0] + self.cap_inv[0][1] * w[1];
+            let g1 = self.cap_inv[1][0] * w[0] + self.cap_inv[1][1] * w[1];
+            for (j, zj) in self.z[0].iter().enumerate() {
+                b[j * cols + c] -= zj * g0;
+            }
+            for (k, zk) in self.z[1].iter().enumerate() {
+                b[(n - 1 - k) * cols + c] -= zk * g1;
+            }
+        }
+    }
+}
+
+/// The Toeplitz sweeps of [`TridiagSystem::solve_t`] in parallel over chunks of rows: each
+/// chunk starts its forward sweep [`HALO`] rows early from zero (over a saved copy of those
+/// rows, which the previous chunk overwrites) and continues it [`HALO`] rows past its end
+/// into scratch, where its backward sweep starts from zero.
+fn toeplitz_par(
+    b: &mut [f64],
+    cols: usize,
+    n: usize,
+    chunks: usize,
+    inv: &(impl Fn(usize) -> f64 + Sync),
+) {
+    let bounds: Vec<(usize, usize)> = (0..chunks)
+        .map(|k| (k * n / chunks, (k + 1) * n / chunks))
+        .collect();
+    // The original rows each chunk needs from its neighbours: [lo - HALO, lo) (from row 0
+    // when that is near the start, so that the early pivots are the exact ones) and
+    // [hi, hi + HALO).
+    let halos: Vec<(usize, Vec<f64>, Vec<f64>)> = bounds
+        .iter()
+        .map(|&(lo, hi)| {
+            let s = if lo <= HALO + STORED { 0 } else { lo - HALO };
+            let e = (hi + HALO).min(n);
+            (
+                s,
+                b[s * cols..lo * cols].to_vec(),
+                b[hi * cols..e * cols].to_vec(),
+            )
+        })
+        .collect();
+    let mut parts: Vec<&mut [f64]> = Vec::with_capacity(chunks);
+    let mut rest = b;
+    for &(lo, hi) in &bounds {
+        let (part, tail) = rest.split_at_mut((hi - lo) * cols);
+        parts.push(part);
+        rest = tail;
+    }
+    parts
+        .into_par_iter()
+        .zip(bounds.par_iter().zip(halos.par_iter()))
+        .for_each(|(part, (&(lo, hi), (s, before, after)))| {
+            let mut y = vec![0.0; cols];
+            // Forward over the rows before the chunk (not stored).
+            for (k, row) in before.chunks_exact(cols).enumerate() {
+                let r = s + k;
+                let l = if r == 0 { 0.0 } else { inv(r - 1) };
+                for (v, x) in y.iter_mut().zip(row) {
+                    *v = x - l * *v;
+                }
+            }
+            // Forward over the chunk, in place.
+            for (k, row) in part.chunks_exact_mut(cols).enumerate() {
+                let r = lo + k;
+                let l = if r == 0 { 0.0 } else { inv(r - 1) };
+                for (v, x) in y.iter_mut().zip(row.iter_mut()) {
+                    *x -= l * *v;
+                    *v = *x;
+                }
+            }
+            // Forward past the chunk into scratch, then backward from its end.
+            let mut tail: Vec<f64> = after.clone();
+            for (k, row) in tail.chunks_exact_mut(cols).enumerate() {
+                let l = inv(hi + k - 1);
+                for (v, x) in y.iter_mut().zip(row.iter_mut()) {
+                    *x -= l * *v;
+                    *v = *x;
+                }
+            }
+            let mut x_next = vec![0.0; cols];
+            for (k, row) in tail.chunks_exact(cols).enumerate().rev() {
+                let i = inv(hi + k);
+                for (xn, yv) in x_next.iter_mut().zip(row) {
+                    *xn = (yv - *xn) * i;
+                }
+            }
+            for (k, row) in part.chunks_exact_mut(cols).enumerate().rev() {
+                let i = inv(lo + k);
+                for (xn, v) in x_next.iter_mut().zip(row.iter_mut()) {
+                    *v = (*v - *xn) * i;
+                    *xn = *v;
+                }
+            }
+        });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    type Row = (usize, Vec<f64>);
+
+    fn dense_check(n: usize, start: Row, end: Row, inner: &dyn Fn(usize) -> [f64; 3]) {
+        let x: Vec<f64> = (0..n)
+            .map(|i| ((i * 7) % 5) as f64 - 1.5 + i as f64 * 0.01)
+            .collect();
+        let row = |r: usize| -> Vec<(usize, f64)> {
+            let (first, c) = if r == 0 {
+                start.clone()
+            } else if r == n - 1 {
+                end.clone()
+            } else {
+                (r - 1, inner(r).to_vec())
+            };
+            c.iter().enumerate().map(|(k, v)| (first + k, *v)).collect()
+        };
+        let b: Vec<f64> = (0..n)
+            .map(|r| row(r).iter().map(|(j, v)| v * x[*j]).sum())
+            .collect();
+        let toeplitz = (1..n - 1).all(|r| inner(r) == [1.0, 4.0, 1.0]);
+        let mut systems = vec![TridiagSystem::general(n, inner, start.clone(), end.clone())];
+        if toeplitz {
+            systems.push(TridiagSystem::toeplitz(n, start.clone(), end.clone()));
+        }
+        for sys in systems {
+            let mut got = b.clone();
+            sys.unwrap().solve(&mut got, 1);
+            for (g, want) in got.iter().zip(&x) {
+                assert!(
+                    (g - want).abs() < 1e-12 * (1.0 + want.abs()),
+                    "n={n}: {g} vs {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn woodbury_matches_the_system() {
+        let toeplitz = |_: usize| [1.0, 4.0, 1.0];
+        let uneven = |r: usize| {
+            let a = 0.1 + (r % 3) as f64 * 0.2;
+            let c = 0.05 + (r % 5) as f64 * 0.1;
+            [a, 1.0 - a - c, c]
+        };
+        for n in [2usize, 3, 5, 12, 100, 161, 1000] {
+            for inner in [&toeplitz as &dyn Fn(usize) -> [f64; 3], &uneven] {
+                dense_check(n, (0, vec![1.0]), (n - 1, vec![1.0]), inner);
+                // (Smaller n would make the two end rows identical, a singular system.)
+                if n >= 4 {
+                    let d2 = vec![1.0, -2.0, 1.0];
+                    dense_check(n, (0, d2.clone()), (n - 3, d2), inner);
+                }
+                if n >= 7 {
+                    let d4 = vec![-1.0, 4.0, -6.0, 4.0, -1.0];
+                    dense_check(n, (0, d4.clone()), (n - 5, d4), inner);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn parallel_toeplitz_sweeps_equal_the_sequential_ones() {
+        let n = 5 * CHUNK / 3 + 17;
+        let cols = 3;
+        let b: Vec<f64> = (0..n * cols).map(|i| ((i as f64) * 0.37).sin()).collect();
+        let sys = TridiagSystem::toeplitz(n, (0, vec![1.0]), (n - 1, vec![1.0])).unwrap();
+        let Tri::Toeplitz {
+            inv_pivot,
+            inv_limit,
+        } = &sys.tri
+        else {
+            unreachable!()
+        };
+        let inv = |r| TridiagSystem::inv(inv_pivot, *inv_limit, r);
+        let mut par = b.clone();
+        toeplitz_par(&mut par, cols, n, 7, &inv);
+        let mut seq = b;
+        for r in 1..n {
+            for c in 0..cols {
+                seq[r * cols + c] -= inv(r - 1) * seq[(r - 1) * cols + c];
+            }
+        }
+        for r in (0..n).rev() {
+            for c in 0..cols {
+                let next = if r + 1 < n {
+                    seq[(r + 1) * cols + c]
+                } else {
+                    0.0
+                };
+                seq[r * cols + c] = (seq[r * cols + c] - next) * inv(r);
+            }
+        }
+        let scale = seq.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let err = par
+            .iter()
+            .zip(&seq)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(err <= 2.0 * f64::EPSILON * scale, "{err:e}");
+    }
+}
