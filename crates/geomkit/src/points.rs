@@ -20,8 +20,14 @@ pub(crate) fn validate_points(what: &'static str, dim: usize, data: &[f64]) -> R
         });
     }
     if let Some(k) = first_non_finite(data) {
+        // One of `what`: "reference points" -> "reference point 7 is not a finite number".
+        let one = match what {
+            "control net" => "control net point",
+            "reference grid" => "reference grid point",
+            _ => what.strip_suffix('s').unwrap_or(what),
+        };
         return Err(Error::NonFinite {
-            what: "control point",
+            what: one,
             index: k / dim,
         });
     }
