@@ -911,9 +911,11 @@ impl Graph {
     /// The number of arithmetic operations of the DAG reachable from `roots`, each shared
     /// node counted once: an n-term sum costs n−1 additions (+1 for a constant term, +1 per
     /// coefficient other than ±1), a product n−1 multiplications or divisions (+1 for a
-    /// coefficient other than 1, +1 per power other than ±1), a function call 1.
+    /// coefficient other than 1), each distinct power `b^k` (|k| ≥ 2) 1 however many
+    /// products use it (the [`crate::Tape`] computes it once), a function call 1.
     pub fn op_count(&self, roots: &[Id]) -> usize {
         let mut n = 0;
+        let mut powers: std::collections::HashSet<(Id, u32)> = std::collections::HashSet::new();
         for id in self.reachable(roots) {
             n += match self.node(id) {
                 Node::Const(_) | Node::Var(_) | Node::Pi => 0,
@@ -928,8 +930,12 @@ impl Graph {
                 Node::Mul(c, fs) => {
                     fs.len() - 1
                         + usize::from(!c.is_one())
-                        + fs.iter().filter(|(_, e)| *e != 1 && *e != -1).count()
                         + usize::from(fs.iter().all(|(_, e)| *e < 0))
+                        + fs.iter()
+                            .filter(|(b, e)| {
+                                e.unsigned_abs() >= 2 && powers.insert((*b, e.unsigned_abs()))
+                            })
+                            .count()
                 }
                 Node::Fun(..) => 1,
             };
@@ -979,6 +985,25 @@ impl Graph {
         Ok(val[&e])
     }
 
+    /// [`ExprError::NonFiniteConstant`] if the node itself holds a NaN or infinite constant
+    /// (as a constant, a constant term or a coefficient).
+    pub(crate) fn check_constants(&self, id: Id) -> Result<()> {
+        let bad = |c: &Const| ExprError::NonFiniteConstant {
+            value: format!("{:?}", c.to_f64()),
+        };
+        match self.node(id) {
+            Node::Const(c) | Node::Mul(c, _) if !c.is_finite() => Err(bad(c)),
+            Node::Add(c, ts) => match std::iter::once(c)
+                .chain(ts.iter().map(|t| &t.0))
+                .find(|k| !k.is_finite())
+            {
+                Some(k) => Err(bad(k)),
+                None => Ok(()),
+            },
+            _ => Ok(()),
+        }
+    }
+
     /// The value of one node from its children's values.
     pub(crate) fn eval_node(
         &self,
@@ -986,15 +1011,9 @@ impl Graph {
         child: impl Fn(Id) -> f64,
         var: impl Fn(&str) -> Option<f64>,
     ) -> Result<f64> {
+        self.check_constants(id)?;
         Ok(match self.node(id) {
-            Node::Const(c) => {
-                if !c.is_finite() {
-                    return Err(ExprError::NonFiniteConstant {
-                        value: format!("{:?}", c.to_f64()),
-                    });
-                }
-                c.to_f64()
-            }
+            Node::Const(c) => c.to_f64(),
             Node::Pi => std::f64::consts::PI,
             Node::Var(name) => var(name).ok_or_else(|| ExprError::UnknownVariable {
                 name: name.to_string(),

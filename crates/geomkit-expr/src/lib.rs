@@ -41,6 +41,7 @@
 //! ```
 
 mod error;
+pub mod fixtures;
 mod graph;
 mod parse;
 mod print;

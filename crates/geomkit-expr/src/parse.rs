@@ -19,7 +19,8 @@ pub const MAX_DEPTH: usize = 200;
 /// `unary = ("-"|"+") unary | power`, `power = atom (("^"|"**") unary)?`,
 /// `atom = number | name | name "(" expr ")" | "(" expr ")"`. Exponents must be integer
 /// constants (or exactly 1/2, read as `sqrt`). Function names: `abs sign sqrt sin cos tan
-/// exp ln log(=ln) atan arctan asin arcsin acos arccos sinh cosh tanh`.
+/// exp ln log(=ln) atan arctan asin arcsin acos arccos sinh cosh tanh` (and `Abs`, `signum`,
+/// `Log`, `Pi` as Maple and SymPy print them).
 ///
 /// # Errors
 /// [`ExprError::Parse`] with the byte position and what was expected,
@@ -230,7 +231,9 @@ impl Parser<'_, '_> {
         }
         let name = &self.text[start..self.pos];
         let func = match name {
-            "log" => Some(Func::Ln),
+            "log" | "Log" => Some(Func::Ln),
+            "Abs" => Some(Func::Abs),
+            "signum" | "Sign" => Some(Func::Sign),
             "arctan" => Some(Func::Atan),
             "arcsin" => Some(Func::Asin),
             "arccos" => Some(Func::Acos),
@@ -254,7 +257,7 @@ impl Parser<'_, '_> {
                 "a known function (abs, sign, sqrt, sin, cos, tan, exp, ln, atan, asin, acos, sinh, cosh, tanh), not `{name}`"
             )));
         }
-        if name == "pi" {
+        if name == "pi" || name == "Pi" {
             return Ok(self.g.pi());
         }
         Ok(self.g.var(name))

@@ -654,6 +654,56 @@ impl Graph {
         out
     }
 
+    /// A batched Rust function over slices — the generated-code fast path: compile it
+    /// into your program (or let a build script write it) and every point runs the
+    /// straight-line code of [`Graph::print_program`] in a loop the compiler vectorizes.
+    /// Signature: `pub fn name(u: &[f64], v: &[f64], out0: &mut [f64], ...)`; all slices
+    /// must have the length of the first parameter's (the function panics otherwise).
+    ///
+    /// ```
+    /// use geomkit_expr::{parse, Graph};
+    /// let mut g = Graph::new();
+    /// let x = parse(&mut g, "abs(u - 1)*v").unwrap();
+    /// let text = g.print_batch_rust("f", &["u", "v"], &[x]);
+    /// assert!(text.starts_with("pub fn f(u: &[f64], v: &[f64], out0: &mut [f64]) {"));
+    /// ```
+    pub fn print_batch_rust(&self, name: &str, params: &[&str], roots: &[Id]) -> String {
+        let outs: Vec<String> = (0..roots.len()).map(|i| format!("out{i}")).collect();
+        let pairs: Vec<(&str, Id)> = outs
+            .iter()
+            .map(String::as_str)
+            .zip(roots.iter().copied())
+            .collect();
+        let body = self.print_program(&pairs, Format::Rust);
+        let first = params.first().copied().unwrap_or("x");
+        let mut out = String::new();
+        let args: Vec<String> = params
+            .iter()
+            .map(|p| format!("{p}: &[f64]"))
+            .chain(outs.iter().map(|o| format!("{o}: &mut [f64]")))
+            .collect();
+        let _ = writeln!(out, "pub fn {name}({}) {{", args.join(", "));
+        let _ = writeln!(out, "    let n = {first}.len();");
+        for p in params {
+            let _ = writeln!(out, "    let {p}_s = &{p}[..n];");
+        }
+        for o in &outs {
+            let _ = writeln!(out, "    let {o}_s = &mut {o}[..n];");
+        }
+        let _ = writeln!(out, "    for i in 0..n {{");
+        for p in params {
+            let _ = writeln!(out, "        let {p} = {p}_s[i];");
+        }
+        for line in body.lines() {
+            let _ = writeln!(out, "        {line}");
+        }
+        for o in &outs {
+            let _ = writeln!(out, "        {o}_s[i] = {o};");
+        }
+        out.push_str("    }\n}\n");
+        out
+    }
+
     /// A complete function `name(params...)` returning all `roots`, with
     /// common-subexpression temporaries: C `void name(double u, ..., double *out)`, Rust
     /// `pub fn name(u: f64, ...) -> [f64; N]`, GLSL `void name(float u, ..., out float

@@ -102,6 +102,18 @@ impl Tape {
         for r in roots {
             last_use[pos[r]] = usize::MAX;
         }
+        // Powers b^k (k >= 2) are computed once and shared by every product that uses them.
+        let mut pow_last: HashMap<(Id, u32), usize> = HashMap::new();
+        for (i, &id) in order.iter().enumerate() {
+            if let Node::Mul(_, fs) = g.node(id) {
+                for &(b, e) in fs.iter() {
+                    if e.unsigned_abs() >= 2 {
+                        pow_last.insert((b, e.unsigned_abs()), i);
+                    }
+                }
+            }
+        }
+        let mut pow_reg: HashMap<(Id, u32), u32> = HashMap::new();
         let nvars = vars.len();
         let mut alloc = Alloc {
             free: Vec::new(),
@@ -111,6 +123,7 @@ impl Tape {
         let mut val: Vec<Val> = Vec::with_capacity(order.len());
         let mut consts: Vec<f64> = vec![0.0; order.len()];
         for (i, &id) in order.iter().enumerate() {
+            g.check_constants(id)?;
             if is_const[i] {
                 let x = g.eval_node(id, |c| consts[pos[&c]], |_| None)?;
                 consts[i] = x;
@@ -185,11 +198,22 @@ impl Tape {
                             }
                             Val::Reg(r) => {
                                 let n = e.unsigned_abs();
-                                let p = match n {
-                                    1 => Owned::Borrowed(r),
-                                    2 => em.un(Op::Square, Owned::Borrowed(r)),
-                                    3 => em.un(Op::Cube, Owned::Borrowed(r)),
-                                    _ => em.un(|d, a| Op::Powi(d, a, n as i32), Owned::Borrowed(r)),
+                                let p = if n == 1 {
+                                    Owned::Borrowed(r)
+                                } else if let Some(&pr) = pow_reg.get(&(b, n)) {
+                                    Owned::Borrowed(pr)
+                                } else {
+                                    let pr = match n {
+                                        2 => em.un(Op::Square, Owned::Borrowed(r)),
+                                        3 => em.un(Op::Cube, Owned::Borrowed(r)),
+                                        _ => em.un(
+                                            |d, a| Op::Powi(d, a, n as i32),
+                                            Owned::Borrowed(r),
+                                        ),
+                                    }
+                                    .reg();
+                                    pow_reg.insert((b, n), pr);
+                                    Owned::Borrowed(pr)
                                 };
                                 let slot = if e > 0 { &mut num } else { &mut den };
                                 *slot = Some(match slot.take() {
@@ -240,6 +264,16 @@ impl Tape {
                     }
                 }
             });
+            if let Node::Mul(_, fs) = g.node(id) {
+                for &(b, e) in fs.iter() {
+                    let key = (b, e.unsigned_abs());
+                    if pow_last.get(&key) == Some(&i) {
+                        if let Some(r) = pow_reg.remove(&key) {
+                            freed.push(r);
+                        }
+                    }
+                }
+            }
             alloc.free.extend(freed);
         }
         let outs = roots.iter().map(|r| val[pos[r]]).collect();
