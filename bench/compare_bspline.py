@@ -777,7 +777,7 @@ def markdown(res, meta, cfg):
           " | |")
         for key, label in (("scattered_seq", "`eval_into` loop (1 thread)"),
                            ("scattered_threads",
-                            f"`eval_into`, {g['scattered_threads']['threads']} driver threads")):
+                            f"`eval_many_par` (rayon, {g['scattered_threads']['threads']} threads)")):
             ke, ss = g[key], sp["scattered"]
             note = f" (SciPy: {fmt_n(ss['count'])})" if ss["count"] != ke["count"] else ""
             w(f"| {sz}² | scattered {fmt_n(ke['count'])}{note} | {label} | {fmt_time(med(ke))} | "
@@ -788,7 +788,7 @@ def markdown(res, meta, cfg):
                  f"{fmt_rate(rate(ge))} ({rate(ge) / rate(se):.3g}× SciPy)",
                  f"≥ {GOALS['grid_eval'] / 1e6:g} M pts/s", rate(ge) >= GOALS["grid_eval"])
             best = max(rate(g["scattered_seq"]), rate(g["scattered_threads"]))
-            goal(f"scattered evaluation ({sz}² surface; best of 1 thread / driver threads)",
+            goal(f"scattered evaluation ({sz}² surface; best of `eval_into` loop / `eval_many_par`)",
                  f"{fmt_rate(best)} ({best / rate(sp['scattered']):.3g}× SciPy)",
                  f"≥ {GOALS['scattered_eval'] / 1e6:g} M pts/s", best >= GOALS["scattered_eval"])
     w("")

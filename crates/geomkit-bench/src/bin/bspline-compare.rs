@@ -35,8 +35,8 @@
 //!   [`height_grid`] at x_i = i/(R-1), y_j = j/(C-1); `interpolate_heights` (regular grid)
 //!   or `interpolate_heights_at` (the coordinates given), not-a-knot. Reports the build
 //!   time and peak memory, the residual at all R·C nodes, `eval_grid` on a G×G grid
-//!   (linspace over the domain), `eval_into` at S scattered points (sequential, and split
-//!   over threads by this driver), and values at K scattered points and on a sub-grid.
+//!   (linspace over the domain), at S scattered points `eval_into` one by one and the
+//!   batched `eval_many_par`, and values at K scattered points and on a sub-grid.
 //!
 //! `"only_time": true` skips everything but the timing of the build (for `perf record`).
 //!
@@ -489,29 +489,11 @@ fn surface_bytes(s: &BsplineSurface) -> u64 {
     8 * (ku.len() + kv.len() + s.control_flat().len()) as u64
 }
 
-/// Evaluates at scattered points with `eval_into`, the points split into one contiguous
-/// chunk per thread (`threads` = 1: the calling thread only).
-fn eval_scattered(s: &BsplineSurface, u: &[f64], v: &[f64], out: &mut [f64], threads: usize) {
-    let chunk = u.len().div_ceil(threads.max(1)).max(1);
-    if threads <= 1 {
-        for ((a, b), o) in u.iter().zip(v).zip(out.iter_mut()) {
-            s.eval_into(*a, *b, std::slice::from_mut(o));
-        }
-        return;
+/// Evaluates at scattered points with `eval_into`, one point after the other.
+fn eval_scattered(s: &BsplineSurface, u: &[f64], v: &[f64], out: &mut [f64]) {
+    for ((a, b), o) in u.iter().zip(v).zip(out.iter_mut()) {
+        s.eval_into(*a, *b, std::slice::from_mut(o));
     }
-    std::thread::scope(|scope| {
-        for ((uc, vc), oc) in u
-            .chunks(chunk)
-            .zip(v.chunks(chunk))
-            .zip(out.chunks_mut(chunk))
-        {
-            scope.spawn(move || {
-                for ((a, b), o) in uc.iter().zip(vc).zip(oc.iter_mut()) {
-                    s.eval_into(*a, *b, std::slice::from_mut(o));
-                }
-            });
-        }
-    });
 }
 
 fn surface(case: &Case, timing: Timing) -> Value {
@@ -569,12 +551,9 @@ fn surface(case: &Case, timing: Timing) -> Value {
     let su = random_params(m, u0, u1, case.param_seed);
     let sv = random_params(m, v0, v1, case.param_seed + 1);
     let mut sc_out = vec![0.0; m];
-    let (_, seq_times) = time_it(|| eval_scattered(&s, &su, &sv, &mut sc_out, 1), timing);
+    let (_, seq_times) = time_it(|| eval_scattered(&s, &su, &sv, &mut sc_out), timing);
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let (_, thr_times) = time_it(
-        || eval_scattered(&s, &su, &sv, &mut sc_out, threads),
-        timing,
-    );
+    let (_, thr_times) = time_it(|| s.eval_many_par(&su, &sv, &mut sc_out).unwrap(), timing);
     let k = case.check.min(m);
     json!({
         "ok": true,

@@ -34,7 +34,7 @@ pub struct BsplineCurve {
 /// p ..= n_c - 1.
 #[inline]
 pub(crate) fn find_span(knots: &[f64], degree: usize, n_control: usize, t: f64) -> usize {
-    let (lo, hi) = (degree, n_control - 1);
+    let (lo, hi) = domain_spans(knots, degree, n_control);
     if t >= knots[hi] {
         return hi;
     }
@@ -44,6 +44,20 @@ pub(crate) fn find_span(knots: &[f64], degree: usize, n_control: usize, t: f64) 
     // Binary search for the last knot <= t within [lo, hi].
     let slice = &knots[lo..=hi];
     lo + slice.partition_point(|&k| k <= t) - 1
+}
+
+/// The first and last non-empty knot spans of the domain (end knots repeated more than p+1
+/// times leave empty spans at its ends, where the basis would divide by zero).
+#[inline]
+pub(crate) fn domain_spans(knots: &[f64], degree: usize, n_control: usize) -> (usize, usize) {
+    let (mut lo, mut hi) = (degree, n_control - 1);
+    while hi > lo && knots[hi] == knots[hi + 1] {
+        hi -= 1;
+    }
+    while lo < hi && knots[lo] == knots[lo + 1] {
+        lo += 1;
+    }
+    (lo, hi)
 }
 
 /// The p+1 nonzero basis functions N_(s-p..=s, p)(t) on span s (NURBS Book A2.2), written to
@@ -474,6 +488,13 @@ mod tests {
     #[test]
     fn rejects_bad_knots() {
         let pts = vec![vec![0.0]; 4];
+        // Empty spans at the ends of the domain are skipped, never evaluated (NaN).
+        let c =
+            BsplineCurve::new(2, vec![-1., -1., -1., 2., 2., 2., 2.], vec![vec![1.0]; 4]).unwrap();
+        assert_eq!(c.eval(2.0), vec![1.0]);
+        let c =
+            BsplineCurve::new(2, vec![-1., -1., -1., -1., 2., 3., 3.], vec![vec![1.0]; 4]).unwrap();
+        assert_eq!(c.eval(-1.0), vec![1.0]);
         assert!(BsplineCurve::new(3, vec![0.0; 7], pts.clone()).is_err());
         assert!(BsplineCurve::new(3, vec![0., 1., 2., 3., 2., 5., 6., 7.], pts.clone()).is_err());
         assert!(BsplineCurve::new(3, vec![0., 0., 0., 0., 0., 0., 0., 0.], pts).is_err());

@@ -9,7 +9,8 @@
 //! keeps j below the samples per span.
 
 use super::curve::{
-    basis_funs, basis_funs_derivs, find_span, uniform_cubic_basis, uniform_span, BsplineCurve,
+    basis_funs, basis_funs_derivs, domain_spans, find_span, uniform_cubic_basis, uniform_span,
+    BsplineCurve,
 };
 use crate::bezier::ParamCurve;
 use crate::points::check_eval_args;
@@ -317,7 +318,7 @@ struct Locator<'a> {
 impl<'a> Locator<'a> {
     fn new(curve: &'a BsplineCurve, count: usize) -> Self {
         let knots = curve.knots();
-        let (lo, hi) = (curve.degree(), curve.n_control() - 1);
+        let (lo, hi) = domain_spans(knots, curve.degree(), curve.n_control());
         let mut loc = Locator {
             knots,
             lo,
