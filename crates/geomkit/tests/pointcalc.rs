@@ -333,6 +333,34 @@ fn k_factor_model_passes_through_every_experimental_point() {
 }
 
 #[test]
+fn batched_evaluation_equals_single_points() {
+    let (model, _) = three_factor_model();
+    // 103 points (not a multiple of the 4-point blocks), some outside the box, some on nodes.
+    let xs: Vec<f64> = (0..103 * 3)
+        .map(|i| match i % 3 {
+            0 => 5.0 + (i as f64 * 0.37) % 40.0,
+            1 => (i as f64 * 0.053) % 1.1,
+            _ => {
+                if i % 7 == 0 {
+                    1.0
+                } else {
+                    -1.2 + (i as f64 * 0.11) % 2.4
+                }
+            }
+        })
+        .collect();
+    let mut out = vec![0.0; 103];
+    model.eval_many(&xs, &mut out).unwrap();
+    for (x, o) in xs.chunks_exact(3).zip(&out) {
+        let want = model.eval(x).unwrap()[0];
+        assert!(
+            (o - want).abs() <= 1e-14 * want.abs().max(1.0),
+            "{x:?}: {o} vs {want}"
+        );
+    }
+}
+
+#[test]
 fn removing_a_level_and_adding_it_back_returns_the_same_model() {
     let (model, _) = three_factor_model();
     for factor in 0..3 {

@@ -348,20 +348,39 @@ impl Hypersurface {
 
     /// Contracts the values with per-factor vectors `bases` (one factor at a time) into out.
     fn contract(&self, bases: &[Vec<f64>], work: &mut [f64], out: &mut [f64]) {
-        let mut src: &[f64] = &self.values;
+        self.contract_from(bases, 0, &self.values, work, out);
+    }
+
+    /// Contracts `src` (the values contracted over factors before `start`) with
+    /// `bases[start..]` into `out`.
+    fn contract_from(
+        &self,
+        bases: &[Vec<f64>],
+        start: usize,
+        src: &[f64],
+        work: &mut [f64],
+        out: &mut [f64],
+    ) {
+        if start == bases.len() {
+            out.copy_from_slice(src);
+            return;
+        }
+        let mut src = src;
         let mut rest_work = work;
-        for (f, b) in bases.iter().enumerate() {
+        for (f, b) in bases.iter().enumerate().skip(start) {
             let n = b.len();
             let len = src.len() / n;
             let (next, tail) = rest_work.split_at_mut(len);
-            next.fill(0.0);
-            for (bi, block) in b.iter().zip(src.chunks_exact(len)) {
-                if *bi == 0.0 {
-                    continue;
-                }
-                for (o, v) in next.iter_mut().zip(block) {
-                    *o += bi * v;
-                }
+            // next = Σ_i b_i block_i; 0 · v = ±0 keeps a node's value exact.
+            match n {
+                2 => contract_fixed::<2>(b, src, next),
+                3 => contract_fixed::<3>(b, src, next),
+                4 => contract_fixed::<4>(b, src, next),
+                5 => contract_fixed::<5>(b, src, next),
+                6 => contract_fixed::<6>(b, src, next),
+                7 => contract_fixed::<7>(b, src, next),
+                8 => contract_fixed::<8>(b, src, next),
+                _ => contract_any(b, src, next),
             }
             if f + 1 == bases.len() {
                 out.copy_from_slice(next);
@@ -418,15 +437,100 @@ impl Hypersurface {
             });
         }
         const CHUNK: usize = 512;
+        let d = self.dim;
         xs.par_chunks(CHUNK * k)
-            .zip(out.par_chunks_mut(CHUNK * self.dim))
+            .zip(out.par_chunks_mut(CHUNK * d))
             .for_each(|(xc, oc)| {
-                let mut s = self.scratch();
-                for (x, o) in xc.chunks_exact(k).zip(oc.chunks_exact_mut(self.dim)) {
-                    self.eval_with(x, &mut s, o);
+                let mut lanes: [Scratch; 4] = std::array::from_fn(|_| self.scratch());
+                let blocks = xc.len() / (4 * k);
+                for (x, o) in xc
+                    .chunks_exact(4 * k)
+                    .zip(oc.chunks_exact_mut(4 * d))
+                    .take(blocks)
+                {
+                    self.eval_block(x, &mut lanes, o);
+                }
+                let done = blocks * 4;
+                for (x, o) in xc[done * k..]
+                    .chunks_exact(k)
+                    .zip(oc[done * d..].chunks_exact_mut(d))
+                {
+                    self.eval_with(x, &mut lanes[0], o);
                 }
             });
         Ok(())
+    }
+
+    /// Four points at once: their bases lane by lane, then the first (largest) contraction
+    /// reading every source value once for all four, then the rest per point.
+    fn eval_block(&self, xs: &[f64], lanes: &mut [Scratch; 4], out: &mut [f64]) {
+        let k = self.k();
+        let d = self.dim;
+        for f in 0..k {
+            let t: [f64; 4] = std::array::from_fn(|p| xs[p * k + f]);
+            let [s0, s1, s2, s3] = lanes;
+            self.factors[f].nodes.basis_lanes(
+                t,
+                [
+                    &mut s0.bases[f],
+                    &mut s1.bases[f],
+                    &mut s2.bases[f],
+                    &mut s3.bases[f],
+                ],
+            );
+        }
+        let n0 = self.factors[0].nodes.len();
+        let len0 = self.values.len() / n0;
+        let bt: Vec<[f64; 4]> = (0..n0)
+            .map(|i| std::array::from_fn(|p| lanes[p].bases[0][i]))
+            .collect();
+        {
+            let [s0, s1, s2, s3] = lanes;
+            let (w0, w1, w2, w3) = (
+                &mut s0.work[..len0],
+                &mut s1.work[..len0],
+                &mut s2.work[..len0],
+                &mut s3.work[..len0],
+            );
+            // Blocks of 4 results: 4 × 4 accumulators, each source row slice read once.
+            const R: usize = 4;
+            let full = len0 / R * R;
+            for r0 in (0..full).step_by(R) {
+                let mut acc = [[0.0f64; R]; 4];
+                for (i, b) in bt.iter().enumerate() {
+                    let v: &[f64; R] = self.values[i * len0 + r0..i * len0 + r0 + R]
+                        .try_into()
+                        .expect("R values");
+                    for p in 0..4 {
+                        for j in 0..R {
+                            acc[p][j] += b[p] * v[j];
+                        }
+                    }
+                }
+                w0[r0..r0 + R].copy_from_slice(&acc[0]);
+                w1[r0..r0 + R].copy_from_slice(&acc[1]);
+                w2[r0..r0 + R].copy_from_slice(&acc[2]);
+                w3[r0..r0 + R].copy_from_slice(&acc[3]);
+            }
+            for r in full..len0 {
+                let mut acc = [0.0f64; 4];
+                for (i, b) in bt.iter().enumerate() {
+                    let v = self.values[i * len0 + r];
+                    for p in 0..4 {
+                        acc[p] += b[p] * v;
+                    }
+                }
+                w0[r] = acc[0];
+                w1[r] = acc[1];
+                w2[r] = acc[2];
+                w3[r] = acc[3];
+            }
+        }
+        for (p, o) in out.chunks_exact_mut(d).enumerate() {
+            let s = &mut lanes[p];
+            let (first, rest) = s.work.split_at_mut(len0);
+            self.contract_from(&s.bases, 1, first, rest, o);
+        }
     }
 
     /// The gradient: ∂M/∂x_f for every factor f, `k * dim` numbers (factor-major).
@@ -655,6 +759,36 @@ impl Hypersurface {
         let mut factors = self.factors.clone();
         factors.insert(position, factor);
         Hypersurface::new(factors, self.dim, values, &PointOptions::default())
+    }
+}
+
+/// next[r] = Σ_i b[i] src[i·len + r] for N levels: each source value read once, each result
+/// written once, the sum over i unrolled.
+#[inline]
+fn contract_fixed<const N: usize>(b: &[f64], src: &[f64], next: &mut [f64]) {
+    let len = next.len();
+    let b: [f64; N] = b.try_into().expect("N levels");
+    let blocks: [&[f64]; N] = std::array::from_fn(|i| &src[i * len..(i + 1) * len]);
+    for r in 0..len {
+        let mut acc = b[0] * blocks[0][r];
+        for i in 1..N {
+            acc += b[i] * blocks[i][r];
+        }
+        next[r] = acc;
+    }
+}
+
+/// [`contract_fixed`] for any number of levels.
+fn contract_any(b: &[f64], src: &[f64], next: &mut [f64]) {
+    let len = next.len();
+    let (first, rest) = src.split_at(len);
+    for (o, v) in next.iter_mut().zip(first) {
+        *o = b[0] * v;
+    }
+    for (bi, block) in b[1..].iter().zip(rest.chunks_exact(len)) {
+        for (o, v) in next.iter_mut().zip(block) {
+            *o += bi * v;
+        }
     }
 }
 

@@ -37,6 +37,9 @@ pub enum NodePreset {
     ChebyshevSecond,
 }
 
+/// Node sets up to this size evaluate the barycentric form with one division.
+const SMALL: usize = 16;
+
 /// Samples per node interval of the Lebesgue constant estimate (then refined).
 const LEBESGUE_SAMPLES: usize = 24;
 
@@ -226,6 +229,9 @@ impl Nodes {
             self.basis_product(t, out);
             return;
         }
+        if n <= SMALL && self.basis_small(t, out) {
+            return;
+        }
         let mut sum = 0.0;
         for k in 0..n {
             let d = t - self.values[k];
@@ -247,6 +253,83 @@ impl Nodes {
         }
         let inv = 1.0 / sum;
         out.iter_mut().for_each(|c| *c *= inv);
+    }
+
+    /// The second form multiplied through by Π_k (t - t_k): q_j = w_j Π_(k≠j) (t - t_k) by
+    /// prefix and suffix products, ℓ_j = q_j / Σ q_k (one division instead of n; the same
+    /// ratio of forward-stable sums). False (nothing written that matters) when the products
+    /// leave the normal range; the caller then divides per node.
+    #[inline]
+    fn basis_small(&self, t: f64, out: &mut [f64]) -> bool {
+        let n = self.values.len();
+        let mut prefix = [1.0; SMALL + 1];
+        for k in 0..n {
+            prefix[k + 1] = prefix[k] * (t - self.values[k]);
+        }
+        if prefix[n] == 0.0 {
+            // t is a node (or the product underflowed): decide per node.
+            if let Some(k) = self.position(t) {
+                out.fill(0.0);
+                out[k] = 1.0;
+                return true;
+            }
+            return false;
+        }
+        let mut suffix = 1.0;
+        let mut sum = 0.0;
+        for k in (0..n).rev() {
+            let q = self.weights[k] * prefix[k] * suffix;
+            out[k] = q;
+            sum += q;
+            suffix *= t - self.values[k];
+        }
+        if !sum.is_normal() {
+            return false;
+        }
+        let inv = 1.0 / sum;
+        out.iter_mut().for_each(|q| *q *= inv);
+        true
+    }
+
+    /// [`Nodes::basis_into`] at four parameters at once (the same values; the small-set
+    /// products run lane by lane so that they vectorize).
+    pub(crate) fn basis_lanes(&self, t: [f64; 4], out: [&mut [f64]; 4]) {
+        let n = self.values.len();
+        let [o0, o1, o2, o3] = out;
+        let mut outs = [o0, o1, o2, o3];
+        if n == 1 || n > SMALL {
+            for (p, o) in outs.iter_mut().enumerate() {
+                self.basis_into(t[p], o);
+            }
+            return;
+        }
+        let mut prefix = [[1.0f64; 4]; SMALL + 1];
+        for k in 0..n {
+            let x = self.values[k];
+            for p in 0..4 {
+                prefix[k + 1][p] = prefix[k][p] * (t[p] - x);
+            }
+        }
+        let mut suffix = [1.0f64; 4];
+        let mut sum = [0.0f64; 4];
+        for k in (0..n).rev() {
+            let (x, w) = (self.values[k], self.weights[k]);
+            for p in 0..4 {
+                let q = w * prefix[k][p] * suffix[p];
+                outs[p][k] = q;
+                sum[p] += q;
+                suffix[p] *= t[p] - x;
+            }
+        }
+        let (lo, hi) = self.domain();
+        for p in 0..4 {
+            if t[p] < lo || t[p] > hi || prefix[n][p] == 0.0 || !sum[p].is_normal() {
+                self.basis_into(t[p], outs[p]);
+            } else {
+                let inv = 1.0 / sum[p];
+                outs[p].iter_mut().for_each(|q| *q *= inv);
+            }
+        }
     }
 
     /// The cardinal functions at `t` as a new vector (see [`Nodes::basis_into`]).

@@ -284,7 +284,7 @@ fn local_ascent(
     for _ in 0..200 {
         let d = grad(&s);
         let norm = d.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if !(norm > 0.0) || !norm.is_finite() {
+        if norm.is_nan() || norm <= 0.0 || !norm.is_finite() {
             break;
         }
         let mut improved = false;
