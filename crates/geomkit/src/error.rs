@@ -301,10 +301,6 @@ pub enum Error {
     /// variable, division by exact zero, ...).
     #[error(transparent)]
     Expr(#[from] geomkit_expr::ExprError),
-    /// An error of the expression engine (parse error with its position, unknown
-    /// variable, division by exact zero, ...).
-    #[error(transparent)]
-    Expr(#[from] geomkit_expr::ExprError),
 }
 
 /// Result with the library's [`Error`].
