@@ -407,7 +407,7 @@ impl<'g> Printer<'g> {
             Format::Js => (format!("Math.pow({atom}, {n})"), Prec::Atom),
             Format::Glsl => {
                 // pow(x, y) is undefined for x < 0 in GLSL: |x|^n, times sign(x) when n is odd.
-                if n % 2 == 0 {
+                if n.is_multiple_of(2) {
                     (format!("pow(abs({atom}), {n}.0)"), Prec::Atom)
                 } else {
                     (

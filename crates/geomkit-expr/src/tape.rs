@@ -161,7 +161,7 @@ impl Tape {
                     let mut acc = if k0 == 1.0 {
                         Owned::Borrowed(r0)
                     } else if k0 == -1.0 {
-                        em.un(|d, a| Op::Neg(d, a), Owned::Borrowed(r0))
+                        em.un(Op::Neg, Owned::Borrowed(r0))
                     } else {
                         em.un(|d, a| Op::MulC(d, a, k0), Owned::Borrowed(r0))
                     };
