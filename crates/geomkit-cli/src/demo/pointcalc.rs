@@ -172,7 +172,7 @@ fn bsurface9(ctx: &Context) -> Result<Report> {
          along v) keeps Σ a_ij = 1 and passes through all nine points.",
     );
     let layers = |s: &dyn crate::figures::SurfaceView, legend: &str| -> Result<String> {
-        Ok(surface_svg(
+        surface_svg(
             legend,
             "nine source points (orange)",
             &[
@@ -192,7 +192,7 @@ fn bsurface9(ctx: &Context) -> Result<Report> {
                     legend: "A_ij".into(),
                 },
             ],
-        )?)
+        )
     };
     r.picture(
         ctx,
