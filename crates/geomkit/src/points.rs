@@ -35,9 +35,9 @@ pub(crate) fn validate_points(what: &'static str, dim: usize, data: &[f64]) -> R
 }
 
 /// Index of the first non-finite number. Large inputs are first scanned in parallel by a
-/// vectorizable test (x - x is NaN exactly for infinities and NaN).
+/// vectorizable test (0·x is NaN exactly for infinities and NaN, ±0 otherwise).
 pub(crate) fn first_non_finite(data: &[f64]) -> Option<usize> {
-    let suspect = |c: &[f64]| c.iter().fold(0.0, |a, x| a + (x - x)) != 0.0;
+    let suspect = |c: &[f64]| c.iter().fold(0.0, |a, x| a + 0.0 * x) != 0.0;
     let any = if data.len() >= 1 << 16 {
         use rayon::prelude::*;
         data.par_chunks(1 << 14).any(suspect)

@@ -113,18 +113,21 @@ fn basis_funs_cubic(knots: &[f64], s: usize, t: f64) -> [f64; 4] {
 }
 
 /// Basis functions and their derivatives up to order `nd` on span s (NURBS Book A2.3):
-/// `ders[k][r]` = d^k/dt^k N_(s-p+r, p)(t).
+/// `ders[k][r]` = d^k/dt^k N_(s-p+r, p)(t) for k <= min(nd, p), r <= p (degree <= 7); the
+/// other entries are 0. No allocation.
 pub(crate) fn basis_funs_derivs(
     knots: &[f64],
     span: usize,
     t: f64,
     degree: usize,
     nd: usize,
-) -> Vec<Vec<f64>> {
+) -> [[f64; 8]; 8] {
     let p = degree;
-    let mut ndu = vec![vec![0.0; p + 1]; p + 1];
-    let mut left = vec![0.0; p + 1];
-    let mut right = vec![0.0; p + 1];
+    debug_assert!(p < 8);
+    let nd = nd.min(p);
+    let mut ndu = [[0.0f64; 8]; 8];
+    let mut left = [0.0f64; 8];
+    let mut right = [0.0f64; 8];
     ndu[0][0] = 1.0;
     for j in 1..=p {
         left[j] = t - knots[span + 1 - j];
@@ -138,15 +141,15 @@ pub(crate) fn basis_funs_derivs(
         }
         ndu[j][j] = saved;
     }
-    let mut ders = vec![vec![0.0; p + 1]; nd + 1];
+    let mut ders = [[0.0f64; 8]; 8];
     for j in 0..=p {
         ders[0][j] = ndu[j][p];
     }
-    let mut a = vec![vec![0.0; p + 1]; 2];
+    let mut a = [[0.0f64; 8]; 2];
     for r in 0..=p {
         let (mut s1, mut s2) = (0usize, 1usize);
         a[0][0] = 1.0;
-        for k in 1..=nd.min(p) {
+        for k in 1..=nd {
             let mut d = 0.0;
             let rk = r as isize - k as isize;
             let pk = p - k;
@@ -174,8 +177,8 @@ pub(crate) fn basis_funs_derivs(
         }
     }
     let mut factor = p as f64;
-    for k in 1..=nd.min(p) {
-        for v in ders[k].iter_mut() {
+    for k in 1..=nd {
+        for v in ders[k][..=p].iter_mut() {
             *v *= factor;
         }
         factor *= (p - k) as f64;
@@ -376,12 +379,12 @@ impl BsplineCurve {
     /// The k-th derivative at t (k = 0 is the point), into `out` (length dim).
     pub fn eval_derivative(&self, t: f64, k: usize, out: &mut [f64]) {
         let p = self.degree;
-        let s = self.span(t);
-        let ders = basis_funs_derivs(&self.knots, s, t, p, k);
         out.iter_mut().for_each(|o| *o = 0.0);
         if k > p {
             return;
         }
+        let s = self.span(t);
+        let ders = basis_funs_derivs(&self.knots, s, t, p, k);
         for r in 0..=p {
             let w = ders[k][r];
             let row = &self.control[(s - p + r) * self.dim..(s - p + r + 1) * self.dim];

@@ -6,7 +6,10 @@
 //! t_i, extended by three knots beyond each end, with N+2 control points c_0..c_(N+1) (the
 //! paper's p_(-1)..p_N). Interpolation at t_i couples c_i, c_(i+1), c_(i+2) (for uniform
 //! parameters: (p_(i-1) + 4 p_i + p_(i+1)) / 6 = k_i, the paper's rows); the end condition
-//! adds one row at each end. Periodic curves have N control unknowns in a cyclic system.
+//! adds one row at each end. Ordered [start row, interpolation rows, end row] the open system
+//! is tridiagonal plus its two end rows: Thomas sweeps and a rank-2 Woodbury correction
+//! (`tridiag.rs`; in parallel for uniform parameters), O(N) time and, for uniform parameters,
+//! no memory besides the output. Periodic curves have N control unknowns in a cyclic system.
 //!
 //! ```
 //! use geomkit::bspline::{interpolate_curve, EndCondition, InterpolationOptions, Parametrization};
@@ -418,7 +421,7 @@ impl Solver1d {
         let knots = open_knots(&t);
         let nc = n + 2;
         let deriv = |span: usize, at: f64, k: usize| -> Vec<f64> {
-            basis_funs_derivs(&knots, span, at, 3, k)[k].clone()
+            basis_funs_derivs(&knots, span, at, 3, k)[k][..4].to_vec()
         };
         // Jump of the third derivative at the knot after span `left`.
         let jump = |left: usize| -> Vec<f64> {

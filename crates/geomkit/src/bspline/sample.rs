@@ -246,11 +246,11 @@ impl BsplineCurve {
         }
         let ders = basis_funs_derivs(self.knots(), s, self.knots()[s], p, p);
         let mut factorial = 1.0;
-        for (k, row) in ders.iter().enumerate() {
+        for (k, row) in ders[..=p].iter().enumerate() {
             if k > 0 {
                 factorial *= k as f64;
             }
-            for (r, w) in row.iter().enumerate() {
+            for (r, w) in row[..=p].iter().enumerate() {
                 let point = &control[(s - p + r) * d..(s - p + r + 1) * d];
                 for (c, v) in point.iter().enumerate() {
                     out[4 * c + k] += w * v / factorial;
