@@ -9,8 +9,8 @@
 //! keeps j below the samples per span.
 
 use super::curve::{
-    basis_funs, basis_funs_derivs, domain_spans, find_span, uniform_cubic_basis, uniform_span,
-    BsplineCurve,
+    basis_funs_cubic_with, basis_funs_derivs, cubic_span_inverses, domain_spans, find_span,
+    uniform_cubic_basis, uniform_span, BsplineCurve,
 };
 use crate::bezier::ParamCurve;
 use crate::points::check_eval_args;
@@ -387,6 +387,7 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
     let inv_step = curve.uniform_step().map(|h| 1.0 / h);
     let n_c = curve.n_control();
     let mut hint = loc.lo;
+    let mut inv = cubic_span_inverses(knots, hint);
     for (&t, o) in ts.iter().zip(out.chunks_exact_mut(D)) {
         let mut basis = [0.0f64; 4];
         let s = match inv_step {
@@ -397,8 +398,11 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
             }
             None => {
                 let s = loc.span(curve, t, hint);
-                hint = s;
-                basis_funs(knots, s, t, 3, &mut basis);
+                if s != hint {
+                    inv = cubic_span_inverses(knots, s);
+                    hint = s;
+                }
+                basis = basis_funs_cubic_with(knots, s, t, &inv);
                 s
             }
         };
