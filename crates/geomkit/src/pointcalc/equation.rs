@@ -6,6 +6,7 @@
 //! source point A_i in the point M(t).
 //!
 //! ```
+//! use geomkit::bezier::ParamCurve;
 //! use geomkit::pointcalc::{Nodes, PointEquation};
 //! // Equation (2): C at t = 1/3.
 //! let eq = PointEquation::new(Nodes::paper_third(), vec![
