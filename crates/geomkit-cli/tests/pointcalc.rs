@@ -165,6 +165,72 @@ fn formula_output() {
 }
 
 #[test]
+fn fit_with_exact_nodes_keeps_them_exact() {
+    let dir = tempfile::tempdir().unwrap();
+    // Levels written as rounded decimals, matched to the exact nodes 0, 1/3, 1.
+    let mut csv = String::from("u,v,z\n");
+    for u in ["0", "0.3333333333333333", "1"] {
+        for v in ["0", "1"] {
+            let z = u.parse::<f64>().unwrap() * 2.0 + v.parse::<f64>().unwrap();
+            csv.push_str(&format!("{u},{v},{z}\n"));
+        }
+    }
+    write(dir.path(), "e.csv", &csv);
+    ok(&geomkit(
+        dir.path(),
+        &[
+            "pointcalc",
+            "fit",
+            "e.csv",
+            "--factors",
+            "u,v",
+            "--response",
+            "z",
+            "--nodes",
+            "u=0,1/3,1",
+            "-o",
+            "m.json",
+        ],
+    ));
+    let model: Value =
+        serde_json::from_str(&fs::read_to_string(dir.path().join("m.json")).unwrap()).unwrap();
+    assert_eq!(
+        model["factors"][0]["exact"],
+        serde_json::json!(["0", "1/3", "1"])
+    );
+    let out = ok(&geomkit(
+        dir.path(),
+        &["pointcalc", "formula", "m.json", "--format", "maple"],
+    ));
+    assert!(out.contains("1/3"), "{out}");
+    // A level that is not one of the given nodes names its line.
+    write(
+        dir.path(),
+        "e2.csv",
+        "u,v,z\n0,0,1\n0.5,0,2\n1,0,3\n0,1,1\n0.5,1,2\n1,1,3\n",
+    );
+    let bad = geomkit(
+        dir.path(),
+        &[
+            "pointcalc",
+            "fit",
+            "e2.csv",
+            "--factors",
+            "u,v",
+            "--response",
+            "z",
+            "--nodes",
+            "u=0,1/3,1",
+        ],
+    );
+    let err = String::from_utf8_lossy(&bad.stderr).to_string();
+    assert!(
+        err.contains("e2.csv line 3: level u=0.5 is not one of the nodes"),
+        "{err}"
+    );
+}
+
+#[test]
 fn curves_and_surfaces() {
     let dir = tempfile::tempdir().unwrap();
     write(dir.path(), "pts.json", r#"{"points":[[0,0],[1,2],[3,0]]}"#);

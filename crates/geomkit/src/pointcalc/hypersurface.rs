@@ -481,9 +481,19 @@ impl Hypersurface {
         }
         let n0 = self.factors[0].nodes.len();
         let len0 = self.values.len() / n0;
-        let bt: Vec<[f64; 4]> = (0..n0)
-            .map(|i| std::array::from_fn(|p| lanes[p].bases[0][i]))
-            .collect();
+        // The first factor's bases transposed (lane-major), on the stack for up to 16 levels.
+        let mut stack = [[0.0f64; 4]; 16];
+        let mut heap = Vec::new();
+        let bt: &mut [[f64; 4]] = if n0 <= 16 {
+            &mut stack[..n0]
+        } else {
+            heap.resize(n0, [0.0; 4]);
+            &mut heap
+        };
+        for (i, b) in bt.iter_mut().enumerate() {
+            *b = std::array::from_fn(|p| lanes[p].bases[0][i]);
+        }
+        let bt: &[[f64; 4]] = bt;
         {
             let [s0, s1, s2, s3] = lanes;
             let (w0, w1, w2, w3) = (
