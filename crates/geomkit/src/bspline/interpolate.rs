@@ -142,7 +142,7 @@ pub fn interpolate_curve_flat(
         options.parametrization,
         options.end == EndCondition::Periodic,
     )?;
-    Solver1d::new(t, &options.end, options.parametrization)?.interpolate(points, dim)
+    Solver1d::new_single(t, &options.end, options.parametrization)?.interpolate(points, dim)
 }
 
 /// Interpolates row-major points at given parameters (SciPy's `make_interp_spline(x, y)`):
@@ -198,7 +198,8 @@ pub fn interpolate_curve_at(
         });
     }
     let points = &points[..n * dim];
-    Solver1d::new(parameters.to_vec(), end, Parametrization::ChordLength)?.interpolate(points, dim)
+    Solver1d::new_single(parameters.to_vec(), end, Parametrization::ChordLength)?
+        .interpolate(points, dim)
 }
 
 /// Parameters t_0 = 0 < t_1 < ... (N values, or N+1 with the closing one for closed curves).
@@ -289,6 +290,14 @@ enum Kind {
         /// 6 for uniform parameters (rows (1, 4, 1)), 1 otherwise (rows of basis values).
         interp_scale: f64,
     },
+    /// Open curve with non-uniform parameters solved once (a curve, a tile): the rows are
+    /// computed during the solve, which keeps N numbers instead of a factorization's 3N.
+    OpenOnce {
+        rows: [(usize, Vec<f64>); 2],
+        start: EndRhs,
+        end: EndRhs,
+        scales: [f64; 2],
+    },
     /// Periodic: N unknowns p_0..p_(N-1), control [p_(N-1) p_0 .. p_(N-1) p_0 p_1].
     Periodic { lu: CyclicLu },
     /// The paper's repeated ends: N-2 inner unknowns, control [k0 ×3, p*, k_(N-1) ×3].
@@ -310,6 +319,15 @@ impl Solver1d {
     /// Builds and factors the system for parameters `t` (N values; N+1 for periodic, the
     /// last closing the curve).
     pub fn new(t: Vec<f64>, end: &EndCondition, param: Parametrization) -> Result<Self> {
+        Self::build(t, end, param, false)
+    }
+
+    fn build(
+        t: Vec<f64>,
+        end: &EndCondition,
+        param: Parametrization,
+        single: bool,
+    ) -> Result<Self> {
         let closed = *end == EndCondition::Periodic;
         let n = if closed { t.len() - 1 } else { t.len() };
         let min = if closed { 3 } else { 2 };
@@ -331,8 +349,14 @@ impl Solver1d {
                 Self::repeat(n)
             }
             EndCondition::Periodic => Self::periodic(t),
-            _ => Self::open(t, end, end),
+            _ => Self::open(t, end, end, single),
         }
+    }
+
+    /// [`Solver1d::new`] for a system solved once ([`Solver1d::interpolate`]): non-uniform
+    /// open systems then factor during the solve, keeping N numbers instead of 3N.
+    pub fn new_single(t: Vec<f64>, end: &EndCondition, param: Parametrization) -> Result<Self> {
+        Self::build(t, end, param, true)
     }
 
     /// Solves for `points` (N × dim) and moves the knots and parameters into the result.
@@ -413,10 +437,15 @@ impl Solver1d {
                 min: 2,
             });
         }
-        Self::open(t, start, end)
+        Self::open(t, start, end, true)
     }
 
-    fn open(t: Vec<f64>, start_cond: &EndCondition, end_cond: &EndCondition) -> Result<Self> {
+    fn open(
+        t: Vec<f64>,
+        start_cond: &EndCondition,
+        end_cond: &EndCondition,
+        single: bool,
+    ) -> Result<Self> {
         let n = t.len();
         let knots = open_knots(&t);
         let nc = n + 2;
@@ -502,21 +531,22 @@ impl Solver1d {
             true => (TridiagSystem::toeplitz(nc, end_rows().0, end_rows().1), 6.0),
             false => (None, 1.0),
         };
+        if sys.is_none() && single {
+            return Ok(Solver1d {
+                knots,
+                parameters: t,
+                kind: Kind::OpenOnce {
+                    rows: [(start.0, start.1), (finish.0, finish.1)],
+                    start: start.2,
+                    end: finish.2,
+                    scales: [start.3, finish.3],
+                },
+            });
+        }
         let (sys, interp_scale) = match sys {
             Some(sys) => (Some(sys), interp_scale),
             None => {
-                // Row r = i + 1 interpolates at t_i: basis values on controls i, i+1, i+2.
-                let inner = |r: usize| {
-                    let i = r - 1;
-                    let mut basis = [0.0; 4];
-                    if i + 1 == n {
-                        basis_funs(&knots, nc - 1, t[i], 3, &mut basis);
-                        [basis[1], basis[2], basis[3]]
-                    } else {
-                        basis_funs(&knots, 3 + i, t[i], 3, &mut basis);
-                        [basis[0], basis[1], basis[2]]
-                    }
-                };
+                let inner = |r: usize| interp_row(&knots, &t, r);
                 let (s0, s1) = end_rows();
                 (TridiagSystem::general(nc, inner, s0, s1), 1.0)
             }
@@ -594,11 +624,14 @@ impl Solver1d {
 
     /// The right-hand sides of the two end rows of an open system, equilibrated.
     fn open_ends(&self, points: &[f64], dim: usize) -> Result<[Vec<f64>; 2]> {
-        let Kind::Open {
-            start, end, scales, ..
-        } = &self.kind
-        else {
-            unreachable!("open_ends on an open system only")
+        let (start, end, scales) = match &self.kind {
+            Kind::Open {
+                start, end, scales, ..
+            }
+            | Kind::OpenOnce {
+                start, end, scales, ..
+            } => (start, end, scales),
+            _ => unreachable!("open_ends on an open system only"),
         };
         let value = |rhs, at_start, scale: f64| -> Result<Vec<f64>> {
             let v = self.end_value(rhs, at_start, points, dim)?;
@@ -665,6 +698,25 @@ impl Solver1d {
                 out[(n + 1) * dim..].copy_from_slice(&ends[1]);
                 sys.solve(out, dim);
             }
+            Kind::OpenOnce { rows, .. } => {
+                let ends = self.open_ends(points, dim)?;
+                out[dim..(n + 1) * dim].copy_from_slice(points);
+                out[..dim].copy_from_slice(&ends[0]);
+                out[(n + 1) * dim..].copy_from_slice(&ends[1]);
+                let inner = |r: usize| interp_row(&self.knots, &self.parameters, r);
+                TridiagSystem::solve_general_once(
+                    n + 2,
+                    inner,
+                    rows[0].clone(),
+                    rows[1].clone(),
+                    out,
+                    dim,
+                )
+                .ok_or(Error::Numerical {
+                    operation: "banded solve",
+                    reason: "the interpolation system is singular",
+                })?;
+            }
             Kind::Periodic { lu } => {
                 let mut p = points.to_vec();
                 lu.solve(&mut p, dim);
@@ -709,6 +761,20 @@ fn check_solution(out: &[f64], dim: usize) -> Result<()> {
             index: index / dim,
         }),
         None => Ok(()),
+    }
+}
+
+/// Row r = i + 1 of an open system interpolates at t_i: the basis values on controls i, i+1,
+/// i+2 (the only ones non-zero at the knot t_i).
+fn interp_row(knots: &[f64], t: &[f64], r: usize) -> [f64; 3] {
+    let (i, n) = (r - 1, t.len());
+    let mut basis = [0.0; 4];
+    if i + 1 == n {
+        basis_funs(knots, n + 1, t[i], 3, &mut basis);
+        [basis[1], basis[2], basis[3]]
+    } else {
+        basis_funs(knots, 3 + i, t[i], 3, &mut basis);
+        [basis[0], basis[1], basis[2]]
     }
 }
 

@@ -36,6 +36,10 @@ enum Tri {
     /// A general tridiagonal T, factored: per row [m_r, 1/d_r, c_r/d_r] (forward
     /// multiplier, inverse pivot, upper entry over the pivot).
     General { factors: Vec<[f64; 3]> },
+    /// A general T whose forward sweep was fused with one right-hand side
+    /// ([`TridiagSystem::solve_general_once`]): only u_r = c_r/d_r is kept (N numbers), and
+    /// the leading entries of (L D)^-1 e_0 for the decaying column.
+    Upper { u: Vec<f64>, z0_forward: Vec<f64> },
 }
 
 /// A tridiagonal T of order `n`, plus a rank-2 correction replacing its first and last rows.
@@ -206,6 +210,27 @@ impl TridiagSystem {
                 }
                 y
             }
+            Tri::Upper { u, z0_forward } if first => {
+                let mut z = z0_forward.clone();
+                let mut x_next = 0.0;
+                for r in (0..z.len()).rev() {
+                    z[r] -= u[r] * x_next;
+                    x_next = z[r];
+                }
+                z
+            }
+            Tri::Upper { u, .. } => {
+                // T's last row is e_(n-1): pivot 1.
+                let mut z = vec![1.0];
+                for r in (0..n - 1).rev() {
+                    let next = -u[r] * z[z.len() - 1];
+                    if next.abs() < NEGLIGIBLE {
+                        break;
+                    }
+                    z.push(next);
+                }
+                z
+            }
             Tri::General { factors } => {
                 // e_(n-1) passes the forward sweep unchanged; backward x_r = -u_r x_(r+1).
                 let mut z = vec![factors[n - 1][1]];
@@ -270,6 +295,9 @@ impl TridiagSystem {
                     }
                 }
             }
+            Tri::Upper { .. } => {
+                unreachable!("an Upper system has solved its only right-hand side")
+            }
             Tri::General { factors } => {
                 for r in 1..n {
                     let m = factors[r][0];
@@ -296,6 +324,11 @@ impl TridiagSystem {
     /// Solves the full system in place (b row-major n × cols).
     pub fn solve(&self, b: &mut [f64], cols: usize) {
         self.solve_t(b, cols);
+        self.correct(b, cols);
+    }
+
+    /// The Woodbury step: turns T^-1 b (in `b`) into the solution of the full system.
+    fn correct(&self, b: &mut [f64], cols: usize) {
         let n = self.n;
         for c in 0..cols {
             let mut w = [0.0; 2];
@@ -315,6 +348,71 @@ impl TridiagSystem {
                 b[(n - 1 - k) * cols + c] -= zk * g1;
             }
         }
+    }
+}
+
+impl TridiagSystem {
+    /// Solves the system of [`TridiagSystem::general`] for one right-hand side `b` (n × cols,
+    /// in place), fusing the factorization with the forward sweep: the rows are computed once
+    /// and only u_r = c_r/d_r is stored (n numbers; the factored system would keep 3n).
+    /// `None` when it is singular (b is then garbage).
+    pub fn solve_general_once(
+        n: usize,
+        inner: impl Fn(usize) -> [f64; 3],
+        start: (usize, Vec<f64>),
+        end: (usize, Vec<f64>),
+        b: &mut [f64],
+        cols: usize,
+    ) -> Option<()> {
+        if n < 2 {
+            return None;
+        }
+        let mut u = Vec::with_capacity(n);
+        // z0_forward: the forward sweep of e_0, kept while above rounding.
+        let mut z0_forward = vec![1.0];
+        let mut prev_u = 0.0;
+        u.push(0.0);
+        for r in 1..n {
+            let [a, bb, c] = if r + 1 == n {
+                [0.0, 1.0, 0.0]
+            } else {
+                inner(r)
+            };
+            let d = bb - a * prev_u;
+            if !(d.is_finite() && d.abs() > 1e-14 * (a.abs() + bb.abs() + c.abs())) {
+                return None;
+            }
+            let inv = 1.0 / d;
+            prev_u = c * inv;
+            u.push(prev_u);
+            if z0_forward.len() == r {
+                let next = -a * z0_forward[r - 1] * inv;
+                if next.abs() >= NEGLIGIBLE {
+                    z0_forward.push(next);
+                }
+            }
+            let (prev, cur) = b[(r - 1) * cols..(r + 1) * cols].split_at_mut(cols);
+            for (x, p) in cur.iter_mut().zip(prev.iter()) {
+                *x = (*x - a * p) * inv;
+            }
+        }
+        for r in (0..n - 1).rev() {
+            let ur = u[r];
+            let (cur, next) = b[r * cols..(r + 2) * cols].split_at_mut(cols);
+            for (x, nx) in cur.iter_mut().zip(next.iter()) {
+                *x -= ur * nx;
+            }
+        }
+        let sys = Self::with_end_rows(
+            n,
+            Tri::Upper { u, z0_forward },
+            start,
+            end,
+            [(0, 1.0), (1, 0.0)],
+            [0.0, 1.0],
+        )?;
+        sys.correct(b, cols);
+        Some(())
     }
 }
 
@@ -430,9 +528,17 @@ mod tests {
         if toeplitz {
             systems.push(TridiagSystem::toeplitz(n, start.clone(), end.clone()));
         }
+        let mut solutions = Vec::new();
         for sys in systems {
             let mut got = b.clone();
             sys.unwrap().solve(&mut got, 1);
+            solutions.push(got);
+        }
+        let mut once = b.clone();
+        TridiagSystem::solve_general_once(n, inner, start.clone(), end.clone(), &mut once, 1)
+            .unwrap();
+        solutions.push(once);
+        for got in solutions {
             for (g, want) in got.iter().zip(&x) {
                 assert!(
                     (g - want).abs() < 1e-12 * (1.0 + want.abs()),
