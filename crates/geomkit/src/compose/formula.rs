@@ -30,10 +30,20 @@ pub(crate) fn konst_id(g: &mut Graph, q: &Rational) -> Id {
 /// A patch coefficient: an exact integer when it is one, else the f64 (fast: no rational
 /// search for the many coefficients of large composites).
 pub(crate) fn coef(g: &mut Graph, x: f64) -> Id {
+    g.constant(coef_const(x))
+}
+
+/// The exact integer constant n.
+pub(crate) fn int_const(n: i64) -> Const {
+    Const::Rat(Rational::from_integer(n.into()))
+}
+
+/// The constant of [`coef`].
+pub(crate) fn coef_const(x: f64) -> Const {
     if x.fract() == 0.0 && x.abs() < 9.0e15 {
-        g.int(x as i64)
+        int_const(x as i64)
     } else {
-        g.num(x)
+        Const::Float(x)
     }
 }
 

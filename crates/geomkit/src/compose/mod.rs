@@ -3,11 +3,13 @@
 //! PSCFunctions).
 //!
 //! - [`ramp`], [`ramp_exact`]: the ramp P(t, a, w) of formula (1), in f64 and exactly.
-//! - [`PolyPatch`]: polynomial patches (Bézier patches, B-spline cells) in local coordinates.
+//! - [`PolyPatch`]: polynomial patches (Bézier patches, B-spline cells) in local coordinates;
+//!   [`ExprPatch`]: patches, curve pieces and curves given as formulas.
 //! - [`CompositeSurface`]: formulas (3)-(11) over an orthogonal grid of patches, its
 //!   [`ContinuityReport`] and a structural evaluator equal to the single formula.
 
 pub mod bodies;
+mod expr_patch;
 mod formula;
 mod grid;
 mod linear;
@@ -16,6 +18,7 @@ mod ramp;
 mod ruled;
 mod surface;
 
+pub use expr_patch::ExprPatch;
 pub use formula::{abs_sum_expr, ramp_expr, Formula};
 pub use linear::AbsSum;
 pub use poly::PolyPatch;

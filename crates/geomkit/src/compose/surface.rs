@@ -24,13 +24,14 @@
 //! assert!((s.eval_formula(1.5, 0.5)[2] - 0.25).abs() < 1e-15);
 //! ```
 
-use super::formula::{coef, num, Formula};
+use super::expr_patch::ExprPatch;
+use super::formula::{coef_const, int_const, num, Formula};
 use super::grid::Axis;
 use super::poly::PolyPatch;
 use super::ramp::ramp;
 use crate::bezier::BezierSurface;
 use crate::bspline::BsplineSurface;
-use crate::expr::{Const, Graph, Id};
+use crate::expr::{Const, Graph, Id, Tape};
 use crate::points::check_eval_args;
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -42,7 +43,7 @@ pub const EDGE_SAMPLES: usize = 65;
 const PAR_CHUNK: usize = 4096;
 
 /// A grid line shared by two cells.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum GridLine {
     /// u = u_i, between cells (i-1, j) and (i, j).
     U(usize),
@@ -66,7 +67,7 @@ pub struct Jump {
 /// For every shared grid line, the largest jump between neighbours (sampled at
 /// [`EDGE_SAMPLES`] points per edge, corners included), and whether formula (9) reproduces
 /// the patches or shifts them.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct ContinuityReport {
     /// One entry per shared edge (cell side), u-lines first.
     pub jumps: Vec<Jump>,
@@ -150,18 +151,80 @@ pub enum SurfaceKind {
 }
 
 /// A composite surface: knots u_0 < ... < u_n, v_0 < ... < v_m and a patch per cell, with its
-/// continuity report and its structural evaluator.
+/// continuity report and its structural evaluator. Patches are polynomials ([`PolyPatch`],
+/// from Bézier patches and B-spline cells) or formulas ([`ExprPatch`]).
 #[derive(Debug, Clone)]
 pub struct CompositeSurface {
     u: Axis,
     v: Axis,
     dim: usize,
     kind: SurfaceKind,
-    /// patches[i * m + j] on cell [u_i, u_(i+1)] × [v_j, v_(j+1)], in local (s, t).
-    patches: Vec<PolyPatch>,
-    /// The polynomial formula (9) equals on each cell (patch plus shift).
-    effective: Vec<PolyPatch>,
+    /// Cell (i, j) at index i * m + j.
+    cells: Cells,
     report: ContinuityReport,
+}
+
+/// The patches and what the structural evaluator runs on each cell.
+#[derive(Debug, Clone)]
+enum Cells {
+    Poly {
+        /// On cell [u_i, u_(i+1)] × [v_j, v_(j+1)], in local (s, t).
+        patches: Vec<PolyPatch>,
+        /// The polynomial formula (9) equals on each cell (patch plus shift).
+        effective: Vec<PolyPatch>,
+    },
+    Expr {
+        patches: Vec<ExprPatch>,
+        /// Each patch's domain (its own, or its cell).
+        domains: Vec<[(f64, f64); 2]>,
+        /// What formula (9) equals on each cell, in the local variables `@s`, `@t`.
+        effective: Vec<Tape>,
+    },
+}
+
+/// The grid of patches as one vector, row-major, after checking its shape.
+fn flatten<T>(patches: Vec<Vec<T>>, n: usize, m: usize) -> Result<Vec<T>> {
+    if patches.len() != n {
+        return Err(Error::PatchCount {
+            what: format!("patch rows for {} u knots", n + 1),
+            expected: n,
+            got: patches.len(),
+        });
+    }
+    let mut flat = Vec::with_capacity(n * m);
+    for (i, row) in patches.into_iter().enumerate() {
+        if row.len() != m {
+            return Err(Error::PatchCount {
+                what: format!("patches in row {i} for {} v knots", m + 1),
+                expected: m,
+                got: row.len(),
+            });
+        }
+        flat.extend(row);
+    }
+    Ok(flat)
+}
+
+/// The common dimension of the patches, checked; 1 for explicit surfaces.
+fn common_dim(dims: impl Iterator<Item = usize>, kind: SurfaceKind) -> Result<usize> {
+    let dims: Vec<usize> = dims.collect();
+    let dim = dims[0];
+    if let Some(k) = dims.iter().position(|&d| d != dim) {
+        return Err(Error::DimensionMismatch {
+            what: "patch",
+            index: k,
+            expected: dim,
+            got: dims[k],
+        });
+    }
+    if kind == SurfaceKind::Explicit && dim != 1 {
+        return Err(Error::WrongDimension {
+            operation: "an explicit surface z(x, y)",
+            expected: 1,
+            got: dim,
+        });
+    }
+    Ok(dim)
 }
 
 impl CompositeSurface {
@@ -175,59 +238,118 @@ impl CompositeSurface {
         patches: Vec<Vec<PolyPatch>>,
         kind: SurfaceKind,
     ) -> Result<Self> {
+        Self::assemble(
+            u_knots,
+            v_knots,
+            patches,
+            kind,
+            PolyPatch::dim,
+            |u, v, flat| {
+                let effective = effective_patches(&flat, u.cells(), v.cells());
+                Ok(Cells::Poly {
+                    patches: flat,
+                    effective,
+                })
+            },
+        )
+    }
+
+    /// Checks the grid and the patches, builds the cells, measures continuity and, for
+    /// formula patches, compiles the structural evaluator's tapes.
+    fn assemble<T>(
+        u_knots: Vec<f64>,
+        v_knots: Vec<f64>,
+        patches: Vec<Vec<T>>,
+        kind: SurfaceKind,
+        dim_of: fn(&T) -> usize,
+        cells: impl FnOnce(&Axis, &Axis, Vec<T>) -> Result<Cells>,
+    ) -> Result<Self> {
         let u = Axis::new("u knots", u_knots)?;
         let v = Axis::new("v knots", v_knots)?;
-        let (n, m) = (u.cells(), v.cells());
-        if patches.len() != n {
-            return Err(Error::PatchCount {
-                what: format!("patch rows for {} u knots", n + 1),
-                expected: n,
-                got: patches.len(),
-            });
-        }
-        let mut flat = Vec::with_capacity(n * m);
-        for (i, row) in patches.into_iter().enumerate() {
-            if row.len() != m {
-                return Err(Error::PatchCount {
-                    what: format!("patches in row {i} for {} v knots", m + 1),
-                    expected: m,
-                    got: row.len(),
-                });
-            }
-            flat.extend(row);
-        }
-        let dim = flat[0].dim();
-        if let Some(k) = flat.iter().position(|p| p.dim() != dim) {
-            return Err(Error::DimensionMismatch {
-                what: "patch",
-                index: k,
-                expected: dim,
-                got: flat[k].dim(),
-            });
-        }
-        if kind == SurfaceKind::Explicit && dim != 1 {
-            return Err(Error::WrongDimension {
-                operation: "an explicit surface z(x, y)",
-                expected: 1,
-                got: dim,
-            });
-        }
-        let effective = effective_patches(&flat, n, m);
+        let flat = flatten(patches, u.cells(), v.cells())?;
+        let dim = common_dim(flat.iter().map(dim_of), kind)?;
+        let cells = cells(&u, &v, flat)?;
         let mut s = CompositeSurface {
             u,
             v,
             dim,
             kind,
-            patches: flat,
-            effective,
-            report: ContinuityReport {
-                jumps: vec![],
-                max_jump: 0.0,
-                tolerance: 0.0,
-            },
+            cells,
+            report: ContinuityReport::default(),
         };
         s.report = s.measure_continuity();
+        let tapes = s.effective_tapes()?;
+        if let Cells::Expr { effective, .. } = &mut s.cells {
+            *effective = tapes;
+        }
         Ok(s)
+    }
+
+    /// A composite surface from patches given as formulas in two variables (`u`, `v`, or
+    /// `x`, `y` for explicit surfaces z(x, y)): `patches[i][j]` on cell [u_i, u_(i+1)] ×
+    /// [v_j, v_(j+1)]; a patch with a domain of its own has it mapped linearly onto its cell
+    /// (the paper's change of variables), one without is defined on the cell itself.
+    ///
+    /// The continuity report is sampled ([`EDGE_SAMPLES`] per edge). The structural
+    /// evaluator runs, on each cell, the patch plus the jumps formula (9) adds for the edges
+    /// before it in its row and column that the report finds discontinuous (a constant for
+    /// the corners), compiled to one tape per cell.
+    ///
+    /// Errors: as [`Self::from_poly`]; patches in other than two variables; a patch that
+    /// is not finite somewhere on a 9×9 grid of its domain ([`Error::Expression`]).
+    ///
+    /// ```
+    /// use geomkit::compose::{CompositeSurface, ExprPatch, SurfaceKind};
+    /// let z = |f: &str| ExprPatch::parse(&[("z", f)], &["x", "y"], None).unwrap();
+    /// // sin(x) cos(y) in two cells, and a cell that jumps by 1 (shifted back by (11)).
+    /// let s = CompositeSurface::from_expr(vec![0.0, 1.0, 2.0], vec![0.0, 1.0],
+    ///     vec![vec![z("sin(x)*cos(y)")], vec![z("sin(x)*cos(y) + 1")]], SurfaceKind::Explicit).unwrap();
+    /// assert!(!s.continuity().is_continuous());
+    /// let want = 1.5f64.sin() * 0.5f64.cos();
+    /// assert!((s.eval(1.5, 0.5)[0] - want).abs() < 1e-15);
+    /// assert!((s.eval_formula(1.5, 0.5)[0] - want).abs() < 1e-15);
+    /// ```
+    pub fn from_expr(
+        u_knots: Vec<f64>,
+        v_knots: Vec<f64>,
+        patches: Vec<Vec<ExprPatch>>,
+        kind: SurfaceKind,
+    ) -> Result<Self> {
+        Self::assemble(
+            u_knots,
+            v_knots,
+            patches,
+            kind,
+            ExprPatch::dim,
+            |u, v, flat| {
+                let m = v.cells();
+                let mut domains = Vec::with_capacity(flat.len());
+                for (k, p) in flat.iter().enumerate() {
+                    if p.vars().len() != 2 {
+                        return Err(Error::WrongDimension {
+                            operation: "the variables of a surface patch",
+                            expected: 2,
+                            got: p.vars().len(),
+                        });
+                    }
+                    let (i, j) = (k / m, k % m);
+                    let d = match p.domain() {
+                        Some(d) => [d[0], d[1]],
+                        None => [
+                            (u.knots()[i], u.knots()[i + 1]),
+                            (v.knots()[j], v.knots()[j + 1]),
+                        ],
+                    };
+                    p.check_finite(&d)?;
+                    domains.push(d);
+                }
+                Ok(Cells::Expr {
+                    patches: flat,
+                    domains,
+                    effective: Vec::new(),
+                })
+            },
+        )
     }
 
     /// A composite surface from Bézier patches, each on [0, 1]² mapped onto its cell.
@@ -278,9 +400,21 @@ impl CompositeSurface {
         self.kind
     }
 
-    /// The patch of cell (i, j), in local coordinates.
-    pub fn patch(&self, i: usize, j: usize) -> &PolyPatch {
-        &self.patches[i * self.v.cells() + j]
+    /// The polynomial patch of cell (i, j), in local coordinates (`None` for formula
+    /// patches).
+    pub fn patch(&self, i: usize, j: usize) -> Option<&PolyPatch> {
+        match &self.cells {
+            Cells::Poly { patches, .. } => Some(&patches[i * self.v.cells() + j]),
+            Cells::Expr { .. } => None,
+        }
+    }
+
+    /// The formula patch of cell (i, j) (`None` for polynomial patches).
+    pub fn expr_patch(&self, i: usize, j: usize) -> Option<&ExprPatch> {
+        match &self.cells {
+            Cells::Expr { patches, .. } => Some(&patches[i * self.v.cells() + j]),
+            Cells::Poly { .. } => None,
+        }
     }
 
     /// The continuity report (computed once, at construction).
@@ -294,14 +428,37 @@ impl CompositeSurface {
         ((u[0], u[u.len() - 1]), (v[0], v[v.len() - 1]))
     }
 
+    /// Patch k (= i * m + j) at local coordinates, `dim` numbers per point into `out`.
+    fn eval_local_many(&self, k: usize, ss: &[f64], ts: &[f64], out: &mut [f64]) {
+        match &self.cells {
+            Cells::Poly { patches, .. } => {
+                for ((&s, &t), p) in ss.iter().zip(ts).zip(out.chunks_exact_mut(self.dim)) {
+                    patches[k].eval_into(s, t, p);
+                }
+            }
+            Cells::Expr {
+                patches, domains, ..
+            } => patches[k].eval_local_many(&domains[k], &[ss, ts], out),
+        }
+    }
+
     /// The structural evaluator: locate the cell, evaluate one polynomial (O(1) on uniform
-    /// knots, O(log n + log m) otherwise). Equal to the single formula (9) within rounding,
-    /// everywhere. `out` has length dim.
+    /// knots, O(log n + log m) otherwise) or one compiled formula. Equal to the single
+    /// formula (9) within rounding, everywhere. `out` has length dim.
     #[inline]
     pub fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
         let (i, s) = self.u.locate(u);
         let (j, t) = self.v.locate(v);
-        self.effective[i * self.v.cells() + j].eval_into(s, t, out);
+        let k = i * self.v.cells() + j;
+        match &self.cells {
+            Cells::Poly { effective, .. } => effective[k].eval_into(s, t, out),
+            Cells::Expr { effective, .. } => {
+                let mut cols: Vec<&mut [f64]> = out.chunks_mut(1).collect();
+                effective[k]
+                    .eval_batch(&[&[s], &[t]], &mut cols)
+                    .expect("one point, dim outputs");
+            }
+        }
     }
 
     /// [`Self::eval_into`] into a new vector.
@@ -323,6 +480,10 @@ impl CompositeSurface {
         }
         let d = self.dim;
         check_eval_args("parameter", uv, uv.len() / 2, d, out)?;
+        if let Cells::Expr { effective, .. } = &self.cells {
+            self.eval_expr_points(effective, uv, out);
+            return Ok(());
+        }
         let run = |(pts, o): (&[f64], &mut [f64])| {
             for (q, p) in pts.chunks_exact(2).zip(o.chunks_exact_mut(d)) {
                 self.eval_into(q[0], q[1], p);
@@ -336,6 +497,39 @@ impl CompositeSurface {
             run((uv, out));
         }
         Ok(())
+    }
+
+    /// Formula patches: the points grouped by cell, each cell's tape run once over its
+    /// points (cells in parallel).
+    fn eval_expr_points(&self, effective: &[Tape], uv: &[f64], out: &mut [f64]) {
+        let d = self.dim;
+        let m = self.v.cells();
+        let mut by_cell: Vec<Vec<(usize, f64, f64)>> = vec![Vec::new(); effective.len()];
+        for (idx, q) in uv.chunks_exact(2).enumerate() {
+            let (i, s) = self.u.locate(q[0]);
+            let (j, t) = self.v.locate(q[1]);
+            by_cell[i * m + j].push((idx, s, t));
+        }
+        let results: Vec<Vec<Vec<f64>>> = by_cell
+            .par_iter()
+            .zip(effective.par_iter())
+            .map(|(pts, tape)| {
+                let ss: Vec<f64> = pts.iter().map(|p| p.1).collect();
+                let ts: Vec<f64> = pts.iter().map(|p| p.2).collect();
+                let mut cols = vec![vec![0.0; pts.len()]; d];
+                let mut refs: Vec<&mut [f64]> = cols.iter_mut().map(Vec::as_mut_slice).collect();
+                tape.eval_batch(&[&ss, &ts], &mut refs)
+                    .expect("inputs and outputs of equal length");
+                cols
+            })
+            .collect();
+        for (pts, cols) in by_cell.iter().zip(&results) {
+            for (r, &(idx, _, _)) in pts.iter().enumerate() {
+                for k in 0..d {
+                    out[idx * d + k] = cols[k][r];
+                }
+            }
+        }
     }
 
     /// Evaluates on the grid `us` × `vs`: point (a, b) at `out[(a * vs.len() + b) * dim ..]`.
@@ -353,11 +547,22 @@ impl CompositeSurface {
         if vs.is_empty() {
             return Ok(());
         }
+        let effective = match &self.cells {
+            Cells::Poly { effective, .. } => effective,
+            Cells::Expr { effective, .. } => {
+                let uv: Vec<f64> = us
+                    .iter()
+                    .flat_map(|&u| vs.iter().flat_map(move |&v| [u, v]))
+                    .collect();
+                self.eval_expr_points(effective, &uv, out);
+                return Ok(());
+            }
+        };
         let located: Vec<(usize, f64)> = vs.iter().map(|&v| self.v.locate(v)).collect();
         let m = self.v.cells();
         let row = |(u, o): (&f64, &mut [f64])| {
             let (i, s) = self.u.locate(*u);
-            let cells = &self.effective[i * m..(i + 1) * m];
+            let cells = &effective[i * m..(i + 1) * m];
             for (&(j, t), p) in located.iter().zip(o.chunks_exact_mut(d)) {
                 cells[j].eval_into(s, t, p);
             }
@@ -384,7 +589,6 @@ impl CompositeSurface {
         let mut tmp = vec![0.0; d];
         for i in 0..n {
             for j in 0..m {
-                let p = self.patch(i, j);
                 // R_ij(u,v) - R_ij(u_i,v) - R_ij(u,v_j) + R_ij(u_i,v_j), terms present as in (9).
                 let terms: [(f64, f64, f64, bool); 4] = [
                     (ss[i], ts[j], 1.0, true),
@@ -394,7 +598,7 @@ impl CompositeSurface {
                 ];
                 for (s, t, sign, present) in terms {
                     if present {
-                        p.eval_into(s, t, &mut tmp);
+                        self.eval_local_many(i * m + j, &[s], &[t], &mut tmp);
                         for k in 0..d {
                             out[k] += sign * tmp[k];
                         }
@@ -408,10 +612,12 @@ impl CompositeSurface {
     /// The single formula (9) (parametric: x, y, z in u, v) or (11) (explicit: z in x, y).
     /// Each patch enters through its local coordinates s_i = P(u, u_i, u_(i+1) - u_i) and
     /// t_j = P(v, v_j, v_(j+1) - v_j) (formula (3): the clamped arguments mapped onto the
-    /// patch's own domain [0, 1]²), and the four terms of (9),
-    /// `R_ij(u,v) - R_ij(u_i,v) - R_ij(u,v_j) + R_ij(u_i,v_j)`, are collected symbolically: for a polynomial patch they are
-    /// exactly s^[i>=1] t^[j>=1] times a polynomial, printed in Horner form. Knots print as
-    /// exact rationals (decimal inputs become their fractions).
+    /// patch's own domain), with the four terms of (9),
+    /// `R_ij(u,v) - R_ij(u_i,v) - R_ij(u,v_j) + R_ij(u_i,v_j)`. For a polynomial patch they
+    /// are collected symbolically: exactly Σ c_ab s^a t^b over a >= [i>=1], b >= [j>=1], the
+    /// monomials shared by the coordinates. A formula patch is substituted: its variables
+    /// replaced by a + (b - a) s_i and c + (d - c) t_j on its domain [a, b] × [c, d]. Knots
+    /// and domains print as exact rationals (decimal inputs become their fractions).
     pub fn formula(&self) -> Result<Formula> {
         let mut g = Graph::new();
         let (names, vars): (Vec<&str>, [&str; 2]) = match self.kind {
@@ -429,22 +635,38 @@ impl CompositeSurface {
         let ss = ramps(&mut g, u, uk)?;
         let ts = ramps(&mut g, v, vk)?;
         let (n, m) = self.cells();
+        let zero = g.int(0);
         let mut sums: Vec<Vec<Id>> = vec![Vec::with_capacity(n * m); self.dim];
         for i in 0..n {
             for j in 0..m {
-                let p = self.patch(i, j);
                 let (a0, b0) = (usize::from(i >= 1), usize::from(j >= 1));
-                for (k, sum) in sums.iter_mut().enumerate() {
-                    let h = horner2(&mut g, p, k, (a0, b0), ss[i], ts[j]);
-                    let mut factors = vec![(h, 1)];
-                    if a0 == 1 {
-                        factors.push((ss[i], 1));
+                match &self.cells {
+                    Cells::Poly { patches, .. } => {
+                        let p = &patches[i * m + j];
+                        for (k, sum) in sums.iter_mut().enumerate() {
+                            sum.push(monomials(&mut g, p, k, (a0, b0), ss[i], ts[j]));
+                        }
                     }
-                    if b0 == 1 {
-                        factors.push((ts[j], 1));
+                    Cells::Expr {
+                        patches, domains, ..
+                    } => {
+                        let (p, d) = (&patches[i * m + j], &domains[i * m + j]);
+                        let terms = [
+                            (ss[i], ts[j], 1, true),
+                            (zero, ts[j], -1, a0 == 1),
+                            (ss[i], zero, -1, b0 == 1),
+                            (zero, zero, 1, a0 == 1 && b0 == 1),
+                        ];
+                        for (s, t, sign, present) in terms {
+                            if present {
+                                let r = p.place_local(&mut g, &[s, t], d);
+                                for (k, sum) in sums.iter_mut().enumerate() {
+                                    let term = g.scale(&int_const(sign), r[k]);
+                                    sum.push(term);
+                                }
+                            }
+                        }
                     }
-                    let term = g.prod(&factors);
-                    sum.push(term);
                 }
             }
         }
@@ -457,42 +679,130 @@ impl CompositeSurface {
         })
     }
 
+    /// Formula patches: per cell (p, q) the tape of the patch plus the jumps that formula
+    /// (9) adds, E_pq(s, t) = r_pq(s, t) + Σ_(i<=p) U_iq(t) + Σ_(j<=q) V_pj(s) + c_pq with the
+    /// u-jumps U_iq(t) = r_(i-1)q(1, t) - r_iq(0, t) and v-jumps V_pj(s) = r_p(j-1)(s, 1) -
+    /// r_pj(s, 0) of the edges the report finds discontinuous, and the constant
+    /// c_pq = Σ_(1<=i<=p, 1<=j<=q) (U_i(j-1)(1) - U_ij(0)).
+    fn effective_tapes(&self) -> Result<Vec<Tape>> {
+        let Cells::Expr {
+            patches, domains, ..
+        } = &self.cells
+        else {
+            return Ok(Vec::new());
+        };
+        let (n, m) = self.cells();
+        let d = self.dim;
+        let mut g = Graph::new();
+        let (s, t) = (g.var("@s"), g.var("@t"));
+        let (zero, one) = (g.int(0), g.int(1));
+        let jumps: std::collections::HashSet<(GridLine, usize)> = self
+            .report
+            .jumps
+            .iter()
+            .filter(|j| j.max_jump > self.report.tolerance || j.max_jump.is_nan())
+            .map(|j| (j.line, j.cell))
+            .collect();
+        let place =
+            |g: &mut Graph, k: usize, x: Id, y: Id| patches[k].place_local(g, &[x, y], &domains[k]);
+        let corner = |k: usize, x: f64, y: f64| {
+            let mut o = vec![0.0; d];
+            self.eval_local_many(k, &[x], &[y], &mut o);
+            o
+        };
+        // Numeric corner terms: prefix sums over i <= p, j <= q.
+        let mut c = vec![vec![0.0; d]; (n + 1) * (m + 1)];
+        for p in 1..n {
+            for q in 1..m {
+                let (a, b) = (
+                    corner((p - 1) * m + q - 1, 1.0, 1.0),
+                    corner(p * m + q - 1, 0.0, 1.0),
+                );
+                let (e, f) = (
+                    corner((p - 1) * m + q, 1.0, 0.0),
+                    corner(p * m + q, 0.0, 0.0),
+                );
+                for k in 0..d {
+                    let x = (a[k] - b[k]) - (e[k] - f[k]);
+                    c[(p + 1) * (m + 1) + q + 1][k] =
+                        x + c[p * (m + 1) + q + 1][k] + c[(p + 1) * (m + 1) + q][k]
+                            - c[p * (m + 1) + q][k];
+                }
+            }
+        }
+        let mut tapes = Vec::with_capacity(n * m);
+        // Running sums of u-jumps along each row q (over i <= p) and v-jumps along columns.
+        let mut u_sums: Vec<Vec<Id>> = vec![vec![zero; d]; m];
+        for p in 0..n {
+            let mut v_sum: Vec<Id> = vec![zero; d];
+            for q in 0..m {
+                if p >= 1 && jumps.contains(&(GridLine::U(p), q)) {
+                    let a = place(&mut g, (p - 1) * m + q, one, t);
+                    let b = place(&mut g, p * m + q, zero, t);
+                    for k in 0..d {
+                        let jump = g.sub(a[k], b[k]);
+                        u_sums[q][k] = g.add(u_sums[q][k], jump);
+                    }
+                }
+                if q >= 1 && jumps.contains(&(GridLine::V(q), p)) {
+                    let a = place(&mut g, p * m + q - 1, s, one);
+                    let b = place(&mut g, p * m + q, s, zero);
+                    for k in 0..d {
+                        let jump = g.sub(a[k], b[k]);
+                        v_sum[k] = g.add(v_sum[k], jump);
+                    }
+                }
+                let own = place(&mut g, p * m + q, s, t);
+                let roots: Vec<Id> = (0..d)
+                    .map(|k| {
+                        let ck = g.num(c[(p + 1) * (m + 1) + q + 1][k]);
+                        g.sum(&[own[k], u_sums[q][k], v_sum[k], ck])
+                    })
+                    .collect();
+                tapes.push(Tape::new(&g, &roots, &["@s", "@t"]).map_err(|e| {
+                    Error::Expression {
+                        what: format!("patch ({p}, {q})"),
+                        message: e.to_string(),
+                    }
+                })?);
+            }
+        }
+        Ok(tapes)
+    }
+
     fn measure_continuity(&self) -> ContinuityReport {
         let (n, m) = self.cells();
         let (uk, vk) = self.knots();
         let d = self.dim;
         let mut jumps = Vec::new();
         let mut scale = 0.0f64;
-        let (mut a, mut b) = (vec![0.0; d], vec![0.0; d]);
-        let mut edge = |p: &PolyPatch, q: &PolyPatch, across_u: bool, lo: f64, hi: f64| {
+        let xs: Vec<f64> = (0..EDGE_SAMPLES)
+            .map(|k| k as f64 / (EDGE_SAMPLES - 1) as f64)
+            .collect();
+        let (zeros, ones) = (vec![0.0; EDGE_SAMPLES], vec![1.0; EDGE_SAMPLES]);
+        let (mut a, mut b) = (vec![0.0; EDGE_SAMPLES * d], vec![0.0; EDGE_SAMPLES * d]);
+        let mut edge = |p: usize, q: usize, across_u: bool, lo: f64, hi: f64| {
+            if across_u {
+                self.eval_local_many(p, &ones, &xs, &mut a);
+                self.eval_local_many(q, &zeros, &xs, &mut b);
+            } else {
+                self.eval_local_many(p, &xs, &ones, &mut a);
+                self.eval_local_many(q, &xs, &zeros, &mut b);
+            }
             let (mut worst, mut at) = (0.0f64, lo);
-            for k in 0..EDGE_SAMPLES {
-                let x = k as f64 / (EDGE_SAMPLES - 1) as f64;
-                if across_u {
-                    p.eval_into(1.0, x, &mut a);
-                    q.eval_into(0.0, x, &mut b);
-                } else {
-                    p.eval_into(x, 1.0, &mut a);
-                    q.eval_into(x, 0.0, &mut b);
-                }
-                let dist = crate::numeric::distance(&a, &b);
-                scale = a.iter().chain(&b).fold(scale, |m, c| m.max(c.abs()));
+            for (k, (pa, pb)) in a.chunks_exact(d).zip(b.chunks_exact(d)).enumerate() {
+                let dist = crate::numeric::distance(pa, pb);
+                scale = pa.iter().chain(pb).fold(scale, |m, c| m.max(c.abs()));
                 if dist > worst || dist.is_nan() {
                     worst = dist;
-                    at = lo + x * (hi - lo);
+                    at = lo + xs[k] * (hi - lo);
                 }
             }
             (worst, at)
         };
         for i in 1..n {
             for j in 0..m {
-                let (max_jump, at) = edge(
-                    self.patch(i - 1, j),
-                    self.patch(i, j),
-                    true,
-                    vk[j],
-                    vk[j + 1],
-                );
+                let (max_jump, at) = edge((i - 1) * m + j, i * m + j, true, vk[j], vk[j + 1]);
                 jumps.push(Jump {
                     line: GridLine::U(i),
                     cell: j,
@@ -503,13 +813,7 @@ impl CompositeSurface {
         }
         for j in 1..m {
             for i in 0..n {
-                let (max_jump, at) = edge(
-                    self.patch(i, j - 1),
-                    self.patch(i, j),
-                    false,
-                    uk[i],
-                    uk[i + 1],
-                );
+                let (max_jump, at) = edge(i * m + j - 1, i * m + j, false, uk[i], uk[i + 1]);
                 jumps.push(Jump {
                     line: GridLine::V(j),
                     cell: i,
@@ -633,32 +937,20 @@ fn ramps(g: &mut Graph, x: Id, knots: &[f64]) -> Result<Vec<Id>> {
         .collect()
 }
 
-/// Σ_(a >= a0, b >= b0) c_ab s^(a-a0) t^(b-b0) for coordinate k, Horner in t inside
-/// Horner in s.
-fn horner2(g: &mut Graph, p: &PolyPatch, k: usize, (a0, b0): (usize, usize), s: Id, t: Id) -> Id {
+/// Σ_(a >= a0, b >= b0) c_ab s^a t^b for coordinate k: one sum over monomials, which the
+/// coordinates of a patch share (fewer operations than Horner form, since the engine would
+/// distribute every constant times a ramp over the ramp's two |.| terms).
+fn monomials(g: &mut Graph, p: &PolyPatch, k: usize, (a0, b0): (usize, usize), s: Id, t: Id) -> Id {
     let (deg_a, deg_b) = p.degrees();
-    let one = g.int(1);
-    let mut outer: Option<Id> = None;
-    for a in (a0..=deg_a).rev() {
-        let mut inner: Option<Id> = None;
-        for b in (b0..=deg_b).rev() {
-            let c = coef(g, p.coefficient(a, b)[k]);
-            inner = Some(match inner {
-                None => c,
-                Some(h) => {
-                    let th = g.mul(t, h);
-                    g.add(c, th)
-                }
-            });
-        }
-        let r = inner.unwrap_or(one);
-        outer = Some(match outer {
-            None => r,
-            Some(h) => {
-                let sh = g.mul(s, h);
-                g.add(r, sh)
+    let mut terms = Vec::with_capacity((deg_a + 1) * (deg_b + 1));
+    for a in a0..=deg_a {
+        for b in b0..=deg_b {
+            let c = p.coefficient(a, b)[k];
+            if c != 0.0 {
+                let mono = g.prod(&[(s, a as i32), (t, b as i32)]);
+                terms.push((coef_const(c), mono));
             }
-        });
+        }
     }
-    outer.unwrap_or_else(|| g.int(0))
+    g.lin(&terms)
 }

@@ -1,0 +1,398 @@
+//! Patches, curve pieces and curves given as formulas (spec/composite-surfaces.md §2-§5):
+//! coordinates as expressions of the engine ([`crate::expr`]) in one or two variables, on a
+//! box domain of their own that a composite maps linearly onto its cell (the paper's change
+//! of variables).
+//!
+//! ```
+//! use geomkit::compose::ExprPatch;
+//! let p = ExprPatch::parse(&[("z", "sin(x) * cos(y)")], &["x", "y"], None).unwrap();
+//! assert_eq!(p.eval(&[0.0, 1.0]).unwrap(), vec![0.0]);
+//! let e = ExprPatch::parse(&[("z", "x + * y")], &["x", "y"], None).unwrap_err();
+//! assert_eq!(e.to_string(), "coordinate z: parse error at byte 4: expected a number, a name or `(`, found `*`");
+//! ```
+
+use super::formula::{coef, int_const, num};
+use super::poly::PolyPatch;
+use crate::expr::{parse, Const, Graph, Id, Node, Tape};
+use crate::{Error, Result};
+use std::collections::HashMap;
+
+/// Samples per variable of the finiteness check ([`ExprPatch::check_finite`]).
+const FINITE_SAMPLES: usize = 9;
+
+/// Coordinates given as expressions in one or two variables (a curve piece r(t), a patch
+/// r(u, v) or a height z(x, y)), with an optional domain of their own: one interval per
+/// variable. Without a domain, the cell it is placed on is its domain.
+#[derive(Debug, Clone)]
+pub struct ExprPatch {
+    graph: Graph,
+    roots: Vec<Id>,
+    names: Vec<String>,
+    texts: Vec<String>,
+    vars: Vec<String>,
+    domain: Option<Vec<(f64, f64)>>,
+    tape: Tape,
+}
+
+impl PartialEq for ExprPatch {
+    fn eq(&self, other: &Self) -> bool {
+        self.names == other.names
+            && self.texts == other.texts
+            && self.vars == other.vars
+            && self.domain == other.domain
+    }
+}
+
+fn expression_error(name: &str, message: impl ToString) -> Error {
+    Error::Expression {
+        what: format!("coordinate {name}"),
+        message: message.to_string(),
+    }
+}
+
+impl ExprPatch {
+    /// Parses `coords` = `[(name, formula), ...]` (infix syntax of [`crate::expr::parse`]) as
+    /// functions of `vars`, on `domain` (one interval per variable) or, with `None`, on
+    /// whatever cell it is placed on.
+    ///
+    /// Errors: [`Error::Expression`] naming the coordinate for a formula that does not parse
+    /// (with the byte position), that uses a variable other than `vars`, or that divides by
+    /// an exact zero; [`Error::Empty`] without coordinates; [`Error::PatchCount`] for a
+    /// domain with a number of intervals other than the number of variables;
+    /// [`Error::InvalidShape`] for an interval that is not finite and increasing.
+    pub fn parse(
+        coords: &[(&str, &str)],
+        vars: &[&str],
+        domain: Option<Vec<(f64, f64)>>,
+    ) -> Result<Self> {
+        let mut graph = Graph::new();
+        let mut roots = Vec::with_capacity(coords.len());
+        for (name, text) in coords {
+            let e = parse(&mut graph, text).map_err(|e| expression_error(name, e))?;
+            roots.push(e);
+        }
+        let texts = coords.iter().map(|c| c.1.to_string()).collect();
+        let names = coords.iter().map(|c| c.0.to_string()).collect();
+        Self::new(graph, roots, names, texts, vars, domain)
+    }
+
+    /// A polynomial patch as an expression Σ c_ab u^a v^b in `vars` on [0, 1]² (its local
+    /// coordinates), so that polynomial and expression patches mix in one composite.
+    pub fn from_poly(p: &PolyPatch, names: &[&str], vars: [&str; 2]) -> Result<Self> {
+        let mut graph = Graph::new();
+        let (u, v) = (graph.var(vars[0]), graph.var(vars[1]));
+        let (deg_a, deg_b) = p.degrees();
+        let mut roots = Vec::with_capacity(p.dim());
+        for k in 0..p.dim() {
+            let mut terms = Vec::new();
+            for a in 0..=deg_a {
+                for b in 0..=deg_b {
+                    let c = coef(&mut graph, p.coefficient(a, b)[k]);
+                    terms.push(graph.prod(&[(c, 1), (u, a as i32), (v, b as i32)]));
+                }
+            }
+            roots.push(graph.sum(&terms));
+        }
+        let names: Vec<String> = (0..p.dim())
+            .map(|k| names.get(k).map_or(format!("x{k}"), |s| s.to_string()))
+            .collect();
+        let texts = roots
+            .iter()
+            .map(|&r| graph.print(r, crate::expr::Format::Sympy))
+            .collect();
+        Self::new(graph, roots, names, texts, &vars, Some(vec![(0.0, 1.0); 2]))
+    }
+
+    fn new(
+        graph: Graph,
+        roots: Vec<Id>,
+        names: Vec<String>,
+        texts: Vec<String>,
+        vars: &[&str],
+        domain: Option<Vec<(f64, f64)>>,
+    ) -> Result<Self> {
+        if roots.is_empty() {
+            return Err(Error::Empty {
+                what: "patch coordinates",
+            });
+        }
+        for (name, &r) in names.iter().zip(&roots) {
+            if let Some(bad) = graph
+                .variables(&[r])
+                .into_iter()
+                .find(|x| !vars.contains(&x.as_str()))
+            {
+                return Err(expression_error(
+                    name,
+                    format!(
+                        "unknown variable `{bad}` (the variables are {})",
+                        vars.join(", ")
+                    ),
+                ));
+            }
+        }
+        if let Some(d) = &domain {
+            check_domain(d, vars.len())?;
+        }
+        let tape = Tape::new(&graph, &roots, vars).map_err(|e| expression_error(&names[0], e))?;
+        Ok(ExprPatch {
+            graph,
+            roots,
+            names,
+            texts,
+            vars: vars.iter().map(|s| s.to_string()).collect(),
+            domain,
+            tape,
+        })
+    }
+
+    /// Number of coordinates.
+    pub fn dim(&self) -> usize {
+        self.roots.len()
+    }
+
+    /// The variables, in order.
+    pub fn vars(&self) -> &[String] {
+        &self.vars
+    }
+
+    /// Coordinate names.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The formulas as given.
+    pub fn texts(&self) -> &[String] {
+        &self.texts
+    }
+
+    /// The patch's own domain, if it has one.
+    pub fn domain(&self) -> Option<&[(f64, f64)]> {
+        self.domain.as_deref()
+    }
+
+    /// The point at parameters `params` (one per variable), by the engine's tape.
+    /// Errors: [`Error::Expression`] for a wrong number of parameters.
+    pub fn eval(&self, params: &[f64]) -> Result<Vec<f64>> {
+        let inputs: Vec<&[f64]> = params.iter().map(std::slice::from_ref).collect();
+        let mut out = vec![0.0; self.dim()];
+        {
+            let mut cols: Vec<&mut [f64]> = out.chunks_mut(1).collect();
+            self.tape
+                .eval_batch(&inputs, &mut cols)
+                .map_err(|e| expression_error(&self.names[0], e))?;
+        }
+        Ok(out)
+    }
+
+    /// Evaluates at local coordinates (each in [0, 1], mapped linearly onto `domain`):
+    /// `locals[k][i]` is local variable k at point i; `out` receives `dim` numbers per point.
+    pub(crate) fn eval_local_many(
+        &self,
+        domain: &[(f64, f64)],
+        locals: &[&[f64]],
+        out: &mut [f64],
+    ) {
+        let n = locals.first().map_or(0, |x| x.len());
+        let params: Vec<Vec<f64>> = locals
+            .iter()
+            .zip(domain)
+            .map(|(l, &(a, b))| l.iter().map(|&s| a + (b - a) * s).collect())
+            .collect();
+        let inputs: Vec<&[f64]> = params.iter().map(Vec::as_slice).collect();
+        let d = self.dim();
+        let mut cols = vec![vec![0.0; n]; d];
+        {
+            let mut refs: Vec<&mut [f64]> = cols.iter_mut().map(Vec::as_mut_slice).collect();
+            self.tape
+                .eval_batch(&inputs, &mut refs)
+                .expect("inputs shaped by the caller");
+        }
+        for (i, p) in out.chunks_exact_mut(d).enumerate() {
+            for (k, x) in p.iter_mut().enumerate() {
+                *x = cols[k][i];
+            }
+        }
+    }
+
+    /// The coordinates imported into `dst` with each variable k replaced by `args[k]`.
+    pub(crate) fn place(&self, dst: &mut Graph, args: &[Id]) -> Vec<Id> {
+        let subs: Vec<(&str, Id)> = self
+            .vars
+            .iter()
+            .map(String::as_str)
+            .zip(args.iter().copied())
+            .collect();
+        import(dst, &self.graph, &self.roots, &subs)
+    }
+
+    /// The coordinates in `dst` at local coordinates `locals` (expressions with values in
+    /// [0, 1]): variable k replaced by a_k + (b_k - a_k) locals[k] on `domain` (exact
+    /// rationals for decimal bounds, so local 0 and 1 give exactly a_k and b_k).
+    pub(crate) fn place_local(
+        &self,
+        dst: &mut Graph,
+        locals: &[Id],
+        domain: &[(f64, f64)],
+    ) -> Vec<Id> {
+        let args: Vec<Id> = locals
+            .iter()
+            .zip(domain)
+            .map(|(&l, &(a, b))| {
+                let (a, b) = (num(dst, a), num(dst, b));
+                let w = dst.sub(b, a);
+                let wl = dst.mul(w, l);
+                dst.add(a, wl)
+            })
+            .collect();
+        self.place(dst, &args)
+    }
+
+    /// Checks that the patch is finite on a 9-point-per-variable grid of `domain`.
+    /// Errors: [`Error::Expression`] naming the coordinate and the point.
+    pub(crate) fn check_finite(&self, domain: &[(f64, f64)]) -> Result<()> {
+        let k = FINITE_SAMPLES;
+        let total = k.pow(domain.len() as u32);
+        let mut locals = vec![Vec::with_capacity(total); domain.len()];
+        for idx in 0..total {
+            let mut rest = idx;
+            for l in locals.iter_mut() {
+                l.push((rest % k) as f64 / (k - 1) as f64);
+                rest /= k;
+            }
+        }
+        let refs: Vec<&[f64]> = locals.iter().map(Vec::as_slice).collect();
+        let d = self.dim();
+        let mut out = vec![0.0; total * d];
+        self.eval_local_many(domain, &refs, &mut out);
+        if let Some(pos) = out.iter().position(|x| !x.is_finite()) {
+            let (i, c) = (pos / d, pos % d);
+            let at: Vec<String> = self
+                .vars
+                .iter()
+                .zip(&locals)
+                .zip(domain)
+                .map(|((v, l), &(a, b))| format!("{v} = {}", a + (b - a) * l[i]))
+                .collect();
+            return Err(expression_error(
+                &self.names[c],
+                format!(
+                    "the value {} at {} is not a finite number",
+                    out[pos],
+                    at.join(", ")
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// One interval per variable, finite and increasing.
+fn check_domain(domain: &[(f64, f64)], vars: usize) -> Result<()> {
+    if domain.len() != vars {
+        return Err(Error::PatchCount {
+            what: "intervals of a patch domain (one per variable)".into(),
+            expected: vars,
+            got: domain.len(),
+        });
+    }
+    for (k, &(a, b)) in domain.iter().enumerate() {
+        if !(a.is_finite() && b.is_finite() && a < b) {
+            return Err(Error::InvalidShape {
+                what: "domain",
+                reason: format!("interval {k} [{a}, {b}] must be finite with start < end"),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The expressions `roots` of `src` rebuilt in `dst` (simplified again by `dst`'s
+/// constructors), with the variables named in `subs` replaced by the given nodes of `dst`.
+pub(crate) fn import(dst: &mut Graph, src: &Graph, roots: &[Id], subs: &[(&str, Id)]) -> Vec<Id> {
+    let mut map: HashMap<Id, Id> = HashMap::new();
+    for id in src.reachable(roots) {
+        let new = match src.node(id) {
+            Node::Const(c) => dst.constant(c.clone()),
+            Node::Pi => dst.pi(),
+            Node::Var(name) => match subs.iter().find(|(v, _)| *v == &**name) {
+                Some(&(_, by)) => by,
+                None => dst.var(name),
+            },
+            Node::Add(c, ts) => {
+                let cid = dst.constant(c.clone());
+                let mut lin: Vec<(Const, Id)> =
+                    ts.iter().map(|(k, t)| (k.clone(), map[t])).collect();
+                lin.push((int_const(1), cid));
+                dst.lin(&lin)
+            }
+            Node::Mul(c, fs) => {
+                let cid = dst.constant(c.clone());
+                let mut fl: Vec<(Id, i32)> = fs.iter().map(|(b, e)| (map[b], *e)).collect();
+                fl.push((cid, 1));
+                dst.prod(&fl)
+            }
+            Node::Fun(f, a) => dst.fun(*f, map[a]),
+        };
+        map.insert(id, new);
+    }
+    roots.iter().map(|r| map[r]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parse_errors_name_the_coordinate_and_the_variable() {
+        let e = ExprPatch::parse(&[("x", "u"), ("y", "w + v")], &["u", "v"], None).unwrap_err();
+        assert!(
+            e.to_string().contains("coordinate y: unknown variable `w`"),
+            "{e}"
+        );
+        let e = ExprPatch::parse(&[("x", "u/0")], &["u", "v"], None).unwrap_err();
+        assert!(e.to_string().contains("division by exact zero"), "{e}");
+        let e = ExprPatch::parse(&[("x", "u")], &["u", "v"], Some(vec![(0.0, 1.0)])).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                Error::PatchCount {
+                    expected: 2,
+                    got: 1,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        let e = ExprPatch::parse(&[("x", "u")], &["u"], Some(vec![(1.0, 1.0)])).unwrap_err();
+        assert!(e.to_string().contains("start < end"), "{e}");
+        let p = ExprPatch::parse(&[("x", "ln(u)")], &["u"], None).unwrap();
+        let e = p.check_finite(&[(0.0, 1.0)]).unwrap_err();
+        assert!(e.to_string().contains("at u = 0 is not a finite"), "{e}");
+        assert!(p.check_finite(&[(0.5, 1.0)]).is_ok());
+    }
+
+    #[test]
+    fn placing_maps_the_domain_and_poly_patches_agree() {
+        let p = ExprPatch::parse(
+            &[("z", "x^2 + 3*y")],
+            &["x", "y"],
+            Some(vec![(1.0, 3.0), (0.0, 0.5)]),
+        )
+        .unwrap();
+        let mut g = Graph::new();
+        let (s, t) = (g.var("s"), g.var("t"));
+        let d = p.domain().unwrap().to_vec();
+        let e = p.place_local(&mut g, &[s, t], &d)[0];
+        assert_eq!(g.eval(e, &[("s", 0.5), ("t", 1.0)]).unwrap(), 4.0 + 1.5);
+        let one = g.int(1);
+        let corner = p.place_local(&mut g, &[one, one], &d)[0];
+        assert_eq!(g.print(corner, crate::expr::Format::Maple), "21/2");
+        let poly = PolyPatch::new((1, 2), 1, vec![1.0, 2.0, -0.5, 4.0, 0.25, 3.0]).unwrap();
+        let q = ExprPatch::from_poly(&poly, &["z"], ["s", "t"]).unwrap();
+        let mut out = [0.0];
+        q.eval_local_many(&[(0.0, 1.0), (0.0, 1.0)], &[&[0.3], &[0.7]], &mut out);
+        assert!((out[0] - poly.eval(0.3, 0.7)[0]).abs() < 1e-15);
+        assert_eq!(q, q.clone());
+    }
+}

@@ -1,0 +1,270 @@
+//! Composite surfaces of formula patches (spec/composite-surfaces.md §3-4): the printed
+//! formula (9)/(11) (through the engine's tape), the literal formula in f64 and the
+//! structural evaluator agree on dense grids including every knot line and points outside,
+//! for smooth surfaces split into cells and for patches that do not meet (shifted by (9)).
+
+mod common;
+
+use common::Rng;
+use geomkit::compose::{CompositeSurface, ExprPatch, PolyPatch, SurfaceKind};
+use geomkit::Error;
+use proptest::prelude::*;
+
+fn random_knots(rng: &mut Rng, n: usize) -> Vec<f64> {
+    let mut k = vec![rng.uniform() * 3.0 - 1.0];
+    for _ in 0..n {
+        let last = k[k.len() - 1];
+        k.push(last + 0.6 + rng.uniform() * 0.5);
+    }
+    k
+}
+
+/// Every knot, quarter points of every cell, and points outside.
+fn dense(knots: &[f64]) -> Vec<f64> {
+    let (a, b) = (knots[0], knots[knots.len() - 1]);
+    let mut xs = vec![a - 1.0, b + 0.5, b];
+    for w in knots.windows(2) {
+        for f in [0.0, 0.25, 0.5, 0.75] {
+            xs.push(w[0] + f * (w[1] - w[0]));
+        }
+    }
+    xs
+}
+
+/// Largest difference between the printed formula (tape), the literal formula, the
+/// structural evaluator point by point and in batches, and the scale of the values.
+fn disagreement(s: &CompositeSurface, us: &[f64], vs: &[f64]) -> (f64, f64) {
+    let d = s.dim();
+    let f = s.formula().unwrap();
+    let (mut pu, mut pv, mut uv) = (Vec::new(), Vec::new(), Vec::new());
+    for &u in us {
+        for &v in vs {
+            pu.push(u);
+            pv.push(v);
+            uv.extend([u, v]);
+        }
+    }
+    let mut printed = vec![0.0; pu.len() * d];
+    f.eval_batch(&[&pu, &pv], &mut printed).unwrap();
+    let mut many = vec![0.0; pu.len() * d];
+    s.eval_many(&uv, &mut many).unwrap();
+    let mut grid = vec![0.0; pu.len() * d];
+    s.eval_grid(us, vs, &mut grid).unwrap();
+    let (mut worst, mut scale) = (0.0f64, 1.0f64);
+    for k in 0..pu.len() {
+        let literal = s.eval_formula(pu[k], pv[k]);
+        let one = s.eval(pu[k], pv[k]);
+        for c in 0..d {
+            let x = literal[c];
+            scale = scale.max(x.abs());
+            for y in [printed[k * d + c], many[k * d + c], grid[k * d + c], one[c]] {
+                worst = worst.max((x - y).abs());
+            }
+        }
+    }
+    (worst, scale)
+}
+
+fn patch(x: &str, y: &str, z: &str) -> ExprPatch {
+    ExprPatch::parse(&[("x", x), ("y", y), ("z", z)], &["u", "v"], None).unwrap()
+}
+
+#[test]
+fn smooth_surface_split_into_cells_is_reproduced() {
+    let mut rng = Rng(7);
+    let (uk, vk) = (random_knots(&mut rng, 5), random_knots(&mut rng, 4));
+    let rows: Vec<Vec<ExprPatch>> = (0..5)
+        .map(|_| {
+            (0..4)
+                .map(|_| patch("u", "v", "sin(u)*cos(2*v) + exp(u/3)"))
+                .collect()
+        })
+        .collect();
+    let s =
+        CompositeSurface::from_expr(uk.clone(), vk.clone(), rows, SurfaceKind::Parametric).unwrap();
+    assert!(
+        s.continuity().is_continuous(),
+        "{:?}",
+        s.continuity().max_jump
+    );
+    let (worst, scale) = disagreement(&s, &dense(&uk), &dense(&vk));
+    assert!(worst <= 1e-12 * scale, "{worst:e}");
+    // Inside the domain the composite is the surface itself.
+    for (u, v) in [(uk[0] + 0.3, vk[0] + 0.2), (uk[2], vk[1]), (uk[5], vk[4])] {
+        let p = s.eval(u, v);
+        let z = u.sin() * (2.0 * v).cos() + (u / 3.0).exp();
+        assert!((p[0] - u).abs() < 1e-14 && (p[1] - v).abs() < 1e-14);
+        assert!((p[2] - z).abs() < 1e-14, "{u} {v}");
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+    /// Random (discontinuous) biquadratic patches as formulas, n, m from 1 to 6: the formula
+    /// shifts them by (9); formula patches agree with the same polynomials as PolyPatch.
+    #[test]
+    fn shifted_formula_patches_match_the_formula_and_the_polynomial_path(
+        n in 1usize..=6, m in 1usize..=6, seed in 1u64..u64::MAX
+    ) {
+        let mut rng = Rng(seed | 1);
+        let (uk, vk) = (random_knots(&mut rng, n), random_knots(&mut rng, m));
+        let polys: Vec<Vec<PolyPatch>> = (0..n)
+            .map(|_| (0..m).map(|_| {
+                let c = (0..27).map(|_| rng.uniform() * 4.0 - 2.0).collect();
+                PolyPatch::new((2, 2), 3, c).unwrap()
+            }).collect())
+            .collect();
+        let exprs: Vec<Vec<ExprPatch>> = polys
+            .iter()
+            .map(|r| r.iter().map(|p| ExprPatch::from_poly(p, &["x", "y", "z"], ["u", "v"]).unwrap()).collect())
+            .collect();
+        let s = CompositeSurface::from_expr(uk.clone(), vk.clone(), exprs, SurfaceKind::Parametric).unwrap();
+        let poly = CompositeSurface::from_poly(uk.clone(), vk.clone(), polys, SurfaceKind::Parametric).unwrap();
+        if n * m > 1 {
+            prop_assert!(!s.continuity().is_continuous());
+        }
+        prop_assert!((s.continuity().max_jump - poly.continuity().max_jump).abs() < 1e-12);
+        let (us, vs) = (dense(&uk), dense(&vk));
+        let (worst, scale) = disagreement(&s, &us, &vs);
+        prop_assert!(worst <= 1e-12 * scale, "{worst:e} at scale {scale}");
+        for &u in &us {
+            for &v in &vs {
+                let (a, b) = (s.eval(u, v), poly.eval(u, v));
+                for c in 0..3 {
+                    prop_assert!((a[c] - b[c]).abs() <= 1e-12 * scale);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn own_domains_are_mapped_onto_the_cells() {
+    // A quarter cylinder given on its own domain (angle, height), placed on the cell [1, 2] ×
+    // [0, 1], next to a plane on [0, 1] × [0, 1] that meets it along u = 1.
+    let plane =
+        ExprPatch::parse(&[("x", "1"), ("y", "u - 1"), ("z", "v")], &["u", "v"], None).unwrap();
+    let cyl = ExprPatch::parse(
+        &[("x", "cos(u)"), ("y", "sin(u)"), ("z", "v/10")],
+        &["u", "v"],
+        Some(vec![(0.0, std::f64::consts::FRAC_PI_2), (0.0, 10.0)]),
+    )
+    .unwrap();
+    let s = CompositeSurface::from_expr(
+        vec![0.0, 1.0, 2.0],
+        vec![0.0, 1.0],
+        vec![vec![plane], vec![cyl]],
+        SurfaceKind::Parametric,
+    )
+    .unwrap();
+    assert!(
+        s.continuity().is_continuous(),
+        "{}",
+        s.continuity().max_jump
+    );
+    let p = s.eval(1.5, 0.5);
+    let a = std::f64::consts::FRAC_PI_4;
+    assert!((p[0] - a.cos()).abs() < 1e-15 && (p[1] - a.sin()).abs() < 1e-15);
+    assert!((p[2] - 0.5).abs() < 1e-15);
+    let (worst, scale) = disagreement(&s, &dense(&[0.0, 1.0, 2.0]), &dense(&[0.0, 1.0]));
+    assert!(worst <= 1e-12 * scale, "{worst:e}");
+    let printed = s.formula().unwrap().print(geomkit::expr::Format::Maple);
+    assert!(
+        printed.contains("cos(") && !printed.contains("Pi"),
+        "{printed}"
+    );
+}
+
+#[test]
+fn explicit_patches_that_jump_are_shifted_by_formula_11() {
+    let z = |f: &str| ExprPatch::parse(&[("z", f)], &["x", "y"], None).unwrap();
+    // z = x y on the left cells, x y + 3 on the right: (11) keeps the left value and
+    // shifts the right cells down by 3; in y the cells meet.
+    let s = CompositeSurface::from_expr(
+        vec![0.0, 0.5, 1.0],
+        vec![0.0, 0.25, 1.0],
+        vec![vec![z("x*y"), z("x*y")], vec![z("x*y + 3"), z("x*y + 3")]],
+        SurfaceKind::Explicit,
+    )
+    .unwrap();
+    let r = s.continuity();
+    assert!(!r.is_continuous());
+    assert!((r.max_jump - 3.0).abs() < 1e-15);
+    assert_eq!(
+        r.jumps.iter().filter(|j| j.max_jump > r.tolerance).count(),
+        2
+    );
+    for (x, y) in [(0.75f64, 0.5f64), (0.5, 0.25), (1.0, 1.0), (2.0, -1.0)] {
+        let want = x.clamp(0.0, 1.0) * y.clamp(0.0, 1.0);
+        assert!((s.eval(x, y)[0] - want).abs() < 1e-15, "{x} {y}");
+        assert!((s.eval_formula(x, y)[0] - want).abs() < 1e-15, "{x} {y}");
+    }
+    let (worst, scale) = disagreement(&s, &dense(&[0.0, 0.5, 1.0]), &dense(&[0.0, 0.25, 1.0]));
+    assert!(worst <= 1e-12 * scale, "{worst:e}");
+    assert!(s
+        .formula()
+        .unwrap()
+        .print(geomkit::expr::Format::Maple)
+        .starts_with("z(x, y) = "));
+}
+
+#[test]
+fn bad_formula_patches_are_errors() {
+    let e =
+        ExprPatch::parse(&[("x", "u"), ("y", "v"), ("z", "sin(u")], &["u", "v"], None).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "coordinate z: parse error at byte 5: expected `)` closing `sin(`, found end of input"
+    );
+    let ok = || patch("u", "v", "0");
+    let e = CompositeSurface::from_expr(
+        vec![0.0, 1.0, 2.0],
+        vec![0.0, 1.0],
+        vec![vec![ok()]],
+        SurfaceKind::Parametric,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::PatchCount {
+                expected: 2,
+                got: 1,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    let e = CompositeSurface::from_expr(
+        vec![0.0, 1.0],
+        vec![0.0, 1.0],
+        vec![vec![patch("u", "v", "sqrt(u - 1/2)")]],
+        SurfaceKind::Parametric,
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("coordinate z: the value NaN at u = 0, v = 0"),
+        "{e}"
+    );
+    let flat = ExprPatch::parse(&[("x", "u"), ("y", "v")], &["u", "v"], None).unwrap();
+    let e = CompositeSurface::from_expr(
+        vec![0.0, 1.0, 2.0],
+        vec![0.0, 1.0],
+        vec![vec![ok()], vec![flat]],
+        SurfaceKind::Parametric,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(e, Error::DimensionMismatch { index: 1, .. }),
+        "{e}"
+    );
+    let e = CompositeSurface::from_expr(
+        vec![0.0, 1.0],
+        vec![0.0, 1.0],
+        vec![vec![ok()]],
+        SurfaceKind::Explicit,
+    )
+    .unwrap_err();
+    assert!(matches!(e, Error::WrongDimension { .. }), "{e}");
+}
