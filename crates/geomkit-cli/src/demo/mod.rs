@@ -23,7 +23,12 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// Every method's list of demo items, in the order shown.
-const MODULES: &[fn() -> Vec<Item>] = &[bezier::items, bspline::items, compose::items, pointcalc::items];
+const MODULES: &[fn() -> Vec<Item>] = &[
+    bezier::items,
+    bspline::items,
+    compose::items,
+    pointcalc::items,
+];
 
 /// One demo item: a figure or table of a paper, reproduced.
 pub struct Item {
