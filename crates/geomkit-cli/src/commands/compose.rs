@@ -7,7 +7,10 @@
 //!   `patches[i][j]` on cell [u_i, u_(i+1)] × [v_j, v_(j+1)], P = `{"bezier":[[[x,y,z],...],...]}`
 //!   (its [0, 1]² mapped onto the cell);
 //! - `{"type":"composite_explicit","x_knots":[...],"y_knots":[...],"patches":[...]}` with
-//!   1-D Bézier nets `{"bezier":[[[z],...],...]}`.
+//!   1-D Bézier nets `{"bezier":[[[z],...],...]}`, formulas `"expr in x, y"` or
+//!   `{"z":"expr","domain":[[x0,x1],[y0,y1]]}`;
+//! - parametric patches may also be formulas `{"x":"expr","y":"expr","z":"expr"}` in u, v,
+//!   optionally with `"domain":[[u0,u1],[v0,v1]]` mapped linearly onto the cell.
 
 use crate::figures::{linspace, surface_svg, Layer, SurfaceView};
 use crate::output::{Destination, RowSink, TableFormat};
@@ -17,7 +20,10 @@ use crate::table::{extension, Table};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use geomkit::bezier::BezierSurface;
-use geomkit::compose::{bodies, CompositeSurface, Formula, GridLine, RuledSurface};
+use geomkit::compose::{
+    bodies, CompositeSurface, ExprPatch, Formula, GridLine, PolyPatch, RuledCurve, RuledSurface,
+    SurfaceKind,
+};
 use geomkit::expr::Format;
 use serde_json::{json, Map, Value};
 use std::io::Write;
@@ -32,6 +38,12 @@ pub enum ComposeCommand {
     /// A composite surface of patches (SCENE.json) as one formula (9)/(11), with its
     /// continuity report.
     Patches(PatchesArgs),
+    /// A piecewise-ruled surface over curves (CURVES.json) as one formula (2), with its
+    /// consistency checks: formula text, or OUT .json / .obj / .svg like `compose body`.
+    Ruled(RuledArgs),
+    /// A piecewise function or composite curve (PIECES.json) as one formula (spec §5), with
+    /// the continuity report at its breakpoints; OUT .svg plots it.
+    Piecewise(PiecewiseArgs),
 }
 
 /// The bodies.
@@ -123,15 +135,63 @@ pub struct PatchesArgs {
     pub samples: Option<String>,
 }
 
+/// Arguments of `compose ruled`.
+#[derive(Debug, Args)]
+pub struct RuledArgs {
+    /// The curves (JSON): {"type":"ruled","curves":[C,...],"v":[...],"u":[u0,u1]} with C
+    /// {"x":"expr","y":"expr","z":"expr","t":[t0,t1]} (formulas in t), {"point":[x,y,z]},
+    /// {"polygon":[[x,y,z],...]} or {"polyline":[[x,y,z],...]}; "u" defaults to [0,1].
+    pub curves: PathBuf,
+    /// Output options, as for `compose body`.
+    #[command(flatten)]
+    pub out: FormulaOutput,
+}
+
+/// Arguments of `compose piecewise`.
+#[derive(Debug, Args)]
+pub struct PiecewiseArgs {
+    /// The pieces (JSON): {"type":"piecewise","knots":[x0,...,xn],"pieces":["f0(x)",...]}
+    /// for a function, pieces {"x":"expr","y":"expr"[,"z":..][,"domain":[t0,t1]]} in t
+    /// for a composite curve, or {"type":"polyline"|"polygon","points":[[x,y],...]
+    /// [,"knots":[...]]}.
+    pub pieces: PathBuf,
+    /// Print the continuity report as JSON instead of the formula.
+    #[arg(long)]
+    pub report_json: bool,
+    /// Output options: .svg plots the function or the curve.
+    #[command(flatten)]
+    pub out: FormulaOutput,
+}
+
+/// Formula syntax and output file, shared by `compose ruled` and `compose piecewise`.
+#[derive(Debug, Args)]
+pub struct FormulaOutput {
+    /// Syntax of the formula.
+    #[arg(long, value_name = "F", default_value = "maple")]
+    pub format: String,
+    /// Print with common subexpressions in temporaries.
+    #[arg(long)]
+    pub program: bool,
+    /// Output: .json (formula in every syntax), .obj (mesh), .svg (picture), .txt (the
+    /// formula); default: the formula on stdout.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+    /// Sample grid of a mesh or picture (KxL) [default: 121x61].
+    #[arg(long, value_name = "KxL")]
+    pub samples: Option<String>,
+}
+
 /// Runs `geomkit compose ...`.
 pub fn run(command: ComposeCommand) -> Result<()> {
     match command {
         ComposeCommand::Body(args) => run_body(args),
         ComposeCommand::Patches(args) => run_patches(args),
+        ComposeCommand::Ruled(args) => run_ruled(args),
+        ComposeCommand::Piecewise(args) => super::piecewise::run(args),
     }
 }
 
-fn format_of(name: &str) -> Result<Format> {
+pub fn format_of(name: &str) -> Result<Format> {
     Format::from_name(name).ok_or_else(|| {
         anyhow!(
             "unknown --format {name:?}: expected one of {}",
@@ -140,7 +200,7 @@ fn format_of(name: &str) -> Result<Format> {
     })
 }
 
-fn samples_of(text: Option<&str>, default: (usize, usize)) -> Result<(usize, usize)> {
+pub fn samples_of(text: Option<&str>, default: (usize, usize)) -> Result<(usize, usize)> {
     let Some(t) = text else { return Ok(default) };
     let parse = |x: &str| -> Result<usize> {
         match x.trim().parse::<usize>() {
@@ -231,7 +291,7 @@ pub fn build_body(args: &BodyArgs) -> Result<(RuledSurface, String)> {
     })
 }
 
-fn formula_text(f: &Formula, format: Format, program: bool) -> String {
+pub fn formula_text(f: &Formula, format: Format, program: bool) -> String {
     if program {
         f.print_program(format)
     } else {
@@ -240,7 +300,7 @@ fn formula_text(f: &Formula, format: Format, program: bool) -> String {
 }
 
 /// The formula in every syntax, with its size, as JSON.
-fn formula_json(f: &Formula, what: &str, extra: Value) -> String {
+pub fn formula_json(f: &Formula, what: &str, extra: Value) -> String {
     let mut printed = Map::new();
     for fmt in Format::ALL {
         printed.insert(fmt.name().into(), Value::String(f.print(fmt)));
@@ -261,11 +321,14 @@ fn formula_json(f: &Formula, what: &str, extra: Value) -> String {
     s
 }
 
+/// A grid evaluator `(us, vs, out)`.
+type GridFn<'a> = Box<dyn Fn(&[f64], &[f64], &mut [f64]) -> geomkit::Result<()> + 'a>;
+
 /// Evaluations on a grid, for pictures and meshes (structural evaluators).
 pub struct GridView<'a> {
     dim: usize,
     domain: ((f64, f64), (f64, f64)),
-    grid: Box<dyn Fn(&[f64], &[f64], &mut [f64]) -> geomkit::Result<()> + 'a>,
+    grid: GridFn<'a>,
 }
 
 impl SurfaceView for GridView<'_> {
@@ -363,30 +426,170 @@ fn obj_text(view: &GridView<'_>, (k, l): (usize, usize), what: &str) -> Result<S
 }
 
 fn run_body(args: BodyArgs) -> Result<()> {
-    let format = format_of(&args.format)?;
     let (body, what) = build_body(&args)?;
+    let out = FormulaOutput {
+        format: args.format,
+        program: args.program,
+        output: args.output,
+        samples: args.samples,
+    };
+    write_ruled(&body, &what, &out)
+}
+
+/// A ruled surface's formula, mesh or picture, as `out` asks.
+fn write_ruled(body: &RuledSurface, what: &str, out: &FormulaOutput) -> Result<()> {
+    let format = format_of(&out.format)?;
     let f = body.formula()?;
-    let dest = Destination::from_option(args.output.as_deref());
-    match args.output.as_deref().map(extension) {
-        None => dest.write(formula_text(&f, format, args.program).as_bytes()),
-        Some(Some(e)) if e == "json" => dest.write(formula_json(&f, &what, json!({})).as_bytes()),
+    let dest = Destination::from_option(out.output.as_deref());
+    match out.output.as_deref().map(extension) {
+        None => dest.write(formula_text(&f, format, out.program).as_bytes()),
+        Some(Some(e)) if e == "json" => dest.write(formula_json(&f, what, json!({})).as_bytes()),
         Some(Some(e)) if e == "obj" => {
-            let k = samples_of(args.samples.as_deref(), (121, 61))?;
-            dest.write(obj_text(&ruled_view(&body), k, &what)?.as_bytes())
+            let k = samples_of(out.samples.as_deref(), (121, 61))?;
+            dest.write(obj_text(&ruled_view(body), k, what)?.as_bytes())
         }
         Some(Some(e)) if e == "svg" => {
             let first = f.print(Format::Maple);
             let line = first.lines().next().unwrap_or_default();
-            dest.write(picture(&ruled_view(&body), &what, line, 16)?.as_bytes())
+            dest.write(picture(&ruled_view(body), what, line, 16)?.as_bytes())
         }
-        Some(Some(e)) if e == "txt" => {
-            dest.write(formula_text(&f, format, args.program).as_bytes())
-        }
+        Some(Some(e)) if e == "txt" => dest.write(formula_text(&f, format, out.program).as_bytes()),
         _ => bail!(
             "cannot tell the output format of {}: name it .json, .obj, .svg or .txt",
-            args.output.as_deref().unwrap_or(Path::new("")).display()
+            out.output.as_deref().unwrap_or(Path::new("")).display()
         ),
     }
+}
+
+/// Reads a JSON file.
+pub fn read_json(path: &Path) -> Result<Value> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    serde_json::from_str(&text).map_err(|e| anyhow!("{}: invalid JSON: {e}", path.display()))
+}
+
+/// `[x, y, z]` points of a JSON array.
+fn points3(v: &Value, place: &str) -> Result<Vec<[f64; 3]>> {
+    let arr = v
+        .as_array()
+        .ok_or_else(|| anyhow!("{place} must be an array of points [x, y, z]"))?;
+    arr.iter()
+        .enumerate()
+        .map(
+            |(k, p)| match number_list(Some(p), &format!("{place}[{k}]"))?[..] {
+                [x, y, z] => Ok([x, y, z]),
+                _ => bail!("{place}[{k}] must be a point [x, y, z]"),
+            },
+        )
+        .collect()
+}
+
+/// One curve of a ruled-surface file.
+fn ruled_curve(c: &Value) -> Result<RuledCurve> {
+    if let Some(p) = c.get("point") {
+        return Ok(RuledCurve::Point(points3(&json!([p]), "point")?[0]));
+    }
+    if let Some(p) = c.get("polygon") {
+        return Ok(RuledCurve::polygon(points3(p, "polygon")?)?);
+    }
+    if let Some(p) = c.get("polyline") {
+        return Ok(RuledCurve::polyline(points3(p, "polyline")?)?);
+    }
+    let text = |n: &str| -> Result<&str> {
+        match c.get(n) {
+            None if n == "z" => Ok("0"),
+            None => bail!("missing \"{n}\": give x, y, z as formulas in t and \"t\":[t0,t1], or \"point\", \"polygon\", \"polyline\""),
+            Some(t) => t.as_str().ok_or_else(|| anyhow!("\"{n}\" must be a formula string")),
+        }
+    };
+    let coords = [text("x")?, text("y")?, text("z")?];
+    let t = match number_list(c.get("t"), "t")?[..] {
+        [t0, t1] => (t0, t1),
+        _ => bail!("\"t\" must be [t0, t1]"),
+    };
+    Ok(RuledCurve::formula(coords, t)?)
+}
+
+/// Parses a ruled-surface file (see [`RuledArgs`]).
+pub fn parse_ruled(v: &Value) -> Result<RuledSurface> {
+    let ty = v.get("type").and_then(Value::as_str).unwrap_or("");
+    if ty != "ruled" {
+        bail!("\"type\" must be \"ruled\", found {ty:?}");
+    }
+    let curves = v
+        .get("curves")
+        .and_then(Value::as_array)
+        .ok_or_else(|| anyhow!("missing or non-array \"curves\""))?;
+    let curves = curves
+        .iter()
+        .enumerate()
+        .map(|(k, c)| ruled_curve(c).with_context(|| format!("curves[{k}]")))
+        .collect::<Result<Vec<_>>>()?;
+    let vs = number_list(v.get("v"), "v")?;
+    let u = match v.get("u") {
+        None => (0.0, 1.0),
+        Some(u) => match number_list(Some(u), "u")?[..] {
+            [a, b] => (a, b),
+            _ => bail!("\"u\" must be [u0, u1]"),
+        },
+    };
+    Ok(RuledSurface::new(curves, vs, u)?)
+}
+
+/// The consistency checks of a ruled surface: which curves are closed, whether the
+/// surface closes into a body, and formula (2) printed vs the structural evaluator.
+pub fn ruled_report(s: &RuledSurface) -> Result<String> {
+    let curves = s.curves();
+    let mut open = Vec::new();
+    let mut scale = 0.0f64;
+    for (k, c) in curves.iter().enumerate() {
+        let (t0, t1) = c.interval();
+        let (a, b) = (c.eval(t0), c.eval(t1));
+        scale = a.iter().chain(&b).fold(scale, |m, x| m.max(x.abs()));
+        let gap = (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();
+        if gap > 1e-12 * scale.max(1.0) && !matches!(c, RuledCurve::Point(_)) {
+            open.push(format!("{k} (gap {gap:.3e})"));
+        }
+    }
+    let ends_are_points = matches!(curves[0], RuledCurve::Point(_))
+        && matches!(curves[curves.len() - 1], RuledCurve::Point(_));
+    let shape = match (open.is_empty(), ends_are_points) {
+        (true, true) => "every curve closed and both ends points: a closed body".to_string(),
+        (true, false) => "every curve closed: a tube, open at the first and last curve".into(),
+        (false, _) => format!("open curves: {}", open.join(", ")),
+    };
+    let f = s.formula()?;
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let k = 41;
+    let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, k));
+    let (pu, pv): (Vec<f64>, Vec<f64>) = us
+        .iter()
+        .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+        .unzip();
+    let mut printed = vec![0.0; pu.len() * 3];
+    f.eval_batch(&[&pu, &pv], &mut printed)?;
+    let mut worst = 0.0f64;
+    for (i, p) in printed.chunks_exact(3).enumerate() {
+        let q = s.eval(pu[i], pv[i]);
+        worst = (0..3).fold(worst, |w, c| w.max((p[c] - q[c]).abs()));
+    }
+    Ok(format!(
+        "{} curves at v = {:?}; {shape}; formula (2) vs structural evaluator: largest \
+         difference {worst:.2e} on {k}x{k} points; {} DAG operations",
+        curves.len(),
+        s.v_values(),
+        f.op_count()
+    ))
+}
+
+fn run_ruled(args: RuledArgs) -> Result<()> {
+    let v = read_json(&args.curves)?;
+    let s = parse_ruled(&v).with_context(|| args.curves.display().to_string())?;
+    let report = ruled_report(&s)?;
+    let what = format!("ruled surface over {} curves", s.curves().len());
+    write_ruled(&s, &what, &args.out)?;
+    let _ = writeln!(std::io::stderr(), "ruled: {report}");
+    Ok(())
 }
 
 /// Reads a scene file.
@@ -404,7 +607,7 @@ pub fn is_scene(text: &str) -> bool {
         .is_some_and(|t| t == "composite_surface" || t == "composite_explicit")
 }
 
-fn number_list(v: Option<&Value>, place: &str) -> Result<Vec<f64>> {
+pub fn number_list(v: Option<&Value>, place: &str) -> Result<Vec<f64>> {
     let arr = v
         .and_then(Value::as_array)
         .ok_or_else(|| anyhow!("missing or non-array \"{place}\""))?;
@@ -435,7 +638,8 @@ pub fn parse_scene(text: &str) -> Result<CompositeSurface> {
         .get("patches")
         .and_then(Value::as_array)
         .ok_or_else(|| anyhow!("missing or non-array \"patches\""))?;
-    let mut patches = Vec::with_capacity(rows.len());
+    let explicit = ty == "composite_explicit";
+    let mut patches: Vec<Vec<ScenePatch>> = Vec::with_capacity(rows.len());
     for (i, row) in rows.iter().enumerate() {
         let row = row
             .as_array()
@@ -443,35 +647,113 @@ pub fn parse_scene(text: &str) -> Result<CompositeSurface> {
         let mut out = Vec::with_capacity(row.len());
         for (j, p) in row.iter().enumerate() {
             let place = format!("patches[{i}][{j}]");
-            let Some(net) = p.get("bezier") else {
-                if p.get("x").is_some() || p.get("z").is_some() || p.is_string() {
-                    bail!(
-                        "{place}: expression patches are not supported yet; give \
-                         {{\"bezier\": [[[x,y,z],...],...]}}"
-                    );
-                }
-                bail!("{place}: expected {{\"bezier\": [[[x,y,z],...],...]}}");
-            };
-            let net: Vec<Vec<Vec<f64>>> =
-                serde_json::from_value(net.clone()).map_err(|e| anyhow!("{place}.bezier: {e}"))?;
-            out.push(BezierSurface::new(net).with_context(|| format!("{place}.bezier"))?);
+            out.push(scene_patch(p, explicit).with_context(|| place)?);
         }
         patches.push(out);
     }
-    let polys = patches
+    let kind = if explicit {
+        SurfaceKind::Explicit
+    } else {
+        SurfaceKind::Parametric
+    };
+    let polys: Option<Vec<Vec<PolyPatch>>> = patches
         .iter()
         .map(|r| {
             r.iter()
-                .map(geomkit::compose::PolyPatch::from_bezier)
+                .map(|p| match p {
+                    ScenePatch::Poly(p) => Some(p.clone()),
+                    ScenePatch::Expr(_) => None,
+                })
                 .collect()
         })
         .collect();
-    let kind = if ty == "composite_explicit" {
-        geomkit::compose::SurfaceKind::Explicit
-    } else {
-        geomkit::compose::SurfaceKind::Parametric
+    if let Some(polys) = polys {
+        return Ok(CompositeSurface::from_poly(uk, vk, polys, kind)?);
+    }
+    let vars = if explicit { ["x", "y"] } else { ["u", "v"] };
+    let names: &[&str] = if explicit { &["z"] } else { &["x", "y", "z"] };
+    let mut exprs = Vec::with_capacity(patches.len());
+    for (i, row) in patches.into_iter().enumerate() {
+        let mut out = Vec::with_capacity(row.len());
+        for (j, p) in row.into_iter().enumerate() {
+            out.push(match p {
+                ScenePatch::Expr(e) => *e,
+                ScenePatch::Poly(p) => ExprPatch::from_poly(&p, names, vars)
+                    .with_context(|| format!("patches[{i}][{j}]"))?,
+            });
+        }
+        exprs.push(out);
+    }
+    Ok(CompositeSurface::from_expr(uk, vk, exprs, kind)?)
+}
+
+/// One patch of a scene file, as read.
+enum ScenePatch {
+    Poly(PolyPatch),
+    Expr(Box<ExprPatch>),
+}
+
+/// `"domain": [[a, b], [c, d], ...]` of a formula patch or curve, if present.
+pub fn domain_of(p: &Value, vars: usize) -> Result<Option<Vec<(f64, f64)>>> {
+    let Some(d) = p.get("domain") else {
+        return Ok(None);
     };
-    Ok(CompositeSurface::from_poly(uk, vk, polys, kind)?)
+    let rows = d
+        .as_array()
+        .filter(|r| r.len() == vars)
+        .ok_or_else(|| anyhow!("\"domain\" must be {vars} interval(s) [start, end]"))?;
+    rows.iter()
+        .enumerate()
+        .map(
+            |(k, r)| match number_list(Some(r), &format!("domain[{k}]"))?[..] {
+                [a, b] => Ok((a, b)),
+                _ => bail!("domain[{k}] must be [start, end]"),
+            },
+        )
+        .collect::<Result<Vec<_>>>()
+        .map(Some)
+}
+
+/// A patch `{"bezier": ...}`, `{"x": "..", "y": "..", "z": "..", "domain": ..}` or, for
+/// explicit scenes, `"expr in x, y"` or `{"z": "..", "domain": ..}`.
+fn scene_patch(p: &Value, explicit: bool) -> Result<ScenePatch> {
+    if let Some(net) = p.get("bezier") {
+        let net: Vec<Vec<Vec<f64>>> =
+            serde_json::from_value(net.clone()).map_err(|e| anyhow!("bezier: {e}"))?;
+        let b = BezierSurface::new(net).context("bezier")?;
+        return Ok(ScenePatch::Poly(PolyPatch::from_bezier(&b)));
+    }
+    let (names, vars): (&[&str], [&str; 2]) = if explicit {
+        (&["z"], ["x", "y"])
+    } else {
+        (&["x", "y", "z"], ["u", "v"])
+    };
+    let texts: Vec<(&str, &str)> = match p {
+        Value::String(t) if explicit => vec![("z", t.as_str())],
+        Value::Object(o) => names
+            .iter()
+            .filter_map(|&n| o.get(n).map(|t| (n, t)))
+            .map(|(n, t)| {
+                t.as_str()
+                    .map(|t| (n, t))
+                    .ok_or_else(|| anyhow!("\"{n}\" must be a formula string"))
+            })
+            .collect::<Result<_>>()?,
+        _ => vec![],
+    };
+    let required = if explicit { 1 } else { 2 };
+    if texts.len() < required || (!explicit && texts[..2].iter().map(|t| t.0).ne(["x", "y"])) {
+        if explicit {
+            bail!(
+                "expected a formula in x, y, {{\"z\": \"..\"}} or {{\"bezier\": [[[z],...],...]}}"
+            );
+        }
+        bail!("expected {{\"x\": \"..\", \"y\": \"..\", \"z\": \"..\"}} in u, v or {{\"bezier\": [[[x,y,z],...],...]}}");
+    }
+    let domain = domain_of(p, 2)?;
+    Ok(ScenePatch::Expr(Box::new(ExprPatch::parse(
+        &texts, &vars, domain,
+    )?)))
 }
 
 /// The continuity report as JSON.
@@ -490,8 +772,8 @@ pub fn report_json(s: &CompositeSurface) -> String {
         .collect();
     let (uk, vk) = s.knots();
     let names = match s.kind() {
-        geomkit::compose::SurfaceKind::Parametric => ("u", "v"),
-        geomkit::compose::SurfaceKind::Explicit => ("x", "y"),
+        SurfaceKind::Parametric => ("u", "v"),
+        SurfaceKind::Explicit => ("x", "y"),
     };
     let v = json!({
         "max_jump": r.max_jump,
@@ -515,8 +797,8 @@ fn run_patches(args: PatchesArgs) -> Result<()> {
     }
     let (uk, vk) = s.knots();
     let names = match s.kind() {
-        geomkit::compose::SurfaceKind::Parametric => ("u", "v"),
-        geomkit::compose::SurfaceKind::Explicit => ("x", "y"),
+        SurfaceKind::Parametric => ("u", "v"),
+        SurfaceKind::Explicit => ("x", "y"),
     };
     let statement = s.continuity().statement(names.0, names.1, (uk, vk));
     let (n, m) = s.cells();
@@ -598,8 +880,8 @@ pub fn eval_scene(
     let mut pts = vec![0.0; uv.len() / 2 * d];
     s.eval_many(&uv, &mut pts)?;
     let names: Vec<&str> = match s.kind() {
-        geomkit::compose::SurfaceKind::Parametric => vec!["u", "v", "x", "y", "z"],
-        geomkit::compose::SurfaceKind::Explicit => vec!["x", "y", "z"],
+        SurfaceKind::Parametric => vec!["u", "v", "x", "y", "z"],
+        SurfaceKind::Explicit => vec!["x", "y", "z"],
     };
     let header: Vec<String> = names.iter().take(2 + d).map(|s| s.to_string()).collect();
     let n = uv.len() / 2;

@@ -4,4 +4,5 @@ pub mod bezier;
 pub mod compose;
 pub mod eval;
 pub mod interpolate;
+pub mod piecewise;
 pub mod pointcalc;

@@ -5,6 +5,7 @@
 //! - [`ramp`], [`ramp_exact`]: the ramp P(t, a, w) of formula (1), in f64 and exactly.
 //! - [`PolyPatch`]: polynomial patches (Bézier patches, B-spline cells) in local coordinates;
 //!   [`ExprPatch`]: patches, curve pieces and curves given as formulas.
+//! - [`Piecewise`]: piecewise functions and composite curves (§5), polylines and polygons.
 //! - [`CompositeSurface`]: formulas (3)-(11) over an orthogonal grid of patches, its
 //!   [`ContinuityReport`] and a structural evaluator equal to the single formula.
 
@@ -13,6 +14,7 @@ mod expr_patch;
 mod formula;
 mod grid;
 mod linear;
+mod piecewise;
 mod poly;
 mod ramp;
 mod ruled;
@@ -21,6 +23,7 @@ mod surface;
 pub use expr_patch::ExprPatch;
 pub use formula::{abs_sum_expr, ramp_expr, Formula};
 pub use linear::AbsSum;
+pub use piecewise::Piecewise;
 pub use poly::PolyPatch;
 pub use ramp::{ramp, ramp_checked, ramp_exact, simplest_rational};
 pub use ruled::{RuledCurve, RuledSurface};

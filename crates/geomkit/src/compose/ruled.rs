@@ -17,11 +17,12 @@
 //! assert_eq!(s.eval(0.0, 0.5), vec![0.5, 0.0, 0.5]);
 //! ```
 
+use super::expr_patch::ExprPatch;
 use super::formula::{abs_sum_expr, konst, num, Formula};
 use super::grid::{check_increasing, Axis};
 use super::linear::{exact, AbsSum};
 use crate::exact::Rational;
-use crate::expr::{Graph, Id};
+use crate::expr::{Const, Graph, Id};
 use crate::{Error, Result};
 use num_traits::One;
 
@@ -45,6 +46,9 @@ pub enum RuledCurve {
         /// Radius (> 0).
         radius: f64,
     },
+    /// A curve given as formulas x(t), y(t), z(t) on its domain [t0, t1]
+    /// (see [`RuledCurve::formula`]).
+    Expr(Box<ExprPatch>),
 }
 
 impl RuledCurve {
@@ -67,9 +71,28 @@ impl RuledCurve {
         })
     }
 
+    /// A curve given as formulas `coords` = `[x(t), y(t), z(t)]` in the variable `t` on
+    /// [t0, t1]. Errors: [`Error::Expression`] for a formula that does not parse (with the
+    /// position) or is not finite on a sample of [t0, t1]; [`Error::InvalidShape`] unless
+    /// t0 < t1 (both finite).
+    ///
+    /// ```
+    /// use geomkit::compose::RuledCurve;
+    /// let c = RuledCurve::formula(["cos(t)", "sin(t)", "t/10"], (0.0, 6.0)).unwrap();
+    /// assert_eq!(c.eval(0.0), [1.0, 0.0, 0.0]);
+    /// assert!(RuledCurve::formula(["t", "t", "ln(t)"], (0.0, 1.0)).is_err());
+    /// ```
+    pub fn formula(coords: [&str; 3], t: (f64, f64)) -> Result<Self> {
+        let named = [("x", coords[0]), ("y", coords[1]), ("z", coords[2])];
+        let e = ExprPatch::parse(&named, &["t"], Some(vec![t]))?;
+        e.check_finite(&[t])?;
+        Ok(RuledCurve::Expr(Box::new(e)))
+    }
+
     /// The curve's own parameter interval.
     pub fn interval(&self) -> (f64, f64) {
         match self {
+            RuledCurve::Expr(e) => e.domain().map_or((0.0, 1.0), |d| d[0]),
             RuledCurve::Point(_) => (0.0, 1.0),
             RuledCurve::Polyline { vertices, closed } => {
                 (0.0, (vertices.len() - usize::from(!closed)) as f64)
@@ -95,6 +118,10 @@ impl RuledCurve {
     /// the ramp does).
     pub fn eval(&self, tau: f64) -> [f64; 3] {
         match self {
+            RuledCurve::Expr(e) => {
+                let p = e.eval(&[tau]).expect("one parameter");
+                [p[0], p[1], p[2]]
+            }
             RuledCurve::Point(p) => *p,
             RuledCurve::Circle { center, radius } => [
                 center[0] + radius * tau.cos(),
@@ -203,6 +230,21 @@ impl RuledSurface {
                     }
                 }
                 RuledCurve::Polyline { vertices, .. } => check_vertices(vertices, 2)?,
+                RuledCurve::Expr(e) => {
+                    if e.dim() != 3 || e.vars().len() != 1 {
+                        return Err(Error::InvalidShape {
+                            what: "curve",
+                            reason: format!(
+                                "a curve of a ruled surface has 3 coordinates in 1 variable, \
+                                 not {} in {}",
+                                e.dim(),
+                                e.vars().len()
+                            ),
+                        });
+                    }
+                    let (t0, t1) = c.interval();
+                    e.check_finite(&[(t0, t1)])?;
+                }
             }
         }
         Ok(RuledSurface {
@@ -376,6 +418,20 @@ impl RuledSurface {
         let curve = &self.curves[k];
         let (t0, t1) = curve.interval();
         Ok(match curve {
+            RuledCurve::Expr(e) => {
+                // τ = t0 + (t1 - t0) (u - u0)/(u1 - u0).
+                let u0c = g.constant(konst(&-u0.clone()));
+                let inv = g.constant(konst(&(Rational::one() / (u1 - u0))));
+                let shifted = g.add(u, u0c);
+                let local = g.mul(inv, shifted);
+                let coords = e.place_local(g, &[local], &[(t0, t1)]);
+                let id = coords[c];
+                match g.as_const(id) {
+                    Some(Const::Rat(q)) => Coord::Constant(q.clone()),
+                    Some(Const::Float(x)) => Coord::Constant(exact("curve coordinate", c, *x)?),
+                    None => Coord::Expr(id),
+                }
+            }
             RuledCurve::Point(p) => Coord::Constant(exact("point coordinate", c, p[c])?),
             RuledCurve::Polyline { .. } => {
                 let verts = curve.vertices_closed();

@@ -340,7 +340,13 @@ impl CompositeSurface {
                             (v.knots()[j], v.knots()[j + 1]),
                         ],
                     };
-                    p.check_finite(&d)?;
+                    p.check_finite(&d).map_err(|e| match e {
+                        Error::Expression { what, message } => Error::Expression {
+                            what: format!("patch ({i}, {j}) {what}"),
+                            message,
+                        },
+                        e => e,
+                    })?;
                     domains.push(d);
                 }
                 Ok(Cells::Expr {
@@ -914,7 +920,7 @@ fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Vec<PolyPatch
 }
 
 /// The ramps P(x, x_i, x_(i+1) - x_i) of every cell of one direction.
-fn ramps(g: &mut Graph, x: Id, knots: &[f64]) -> Result<Vec<Id>> {
+pub(crate) fn ramps(g: &mut Graph, x: Id, knots: &[f64]) -> Result<Vec<Id>> {
     knots
         .windows(2)
         .map(|w| {
