@@ -23,6 +23,21 @@ fn text(b: &[u8]) -> String {
     String::from_utf8(b.to_vec()).unwrap()
 }
 
+/// Runs `geomkit compose SUB FILE -o OUT` on each (file text, wanted message): one line
+/// `error: ...` containing the message, non-zero exit, no OUT left behind.
+fn assert_bad_inputs<S: AsRef<str>>(dir: &Path, sub: &str, out_file: &str, cases: &[(S, &str)]) {
+    for (k, (json, want)) in cases.iter().enumerate() {
+        let name = format!("bad{k}.json");
+        write(dir, &name, json.as_ref());
+        let out = geomkit(dir, &["compose", sub, &name, "-o", out_file]);
+        assert!(!out.status.success());
+        let err = text(&out.stderr);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.starts_with("error: ") && err.contains(want), "{err}");
+        assert!(!dir.join(out_file).exists());
+    }
+}
+
 /// Two bilinear patches that meet along u = 1, and a third variant that jumps.
 fn scene(jump: f64) -> String {
     format!(
@@ -139,19 +154,26 @@ fn bad_input_is_one_line_and_leaves_no_file() {
         (
             r#"{"type":"composite_surface","u_knots":[0,1],"v_knots":[0,1],"patches":[[{"x":"u+","y":"v","z":"0"}]]}"#.into(),
             vec![],
-            "expression patches",
+            "patches[0][0]: coordinate x: parse error at byte 2: expected a number, a name or `(`",
+        ),
+        (
+            r#"{"type":"composite_surface","u_knots":[0,1],"v_knots":[0,1],"patches":[[{"x":"u","y":"v","z":"ln(u)"}]]}"#.into(),
+            vec![],
+            "patch (0, 0) coordinate z: the value -inf at u = 0, v = 0 is not a finite number",
+        ),
+        (
+            r#"{"type":"composite_surface","u_knots":[0,1],"v_knots":[0,1],"patches":[[{"x":"u","y":"v","z":"w"}]]}"#.into(),
+            vec![],
+            "unknown variable `w` (the variables are u, v)",
+        ),
+        (
+            r#"{"type":"composite_surface","u_knots":[0,1],"v_knots":[0,1],"patches":[[{"x":"u","y":"v","z":"0","domain":[[1,0],[0,1]]}]]}"#.into(),
+            vec![],
+            "interval 0 [1, 0] must be finite with start < end",
         ),
     ];
-    for (k, (scene, _, want)) in cases.iter().enumerate() {
-        let name = format!("bad{k}.json");
-        write(d, &name, scene);
-        let out = geomkit(d, &["compose", "patches", &name, "-o", "out.obj"]);
-        assert!(!out.status.success());
-        let err = text(&out.stderr);
-        assert_eq!(err.lines().count(), 1, "{err}");
-        assert!(err.starts_with("error: ") && err.contains(want), "{err}");
-        assert!(!d.join("out.obj").exists());
-    }
+    let cases: Vec<(&String, &str)> = cases.iter().map(|(s, _, w)| (s, *w)).collect();
+    assert_bad_inputs(d, "patches", "out.obj", &cases);
     let out = geomkit(
         d,
         &["compose", "body", "cone", "--radius", "0", "-o", "c.obj"],
@@ -162,4 +184,176 @@ fn bad_input_is_one_line_and_leaves_no_file() {
     let out = geomkit(d, &["compose", "body", "cube", "--format", "fortran"]);
     assert!(!out.status.success());
     assert!(text(&out.stderr).contains("unknown --format"));
+}
+
+/// Runs geomkit in `dir` and asserts success.
+fn ok(dir: &Path, args: &[&str]) -> Output {
+    let out = geomkit(dir, args);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    out
+}
+
+/// A smooth patch next to one on its own domain, and an explicit scene that jumps.
+const EXPR_SCENE: &str = r#"{"type":"composite_surface","u_knots":[0,1,2],"v_knots":[0,1],"patches":[
+    [{"x":"u","y":"v","z":"u*v"}],
+    [{"x":"u + 1","y":"v","z":"v*(2 - u)^2","domain":[[0,1],[0,1]]}]]}"#;
+
+#[test]
+fn expression_patches_formula_report_and_eval() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "s.json", EXPR_SCENE);
+    let out = ok(d, &["compose", "patches", "s.json"]);
+    insta::assert_snapshot!("expr_patches_maple", text(&out.stdout));
+    assert!(
+        text(&out.stderr).contains("NOT continuous"),
+        "{}",
+        text(&out.stderr)
+    );
+    // The second patch, on its own domain [0,1]², starts at z = 4v where the first ends at
+    // z = v: a jump of 3 at v = 1, which (9) removes by shifting the second patch by -3v.
+    let out = ok(d, &["compose", "patches", "s.json", "--report-json"]);
+    let r: Value = serde_json::from_str(&text(&out.stdout)).unwrap();
+    assert_eq!(r["max_jump"].as_f64().unwrap(), 3.0);
+    let out = geomkit(d, &["eval", "s.json", "--samples", "3x2"]);
+    let rows: Vec<Vec<f64>> = text(&out.stdout)
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    // (u, v) = (2, 1): the second patch at its (1, 1), shifted by 1 - 4 = -3.
+    assert_eq!(rows[5], vec![2.0, 1.0, 2.0, 1.0, -2.0]);
+    assert_eq!(rows[3], vec![1.0, 1.0, 1.0, 1.0, 1.0]);
+    let explicit = r#"{"type":"composite_explicit","x_knots":[0,1],"y_knots":[0,0.5,1],"patches":[["x + y", {"z":"x + y"}]]}"#;
+    write(d, "e.json", explicit);
+    let out = ok(d, &["compose", "patches", "e.json", "--format", "sympy"]);
+    insta::assert_snapshot!("expr_explicit_sympy", text(&out.stdout));
+    assert!(text(&out.stderr).contains("continuous: "));
+    ok(
+        d,
+        &[
+            "compose",
+            "patches",
+            "e.json",
+            "-o",
+            "e.obj",
+            "--samples",
+            "3x3",
+        ],
+    );
+    let obj = fs::read_to_string(d.join("e.obj")).unwrap();
+    assert!(obj.contains("v 0.5 0.5 1.0\n"), "{obj}");
+}
+
+const RULED: &str = r#"{"type":"ruled","u":[0,4],"v":[0,1,2,3],"curves":[
+    {"point":[0,0,1]},
+    {"x":"cos(t)","y":"sin(t)","z":"1","t":[0,6.283185307179586]},
+    {"polygon":[[1,1,-1],[-1,1,-1],[-1,-1,-1],[1,-1,-1]]},
+    {"point":[0,0,-1]}]}"#;
+
+#[test]
+fn ruled_formula_outputs_and_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "r.json", RULED);
+    let out = ok(d, &["compose", "ruled", "r.json"]);
+    insta::assert_snapshot!("ruled_maple", text(&out.stdout));
+    let err = text(&out.stderr);
+    assert!(err.contains("both ends points: a closed body"), "{err}");
+    assert!(
+        err.contains("formula (2) vs structural evaluator: largest difference"),
+        "{err}"
+    );
+    for (file, want) in [
+        ("r.obj", "v "),
+        ("r.svg", "<svg"),
+        ("r.json", "\"op_count\""),
+    ] {
+        ok(
+            d,
+            &["compose", "ruled", "r.json", "-o", file, "--samples", "9x4"],
+        );
+        assert!(fs::read_to_string(d.join(file)).unwrap().contains(want));
+    }
+    let bad = [
+        (
+            RULED.replace("[0,1,2,3]", "[0,1,1,3]"),
+            "\"v\" must be strictly increasing: v[2] = 1 after v[1] = 1",
+        ),
+        (
+            RULED.replace("[0,6.283185307179586]", "[1,1]"),
+            "start < end",
+        ),
+        (
+            RULED.replace("sin(t)", "sin(t"),
+            "curves[1]: coordinate y: parse error at byte 5",
+        ),
+        (
+            RULED.replace("\"z\":\"1\"", "\"z\":\"ln(t)\""),
+            "is not a finite number",
+        ),
+        (
+            RULED.replace("[0,1,2,3]", "[0,1,2]"),
+            "v values for 4 curves: expected 4, got 3",
+        ),
+    ];
+    assert_bad_inputs(d, "ruled", "bad.obj", &bad);
+}
+
+#[test]
+fn piecewise_functions_polygons_and_curves() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(
+        d,
+        "f.json",
+        r#"{"type":"piecewise","knots":[-1,0,1],"pieces":["-x","x^2"]}"#,
+    );
+    let out = ok(d, &["compose", "piecewise", "f.json"]);
+    insta::assert_snapshot!("piecewise_maple", text(&out.stdout));
+    assert!(text(&out.stderr).contains("continuous: "));
+    ok(d, &["compose", "piecewise", "f.json", "-o", "f.svg"]);
+    assert!(fs::read_to_string(d.join("f.svg"))
+        .unwrap()
+        .contains("<svg"));
+    write(
+        d,
+        "sq.json",
+        r#"{"type":"polygon","points":[[1,1],[-1,1],[-1,-1],[1,-1]]}"#,
+    );
+    let out = ok(
+        d,
+        &["compose", "piecewise", "sq.json", "--format", "mathematica"],
+    );
+    insta::assert_snapshot!("polygon_mathematica", text(&out.stdout));
+    write(
+        d,
+        "c.json",
+        r#"{"type":"piecewise","knots":[0,1,2],"pieces":[{"x":"t","y":"0"},{"x":"1 + t","y":"t","domain":[0,1]}]}"#,
+    );
+    let out = ok(d, &["compose", "piecewise", "c.json", "--report-json"]);
+    let r: Value = serde_json::from_str(&text(&out.stdout)).unwrap();
+    assert_eq!(r["continuous"], Value::Bool(true));
+    let out = geomkit(d, &["compose", "piecewise", "c.json", "-o", "c.json.json"]);
+    assert!(out.status.success());
+    let v: Value =
+        serde_json::from_str(&fs::read_to_string(d.join("c.json.json")).unwrap()).unwrap();
+    assert_eq!(v["variables"], serde_json::json!(["t"]));
+    let bad = [
+        (
+            r#"{"type":"piecewise","knots":[0,1,2],"pieces":["x"]}"#,
+            "pieces for 3 knots: expected 2, got 1",
+        ),
+        (
+            r#"{"type":"piecewise","knots":[0,1],"pieces":["x +* 2"]}"#,
+            "piece 0 coordinate f: parse error at byte 3",
+        ),
+        (
+            r#"{"type":"piecewise","knots":[0,1],"pieces":["sqrt(x - 2)"]}"#,
+            "not a finite number",
+        ),
+        (r#"{"type":"polyline","points":[[0,0]]}"#, "polyline points"),
+        (r#"{"type":"spline"}"#, "\"type\" must be"),
+    ];
+    assert_bad_inputs(d, "piecewise", "bad.svg", &bad);
 }

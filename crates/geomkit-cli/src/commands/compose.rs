@@ -526,6 +526,14 @@ pub fn parse_ruled(v: &Value) -> Result<RuledSurface> {
         .map(|(k, c)| ruled_curve(c).with_context(|| format!("curves[{k}]")))
         .collect::<Result<Vec<_>>>()?;
     let vs = number_list(v.get("v"), "v")?;
+    if let Some(k) = vs.windows(2).position(|w| w[1] <= w[0]) {
+        bail!(
+            "\"v\" must be strictly increasing: v[{}] = {} after v[{k}] = {}",
+            k + 1,
+            vs[k + 1],
+            vs[k]
+        );
+    }
     let u = match v.get("u") {
         None => (0.0, 1.0),
         Some(u) => match number_list(Some(u), "u")?[..] {

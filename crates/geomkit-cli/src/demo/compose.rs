@@ -156,12 +156,12 @@ fn expr_patches(ctx: &Context) -> Result<Report> {
 
 fn piecewise(ctx: &Context) -> Result<Report> {
     let mut r = Report::new(
-        "A function of four pieces — (x + 2)², 1 − x(x + 1), cos(πx/2), sqrt(x − 1) on [−2, −1], \
+        "A function of four pieces — (x + 2)², 1 − x(x + 1), cos(πx/2), (x − 1)(3 − x) on [−2, −1], \
          [−1, 0], [0, 1], [1, 2] — as one formula F(x) = F_0(x) + Σ (F_i(x) − F_i(x_i)) with \
          F_i(x) = f_i(x_i + (x_(i+1) − x_i) P(x, x_i, x_(i+1) − x_i)) (spec §5), plotted from \
          the formula; the dots are the breakpoints by the structural evaluator.",
     );
-    let pieces = ["(x + 2)^2", "1 - x*(x + 1)", "cos(pi*x/2)", "sqrt(x - 1)"];
+    let pieces = ["(x + 2)^2", "1 - x*(x + 1)", "cos(pi*x/2)", "(x - 1)*(3 - x)"];
     let p = Piecewise::function(vec![-2.0, -1.0, 0.0, 1.0, 2.0], &pieces)?;
     let f = p.formula()?;
     let text = f.print(Format::Maple);
@@ -177,7 +177,7 @@ fn piecewise(ctx: &Context) -> Result<Report> {
         x if x <= -1.0 => (x + 2.0).powi(2),
         x if x <= 0.0 => 1.0 - x * (x + 1.0),
         x if x <= 1.0 => (std::f64::consts::PI * x / 2.0).cos(),
-        x => (x - 1.0).sqrt(),
+        x => (x - 1.0) * (3.0 - x),
     };
     let worst = linspace(-2.0, 2.0, 401)
         .into_iter()
