@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Reference data for geomkit's integration tests, computed by other libraries: the `bezier`
-# package and exact fractions (Bézier), SciPy (interpolating cubic B-splines).
+# package and exact fractions (Bézier), SciPy (interpolating cubic B-splines, and the
+# barycentric interpolation of the point equations: make_reference_pointcalc.py).
 #
 #   bash bench/make_reference.sh            # writes crates/geomkit/tests/data/*.json
 #
@@ -25,4 +26,5 @@ if ! cmp -s "$here/requirements.txt" "$stamp"; then
     cp "$here/requirements.txt" "$stamp"
 fi
 
-exec "$venv/bin/python" "$here/make_reference.py" "$@"
+"$venv/bin/python" "$here/make_reference.py" "$@"
+exec "$venv/bin/python" "$here/make_reference_pointcalc.py"
