@@ -22,6 +22,7 @@ pub mod bspline;
 pub mod compose;
 mod error;
 pub mod exact;
+pub mod mesh;
 mod numeric;
 pub mod pointcalc;
 mod points;

@@ -1,0 +1,43 @@
+//! Tessellation and export: curves become polylines sampled adaptively to a tolerance,
+//! surfaces become triangle meshes with normals (a uniform grid or an adaptive tensor grid),
+//! and both are written to any [`std::io::Write`] as OBJ, STL (binary and ASCII), binary PLY
+//! or glTF binary (`.glb`).
+//!
+//! Every model type of the library tessellates through two small traits: [`CurveShape`]
+//! (Bézier, rational Bézier, B-spline curves and point equations) and [`SurfaceShape`]
+//! (Bézier, B-spline, composite (9)/(11) and piecewise-ruled (2) surfaces of
+//! spec/composite-surfaces.md, point-calculus surfaces). Grid lines always include the
+//! surface's break lines (knots, cell boundaries, the vertices of ruled polygons), so creases
+//! such as the cube's edges are kept exactly.
+//!
+//! Closed bodies come out watertight: coincident vertices (the seam u0 = u1, the poles where a
+//! ruled surface starts at a point) are welded within a tolerance scaled to the size of the
+//! body, degenerate triangles are dropped, and a closed mesh is oriented with its normals
+//! pointing outwards (positive volume). Normals are per triangle corner: the area-weighted
+//! mean of the face normals around the vertex that lie within a crease angle, so smooth
+//! surfaces shade smoothly and edges stay sharp.
+//!
+//! ```
+//! use geomkit::compose::bodies;
+//! use geomkit::mesh::{tessellate_surface, SurfaceOptions};
+//! let cube = bodies::cube().unwrap();
+//! let mesh = tessellate_surface(&cube, &SurfaceOptions::uniform(9, 7)).unwrap();
+//! assert!(mesh.is_watertight());
+//! assert!((mesh.volume() - 8.0).abs() < 1e-12);
+//! let mut obj = Vec::new();
+//! geomkit::mesh::write_obj(&mesh, &mut obj).unwrap();
+//! assert!(obj.starts_with(b"# geomkit"));
+//! ```
+
+mod curve;
+mod surface;
+mod trimesh;
+mod write;
+
+pub use curve::{tessellate_curve, CurveOptions, CurveShape, Polyline};
+pub use surface::{tessellate_surface, Sampling, SurfaceOptions, SurfaceShape};
+pub use trimesh::TriMesh;
+pub use write::{
+    write_glb, write_glb_polyline, write_obj, write_obj_polyline, write_ply, write_ply_polyline,
+    write_stl_ascii, write_stl_binary,
+};
