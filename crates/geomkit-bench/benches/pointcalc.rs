@@ -1,5 +1,6 @@
 //! Criterion benchmarks of method 4 (point equations): cardinal functions, curve evaluation,
-//! k-factor model setup and evaluation, the optimum search.
+//! k-factor model setup and evaluation (batched SIMD blocks, single points, shares), the
+//! optimum search. `geomkit::pointcalc::evaluation_isa()` names the kernels' instruction set.
 //!
 //!     cargo bench -p geomkit-bench --bench pointcalc
 
@@ -67,6 +68,12 @@ fn bench(c: &mut Criterion) {
     let mut out5 = vec![0.0; 1_000];
     c.bench_function("5x7 model, 1k points", |b| {
         b.iter(|| m5.eval_many(black_box(&xs5), &mut out5).unwrap())
+    });
+    c.bench_function("5x7 model, 1 point (eval)", |b| {
+        b.iter(|| m5.eval(black_box(&xs5[..5])).unwrap())
+    });
+    c.bench_function("5x7 model, shares at 1 point", |b| {
+        b.iter(|| m5.shares(black_box(&xs5[..5])).unwrap())
     });
     c.bench_function("3x3x3 optimum (max)", |b| {
         b.iter(|| optimize(&m3, Goal::Max, &OptimizeOptions::default()).unwrap())

@@ -12,7 +12,8 @@
 //! The driver samples f at the nodes, times the setup (building the model from the node
 //! values: the median of many), then the evaluation at POINTS pseudo-random points of the box
 //! (sequential and parallel over all cores), and reports the largest error against f at those
-//! points. Prints one JSON object.
+//! points. Prints one JSON object (with `isa`: the instruction set of the evaluation kernels,
+//! chosen at run time).
 
 use geomkit::pointcalc::{Factor, Hypersurface, NodePreset, Nodes, PointEquation, PointOptions};
 use std::hint::black_box;
@@ -104,8 +105,9 @@ fn grid_case(name: &str, factors: Vec<Factor>, f: fn(&[f64]) -> f64, points: usi
         .fold(0.0, f64::max);
     format!(
         "{{\"case\":\"{name}\",\"points\":{points},\"setup_s\":{setup:e},\"eval_seq_s\":{eval_seq:e},\
-         \"eval_par_s\":{eval_par:e},\"threads\":{},\"max_err\":{max_err:e}}}",
-        rayon::current_num_threads()
+         \"eval_par_s\":{eval_par:e},\"threads\":{},\"max_err\":{max_err:e},\"isa\":\"{}\"}}",
+        rayon::current_num_threads(),
+        geomkit::pointcalc::evaluation_isa()
     )
 }
 

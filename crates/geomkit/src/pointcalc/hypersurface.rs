@@ -3,7 +3,9 @@
 //! (levels), M(x_1..x_k) = Σ f^1_(i_1)(x_1) ··· f^k_(i_k)(x_k) A_(i_1..i_k).
 //!
 //! Nothing is solved: the model is its source points and nodes. Evaluation contracts one
-//! factor at a time (Π n_i multiply-adds for the first factor, then Π_(i≥2) n_i, ...); adding
+//! factor at a time, the last (fastest-varying) first: Π n_i multiply-adds, then
+//! Π_(i<k-1) n_i, ...; [`Hypersurface::eval_many`] does it for blocks of 4 or 8 points at
+//! once, each source value read once per block (the kernels of `kernel.rs`); adding
 //! or removing a factor or a level touches only that factor's nodes and the values of the
 //! added or removed slice. The shares (function-parameters) of all source points at a point
 //! are a first-class result and sum to 1.
@@ -23,6 +25,7 @@
 //! ```
 
 use super::equation::{check_lebesgue, PointOptions, Warning};
+use super::kernel::{self, Buffers, EvalPoints, Grid, LANES};
 use super::nodes::Nodes;
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -62,12 +65,6 @@ pub struct Hypersurface {
     /// Row-major over the factors (factor 0 slowest), `dim` values per cell.
     values: Vec<f64>,
     warnings: Vec<Warning>,
-}
-
-/// Work buffers of one evaluation (reused by the batched evaluators).
-struct Scratch {
-    bases: Vec<Vec<f64>>,
-    work: Vec<f64>,
 }
 
 impl Hypersurface {
@@ -314,20 +311,6 @@ impl Hypersurface {
         self.factors.iter().map(|f| f.nodes.domain()).collect()
     }
 
-    fn scratch(&self) -> Scratch {
-        let shape = self.shape();
-        let mut work = 0;
-        let mut len = self.values.len();
-        for n in &shape {
-            len /= n;
-            work += len;
-        }
-        Scratch {
-            bases: shape.iter().map(|&n| vec![0.0; n]).collect(),
-            work: vec![0.0; work],
-        }
-    }
-
     fn check_point(&self, x: &[f64]) -> Result<()> {
         if x.len() != self.k() {
             return Err(Error::DimensionMismatch {
@@ -346,58 +329,6 @@ impl Hypersurface {
         }
     }
 
-    /// Contracts the values with per-factor vectors `bases` (one factor at a time) into out.
-    fn contract(&self, bases: &[Vec<f64>], work: &mut [f64], out: &mut [f64]) {
-        self.contract_from(bases, 0, &self.values, work, out);
-    }
-
-    /// Contracts `src` (the values contracted over factors before `start`) with
-    /// `bases[start..]` into `out`.
-    fn contract_from(
-        &self,
-        bases: &[Vec<f64>],
-        start: usize,
-        src: &[f64],
-        work: &mut [f64],
-        out: &mut [f64],
-    ) {
-        if start == bases.len() {
-            out.copy_from_slice(src);
-            return;
-        }
-        let mut src = src;
-        let mut rest_work = work;
-        for (f, b) in bases.iter().enumerate().skip(start) {
-            let n = b.len();
-            let len = src.len() / n;
-            let (next, tail) = rest_work.split_at_mut(len);
-            // next = Σ_i b_i block_i; 0 · v = ±0 keeps a node's value exact.
-            match n {
-                2 => contract_fixed::<2>(b, src, next),
-                3 => contract_fixed::<3>(b, src, next),
-                4 => contract_fixed::<4>(b, src, next),
-                5 => contract_fixed::<5>(b, src, next),
-                6 => contract_fixed::<6>(b, src, next),
-                7 => contract_fixed::<7>(b, src, next),
-                8 => contract_fixed::<8>(b, src, next),
-                _ => contract_any(b, src, next),
-            }
-            if f + 1 == bases.len() {
-                out.copy_from_slice(next);
-                return;
-            }
-            src = next;
-            rest_work = tail;
-        }
-    }
-
-    fn eval_with(&self, x: &[f64], s: &mut Scratch, out: &mut [f64]) {
-        for ((f, b), &xf) in self.factors.iter().zip(s.bases.iter_mut()).zip(x) {
-            f.nodes.basis_into(xf, b);
-        }
-        self.contract(&s.bases, &mut s.work, out);
-    }
-
     /// M(x) into `out` (length dim). Errors: x of the wrong length or not finite, wrong
     /// buffer length. At a grid cell the result is exactly its source point.
     pub fn eval_into(&self, x: &[f64], out: &mut [f64]) -> Result<()> {
@@ -408,8 +339,14 @@ impl Hypersurface {
                 got: out.len(),
             });
         }
-        let mut s = self.scratch();
-        self.eval_with(x, &mut s, out);
+        let grid = self.grid();
+        let mut buffers = Buffers::new(&grid);
+        kernel::dispatch(EvalPoints {
+            grid: &grid,
+            xs: x,
+            out,
+            buffers: &mut buffers,
+        });
         Ok(())
     }
 
@@ -420,8 +357,33 @@ impl Hypersurface {
         Ok(out)
     }
 
+    /// The kernels' view of the model.
+    fn grid(&self) -> Grid<'_> {
+        Grid::new(
+            self.factors.iter().map(|f| &f.nodes).collect(),
+            &self.values,
+            self.dim,
+        )
+    }
+
     /// Evaluates at many points (`xs` row-major, k numbers each) into `out` (dim numbers
-    /// each), in parallel. Errors: lengths, non-finite factor values.
+    /// each), in parallel over chunks of points. Every chunk runs in blocks of points (8 with
+    /// AVX-512, else 4; the CPU is checked at run time): their cardinal functions first, then
+    /// one pass over the source values multiplying each into all the block's points (fused
+    /// multiply-adds where the CPU has FMA). The same values as [`Hypersurface::eval`] point
+    /// by point (which runs the same operations). Errors: lengths, non-finite factor values.
+    ///
+    /// ```
+    /// use geomkit::pointcalc::{Factor, Hypersurface, Nodes, PointOptions};
+    /// let factors = vec![Factor::new("a", Nodes::paper_half()), Factor::new("b", Nodes::paper_third())];
+    /// let m = Hypersurface::from_fn(factors, 1, |x, o| o[0] = x[0] * x[1], &PointOptions::default())
+    ///     .unwrap();
+    /// let xs = [0.25, 0.5, 1.0, 1.0 / 3.0, 0.7, 0.1];
+    /// let mut out = [0.0; 3];
+    /// m.eval_many(&xs, &mut out).unwrap();
+    /// assert!((out[0] - 0.125).abs() < 1e-15 && (out[2] - 0.07).abs() < 1e-15);
+    /// assert_eq!(out[1], m.eval(&xs[2..4]).unwrap()[0]);
+    /// ```
     pub fn eval_many(&self, xs: &[f64], out: &mut [f64]) -> Result<()> {
         let k = self.k();
         if !xs.len().is_multiple_of(k) || out.len() != xs.len() / k * self.dim {
@@ -436,117 +398,33 @@ impl Hypersurface {
                 index: i / k,
             });
         }
-        const CHUNK: usize = 512;
+        // About 2^16 multiply-adds per chunk: large enough to hide the scheduling.
+        let cost = (self.values.len() + k * 16).max(1);
+        let chunk = ((1 << 16) / cost)
+            .clamp(LANES, 4096)
+            .next_multiple_of(LANES);
         let d = self.dim;
-        xs.par_chunks(CHUNK * k)
-            .zip(out.par_chunks_mut(CHUNK * d))
-            .for_each(|(xc, oc)| {
-                let mut lanes: [Scratch; 4] = std::array::from_fn(|_| self.scratch());
-                let blocks = xc.len() / (4 * k);
-                for (x, o) in xc
-                    .chunks_exact(4 * k)
-                    .zip(oc.chunks_exact_mut(4 * d))
-                    .take(blocks)
-                {
-                    self.eval_block(x, &mut lanes, o);
-                }
-                let done = blocks * 4;
-                for (x, o) in xc[done * k..]
-                    .chunks_exact(k)
-                    .zip(oc[done * d..].chunks_exact_mut(d))
-                {
-                    self.eval_with(x, &mut lanes[0], o);
-                }
-            });
+        let grid = self.grid();
+        xs.par_chunks(chunk * k)
+            .zip(out.par_chunks_mut(chunk * d))
+            .for_each_init(
+                || Buffers::new(&grid),
+                |buffers, (xc, oc)| {
+                    kernel::dispatch(EvalPoints {
+                        grid: &grid,
+                        xs: xc,
+                        out: oc,
+                        buffers,
+                    })
+                },
+            );
         Ok(())
-    }
-
-    /// Four points at once: their bases lane by lane, then the first (largest) contraction
-    /// reading every source value once for all four, then the rest per point.
-    fn eval_block(&self, xs: &[f64], lanes: &mut [Scratch; 4], out: &mut [f64]) {
-        let k = self.k();
-        let d = self.dim;
-        for f in 0..k {
-            let t: [f64; 4] = std::array::from_fn(|p| xs[p * k + f]);
-            let [s0, s1, s2, s3] = lanes;
-            self.factors[f].nodes.basis_lanes(
-                t,
-                [
-                    &mut s0.bases[f],
-                    &mut s1.bases[f],
-                    &mut s2.bases[f],
-                    &mut s3.bases[f],
-                ],
-            );
-        }
-        let n0 = self.factors[0].nodes.len();
-        let len0 = self.values.len() / n0;
-        // The first factor's bases transposed (lane-major), on the stack for up to 16 levels.
-        let mut stack = [[0.0f64; 4]; 16];
-        let mut heap = Vec::new();
-        let bt: &mut [[f64; 4]] = if n0 <= 16 {
-            &mut stack[..n0]
-        } else {
-            heap.resize(n0, [0.0; 4]);
-            &mut heap
-        };
-        for (i, b) in bt.iter_mut().enumerate() {
-            *b = std::array::from_fn(|p| lanes[p].bases[0][i]);
-        }
-        let bt: &[[f64; 4]] = bt;
-        {
-            let [s0, s1, s2, s3] = lanes;
-            let (w0, w1, w2, w3) = (
-                &mut s0.work[..len0],
-                &mut s1.work[..len0],
-                &mut s2.work[..len0],
-                &mut s3.work[..len0],
-            );
-            // Blocks of 4 results: 4 × 4 accumulators, each source row slice read once.
-            const R: usize = 4;
-            let full = len0 / R * R;
-            for r0 in (0..full).step_by(R) {
-                let mut acc = [[0.0f64; R]; 4];
-                for (i, b) in bt.iter().enumerate() {
-                    let v: &[f64; R] = self.values[i * len0 + r0..i * len0 + r0 + R]
-                        .try_into()
-                        .expect("R values");
-                    for p in 0..4 {
-                        for j in 0..R {
-                            acc[p][j] += b[p] * v[j];
-                        }
-                    }
-                }
-                w0[r0..r0 + R].copy_from_slice(&acc[0]);
-                w1[r0..r0 + R].copy_from_slice(&acc[1]);
-                w2[r0..r0 + R].copy_from_slice(&acc[2]);
-                w3[r0..r0 + R].copy_from_slice(&acc[3]);
-            }
-            for r in full..len0 {
-                let mut acc = [0.0f64; 4];
-                for (i, b) in bt.iter().enumerate() {
-                    let v = self.values[i * len0 + r];
-                    for p in 0..4 {
-                        acc[p] += b[p] * v;
-                    }
-                }
-                w0[r] = acc[0];
-                w1[r] = acc[1];
-                w2[r] = acc[2];
-                w3[r] = acc[3];
-            }
-        }
-        for (p, o) in out.chunks_exact_mut(d).enumerate() {
-            let s = &mut lanes[p];
-            let (first, rest) = s.work.split_at_mut(len0);
-            self.contract_from(&s.bases, 1, first, rest, o);
-        }
     }
 
     /// The gradient: ∂M/∂x_f for every factor f, `k * dim` numbers (factor-major).
     pub fn gradient(&self, x: &[f64]) -> Result<Vec<f64>> {
         self.check_point(x)?;
-        let mut s = self.scratch();
+        let grid = self.grid();
         let mut l = Vec::with_capacity(self.k());
         let mut d = Vec::with_capacity(self.k());
         for (f, &xf) in self.factors.iter().zip(x) {
@@ -556,16 +434,19 @@ impl Hypersurface {
             l.push(lf);
             d.push(df);
         }
+        let mut bases = Vec::with_capacity(grid.offsets[self.k()]);
+        let mut work = vec![[0.0]; self.values.len() / self.dim];
         let mut out = vec![0.0; self.k() * self.dim];
         for f in 0..self.k() {
+            bases.clear();
             for g in 0..self.k() {
-                s.bases[g].copy_from_slice(if g == f { &d[g] } else { &l[g] });
+                let b = if g == f { &d[g] } else { &l[g] };
+                bases.extend(b.iter().map(|&v| [v]));
             }
-            self.contract(
-                &s.bases,
-                &mut s.work,
-                &mut out[f * self.dim..(f + 1) * self.dim],
-            );
+            for c in 0..self.dim {
+                out[f * self.dim + c] =
+                    kernel::contract::<kernel::Plain, 1>(&grid, &bases, &mut work, c)[0];
+            }
         }
         Ok(out)
     }
@@ -574,13 +455,22 @@ impl Hypersurface {
     /// cell): the products of the factors' function-parameters. They sum to 1.
     pub fn shares(&self, x: &[f64]) -> Result<Vec<f64>> {
         self.check_point(x)?;
-        let mut shares = vec![1.0];
+        // The outer product of the factors' cardinal functions, built in place from the back.
+        let mut shares = vec![0.0; self.values.len() / self.dim];
+        shares[0] = 1.0;
+        let mut len = 1;
+        let mut b = Vec::new();
         for (f, &xf) in self.factors.iter().zip(x) {
-            let b = f.nodes.basis(xf);
-            shares = shares
-                .iter()
-                .flat_map(|s| b.iter().map(move |bi| s * bi))
-                .collect();
+            let n = f.nodes.len();
+            b.resize(n, 0.0);
+            f.nodes.basis_into(xf, &mut b);
+            for j in (0..len).rev() {
+                let s = shares[j];
+                for (o, bi) in shares[j * n..(j + 1) * n].iter_mut().zip(&b) {
+                    *o = s * bi;
+                }
+            }
+            len *= n;
         }
         Ok(shares)
     }
@@ -769,36 +659,6 @@ impl Hypersurface {
         let mut factors = self.factors.clone();
         factors.insert(position, factor);
         Hypersurface::new(factors, self.dim, values, &PointOptions::default())
-    }
-}
-
-/// next[r] = Σ_i b[i] src[i·len + r] for N levels: each source value read once, each result
-/// written once, the sum over i unrolled.
-#[inline]
-fn contract_fixed<const N: usize>(b: &[f64], src: &[f64], next: &mut [f64]) {
-    let len = next.len();
-    let b: [f64; N] = b.try_into().expect("N levels");
-    let blocks: [&[f64]; N] = std::array::from_fn(|i| &src[i * len..(i + 1) * len]);
-    for r in 0..len {
-        let mut acc = b[0] * blocks[0][r];
-        for i in 1..N {
-            acc += b[i] * blocks[i][r];
-        }
-        next[r] = acc;
-    }
-}
-
-/// [`contract_fixed`] for any number of levels.
-fn contract_any(b: &[f64], src: &[f64], next: &mut [f64]) {
-    let len = next.len();
-    let (first, rest) = src.split_at(len);
-    for (o, v) in next.iter_mut().zip(first) {
-        *o = b[0] * v;
-    }
-    for (bi, block) in b[1..].iter().zip(rest.chunks_exact(len)) {
-        for (o, v) in next.iter_mut().zip(block) {
-            *o += bi * v;
-        }
     }
 }
 

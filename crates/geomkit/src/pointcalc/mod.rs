@@ -10,7 +10,8 @@
 //! - [`PointSurface`]: surfaces through a net, rows first then across (each row with its own
 //!   nodes), the tensor product; [`printed_geomatrix`]: the paper's (9) as printed.
 //! - [`Hypersurface`]: k factors, each with its own levels; shares; adding and removing
-//!   factors and levels without a solve.
+//!   factors and levels without a solve; batched evaluation in SIMD blocks of points
+//!   ([`evaluation_isa`] tells which instruction set it uses).
 //! - [`optimize`]: the global largest / smallest modeled response with a certified bound.
 //! - [`cardinal_expr`], `to_expr`: point equations as formulas (exact rational nodes) for the
 //!   expression printers of [`crate::expr`].
@@ -26,6 +27,7 @@
 mod equation;
 mod formula;
 mod hypersurface;
+mod kernel;
 mod nodes;
 mod optimize;
 mod surface;
@@ -33,6 +35,7 @@ mod surface;
 pub use equation::{PointEquation, PointOptions, Warning};
 pub use formula::cardinal_expr;
 pub use hypersurface::{Factor, Hypersurface};
+pub use kernel::evaluation_isa;
 pub use nodes::{NodePreset, Nodes};
 pub use optimize::{optimize, Goal, OptimizeOptions, Optimum};
 pub use surface::{printed_geomatrix, printed_geomatrix_exact, PointSurface, PrintedSurface};

@@ -38,7 +38,7 @@ pub enum NodePreset {
 }
 
 /// Node sets up to this size evaluate the barycentric form with one division.
-const SMALL: usize = 16;
+pub(crate) const SMALL: usize = 16;
 
 /// Samples per node interval of the Lebesgue constant estimate (then refined): more for
 /// small sets, fewer for large ones (where the cost is n per sample and the intervals many).
@@ -297,47 +297,6 @@ impl Nodes {
         let inv = 1.0 / sum;
         out.iter_mut().for_each(|q| *q *= inv);
         true
-    }
-
-    /// [`Nodes::basis_into`] at four parameters at once (the same values; the small-set
-    /// products run lane by lane so that they vectorize).
-    pub(crate) fn basis_lanes(&self, t: [f64; 4], out: [&mut [f64]; 4]) {
-        let n = self.values.len();
-        let [o0, o1, o2, o3] = out;
-        let mut outs = [o0, o1, o2, o3];
-        if n == 1 || n > SMALL {
-            for (p, o) in outs.iter_mut().enumerate() {
-                self.basis_into(t[p], o);
-            }
-            return;
-        }
-        let mut prefix = [[1.0f64; 4]; SMALL + 1];
-        for k in 0..n {
-            let x = self.values[k];
-            for p in 0..4 {
-                prefix[k + 1][p] = prefix[k][p] * (t[p] - x);
-            }
-        }
-        let mut suffix = [1.0f64; 4];
-        let mut sum = [0.0f64; 4];
-        for k in (0..n).rev() {
-            let (x, w) = (self.values[k], self.weights[k]);
-            for p in 0..4 {
-                let q = w * prefix[k][p] * suffix[p];
-                outs[p][k] = q;
-                sum[p] += q;
-                suffix[p] *= t[p] - x;
-            }
-        }
-        let (lo, hi) = self.domain();
-        for p in 0..4 {
-            if t[p] < lo || t[p] > hi || prefix[n][p] == 0.0 || !sum[p].is_normal() {
-                self.basis_into(t[p], outs[p]);
-            } else {
-                let inv = 1.0 / sum[p];
-                outs[p].iter_mut().for_each(|q| *q *= inv);
-            }
-        }
     }
 
     /// The cardinal functions at `t` as a new vector (see [`Nodes::basis_into`]).
