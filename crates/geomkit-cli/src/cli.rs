@@ -33,6 +33,12 @@ pub enum Command {
     /// surfaces as one formula in Maple, Mathematica, SymPy, ... syntax.
     #[command(subcommand)]
     Compose(crate::commands::compose::ComposeCommand),
+    /// A picture of any model: PNG or SVG (shaded 3-D view of surfaces with the control net,
+    /// curves with control polygon and reference points).
+    Render(crate::commands::render::RenderArgs),
+    /// A mesh of any model: OBJ, STL, PLY or glTF binary (surfaces as triangles with
+    /// normals, closed bodies watertight; curves as polylines).
+    Mesh(crate::commands::mesh::MeshArgs),
     /// Run every method's demo: pictures, model files, index.html and a table of checks.
     Demo(DemoArgs),
 }
@@ -300,7 +306,8 @@ impl std::fmt::Display for Samples {
     }
 }
 
-fn parse_samples(s: &str) -> Result<Samples, String> {
+/// Parses `K` or `KxL` sample counts.
+pub fn parse_samples(s: &str) -> Result<Samples, String> {
     let parse = |x: &str| {
         x.trim()
             .parse::<usize>()

@@ -11,6 +11,7 @@ mod model;
 mod npy;
 mod output;
 mod progress;
+mod render;
 mod svg;
 mod table;
 
@@ -26,6 +27,8 @@ fn main() -> ExitCode {
         cli::Command::Eval(args) => commands::eval::run(args),
         cli::Command::Pointcalc(command) => commands::pointcalc::run(command),
         cli::Command::Compose(command) => commands::compose::run(command),
+        cli::Command::Render(args) => commands::render::run(args),
+        cli::Command::Mesh(args) => commands::mesh::run(args),
         cli::Command::Demo(args) => demo::run(&args),
     };
     match result {

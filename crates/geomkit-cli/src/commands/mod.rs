@@ -4,5 +4,7 @@ pub mod bezier;
 pub mod compose;
 pub mod eval;
 pub mod interpolate;
+pub mod mesh;
 pub mod piecewise;
 pub mod pointcalc;
+pub mod render;

@@ -1,0 +1,228 @@
+//! `geomkit render` and `geomkit mesh` on every model type: PNG size and content, SVG layers,
+//! mesh counts per format, errors without half-written files.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn geomkit(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_geomkit"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+fn ok(dir: &Path, args: &[&str]) -> String {
+    let out = geomkit(dir, args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn fails(dir: &Path, args: &[&str]) -> String {
+    let out = geomkit(dir, args);
+    assert!(!out.status.success(), "{args:?} should fail");
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(err.starts_with("error: "), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    err
+}
+
+const SURFACE: &str = r#"{"type":"bezier_surface","net":[
+ [[0,0,0],[0,1,0.5],[0,2,0]],[[1,0,0.5],[1,1,2],[1,2,0.5]],[[2,0,0],[2,1,0.5],[2,2,0]]]}"#;
+const CURVE: &str =
+    r#"{"type":"bezier_curve","points":[[10,0],[22,6],[19,12],[11,15],[8,12],[20,0]]}"#;
+const RATIONAL: &str =
+    r#"{"type":"bezier_curve","points":[[1,0],[1,1],[0,1]],"weights":[1,0.7071067811865476,1]}"#;
+const SCENE: &str = r#"{"type":"composite_surface","u_knots":[0,1,2],"v_knots":[0,1],"patches":[
+ [{"bezier":[[[0,0,0],[0,1,0]],[[1,0,1],[1,1,1]]]}],
+ [{"bezier":[[[1,0,1],[1,1,1]],[[2,0,0],[2,1,0]]]}]]}"#;
+const MODEL2: &str = r#"{"type":"pointcalc-model","factors":[
+ {"name":"a","nodes":[0,0.5,1]},{"name":"b","nodes":[0,0.5,1]}],"response":["y"],
+ "values":[0,1,0,1,3,1,0,1,0]}"#;
+
+fn setup() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in [
+        ("s.json", SURFACE),
+        ("c.json", CURVE),
+        ("r.json", RATIONAL),
+        ("scene.json", SCENE),
+        ("pc.json", MODEL2),
+    ] {
+        std::fs::write(dir.path().join(name), text).unwrap();
+    }
+    dir
+}
+
+/// Width and height from a PNG's IHDR chunk.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    assert_eq!(&bytes[12..16], b"IHDR");
+    let be = |k: usize| u32::from_be_bytes(bytes[k..k + 4].try_into().unwrap());
+    (be(16), be(20))
+}
+
+#[test]
+fn png_pictures_of_every_model_type() {
+    let dir = setup();
+    let d = dir.path();
+    for model in ["s.json", "c.json", "r.json", "scene.json", "pc.json"] {
+        ok(d, &["render", model, "-o", "out.png", "--size", "400x300"]);
+        let png = std::fs::read(d.join("out.png")).unwrap();
+        assert_eq!(png_size(&png), (400, 300), "{model}");
+        // A drawn picture compresses far worse than a blank one (~1 kB).
+        assert!(png.len() > 8_000, "{model}: {} bytes", png.len());
+    }
+    // Without --size: twice the SVG's size.
+    ok(d, &["render", "s.json", "-o", "big.png"]);
+    assert_eq!(
+        png_size(&std::fs::read(d.join("big.png")).unwrap()),
+        (1440, 1080)
+    );
+}
+
+#[test]
+fn svg_surface_has_shaded_faces_net_and_view() {
+    let dir = setup();
+    let d = dir.path();
+    ok(d, &["render", "s.json", "-o", "a.svg", "--view", "-60,40"]);
+    let a = std::fs::read_to_string(d.join("a.svg")).unwrap();
+    assert!(a.starts_with("<svg"));
+    // 60×60 grid: 2·59² shaded triangles.
+    assert_eq!(a.matches("<path ").count(), 2 * 59 * 59);
+    assert!(a.contains("control net, 3×3"));
+    ok(d, &["render", "s.json", "-o", "b.svg", "--no-net"]);
+    let b = std::fs::read_to_string(d.join("b.svg")).unwrap();
+    assert!(!b.contains("control net"));
+    assert_ne!(a.matches("<path ").collect::<String>(), "");
+    // Another camera moves the picture.
+    assert_ne!(a.replace("control net, 3×3", ""), b);
+    // The point-calculus model shows its 9 experimental points.
+    ok(d, &["render", "pc.json", "-o", "pc.svg"]);
+    let pc = std::fs::read_to_string(d.join("pc.svg")).unwrap();
+    assert!(pc.contains("9 points it passes through"));
+    assert_eq!(pc.matches("<circle").count(), 9 + 1);
+}
+
+#[test]
+fn curve_svg_labels_the_control_polygon() {
+    let dir = setup();
+    let d = dir.path();
+    ok(d, &["render", "c.json", "-o", "c.svg"]);
+    let s = std::fs::read_to_string(d.join("c.svg")).unwrap();
+    assert!(s.contains("control polygon, 6 points"));
+    for k in 0..6 {
+        assert!(s.contains(&format!(">{k}</tspan>")), "label p{k}");
+    }
+}
+
+#[test]
+fn meshes_in_every_format() {
+    let dir = setup();
+    let d = dir.path();
+    let err = ok(d, &["mesh", "s.json", "-o", "s.obj", "--samples", "5x4"]);
+    assert!(err.contains("20 vertices, 24 triangles"), "{err}");
+    let obj = std::fs::read_to_string(d.join("s.obj")).unwrap();
+    assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), 20);
+    assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 24);
+    assert!(obj.lines().any(|l| l.starts_with("vn ")));
+
+    ok(d, &["mesh", "s.json", "-o", "s.stl", "--samples", "5x4"]);
+    assert_eq!(std::fs::read(d.join("s.stl")).unwrap().len(), 84 + 50 * 24);
+    ok(
+        d,
+        &[
+            "mesh",
+            "s.json",
+            "-o",
+            "a.stl",
+            "--samples",
+            "5x4",
+            "--ascii",
+        ],
+    );
+    let a = std::fs::read_to_string(d.join("a.stl")).unwrap();
+    assert_eq!(a.matches("facet normal").count(), 24);
+
+    ok(d, &["mesh", "s.json", "-o", "s.ply", "--samples", "5x4"]);
+    let ply = std::fs::read(d.join("s.ply")).unwrap();
+    let head = String::from_utf8_lossy(&ply[..300]);
+    // One normal per vertex: vertices on creases sharper than 40° are split.
+    assert!(head.contains("element face 24"), "{head}");
+    let nv: usize = head
+        .split("element vertex ")
+        .nth(1)
+        .unwrap()
+        .split('\n')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(nv >= 20, "{head}");
+
+    ok(d, &["mesh", "scene.json", "-o", "scene.glb"]);
+    let glb = std::fs::read(d.join("scene.glb")).unwrap();
+    assert_eq!(&glb[..4], b"glTF");
+    assert_eq!(
+        u32::from_le_bytes(glb[8..12].try_into().unwrap()) as usize,
+        glb.len()
+    );
+
+    // Adaptive: a finer tolerance gives more triangles.
+    let coarse = ok(d, &["mesh", "s.json", "-o", "c.obj", "--tolerance", "0.01"]);
+    let fine = ok(
+        d,
+        &["mesh", "s.json", "-o", "f.obj", "--tolerance", "0.0001"],
+    );
+    let tris = |s: &str| -> usize {
+        s.split(" vertices, ")
+            .nth(1)
+            .unwrap()
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    assert!(tris(&fine) > 4 * tris(&coarse), "{coarse} / {fine}");
+
+    // Curves are polylines.
+    let err = ok(d, &["mesh", "r.json", "-o", "r.obj", "--samples", "9"]);
+    assert!(err.contains("polyline of 9 points"), "{err}");
+    ok(d, &["mesh", "r.json", "-o", "r.ply"]);
+    ok(d, &["mesh", "r.json", "-o", "r.glb"]);
+}
+
+#[test]
+fn bad_requests_fail_cleanly() {
+    let dir = setup();
+    let d = dir.path();
+    let e = fails(d, &["mesh", "c.json", "-o", "c.stl"]);
+    assert!(e.contains("STL holds triangles only"), "{e}");
+    assert!(!d.join("c.stl").exists());
+    let e = fails(d, &["mesh", "s.json", "-o", "s.xyz"]);
+    assert!(e.contains(".obj, .stl, .ply or .glb"), "{e}");
+    let e = fails(d, &["mesh", "s.json", "-o", "s.obj", "--tolerance", "-1"]);
+    assert!(e.contains("--tolerance"), "{e}");
+    let e = fails(d, &["render", "s.json", "-o", "s.jpg"]);
+    assert!(e.contains(".png or .svg"), "{e}");
+    let e = fails(d, &["render", "missing.json", "-o", "m.png"]);
+    assert!(e.contains("cannot read missing.json"), "{e}");
+    std::fs::write(
+        d.join("bad.json"),
+        r#"{"type":"bezier_surface","net":[[[0,0,"x"]]]}"#,
+    )
+    .unwrap();
+    let e = fails(d, &["render", "bad.json", "-o", "bad.png"]);
+    assert!(e.contains("bad.json"), "{e}");
+    assert!(!d.join("bad.png").exists());
+    // Usage errors of clap (exit code 2).
+    let out = geomkit(d, &["render", "s.json", "-o", "s.png", "--view", "10,95"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = geomkit(d, &["render", "s.json", "-o", "s.png", "--size", "10x10"]);
+    assert_eq!(out.status.code(), Some(2));
+}
