@@ -285,17 +285,17 @@ pub(crate) fn contract<A: Arith, const L: usize>(
         len /= prev.len();
         let work = &mut work[..len];
         if grid.dim == 1 {
-            innermost_pair::<A, L>(grid.values, 1, 0, last, prev, work);
+            innermost_pair::<A, L>(Source::scalar(grid.values), last, prev, work);
         } else {
-            innermost_pair::<A, L>(grid.values, grid.dim, c, last, prev, work);
+            innermost_pair::<A, L>(Source::new(grid, c), last, prev, work);
         }
         reduce = k - 2;
     } else {
         let work = &mut work[..len];
         if grid.dim == 1 {
-            innermost::<A, L>(grid.values, 1, 0, last, work);
+            innermost::<A, L>(Source::scalar(grid.values), last, work);
         } else {
-            innermost::<A, L>(grid.values, grid.dim, c, last, work);
+            innermost::<A, L>(Source::new(grid, c), last, work);
         }
     }
     for f in (0..reduce).rev() {
@@ -380,26 +380,54 @@ fn row_sum<A: Arith, const L: usize>(
     acc
 }
 
+/// Component c of the source values (`dim` per cell).
+#[derive(Clone, Copy)]
+struct Source<'a> {
+    values: &'a [f64],
+    dim: usize,
+    c: usize,
+}
+
+impl<'a> Source<'a> {
+    /// Component c of the grid's values.
+    #[inline(always)]
+    fn new(grid: &Grid<'a>, c: usize) -> Self {
+        Source {
+            values: grid.values,
+            dim: grid.dim,
+            c,
+        }
+    }
+
+    /// One number per cell (the constants let the compiler drop the strides).
+    #[inline(always)]
+    fn scalar(values: &'a [f64]) -> Self {
+        Source {
+            values,
+            dim: 1,
+            c: 0,
+        }
+    }
+}
+
 /// work[g] = Σ_r prev[r] Σ_i last[i] · values[((g·m + r)·n + i)·dim + c] for every group g
 /// of n rows (n ≤ 8 levels of both the previous and the last factor).
 #[inline(always)]
 fn innermost_pair<A: Arith, const L: usize>(
-    values: &[f64],
-    dim: usize,
-    c: usize,
+    src: Source,
     last: &[[f64; L]],
     prev: &[[f64; L]],
     work: &mut [[f64; L]],
 ) {
     match last.len() {
-        1 => pair_fixed::<A, 1, L>(values, dim, c, last, prev, work),
-        2 => pair_fixed::<A, 2, L>(values, dim, c, last, prev, work),
-        3 => pair_fixed::<A, 3, L>(values, dim, c, last, prev, work),
-        4 => pair_fixed::<A, 4, L>(values, dim, c, last, prev, work),
-        5 => pair_fixed::<A, 5, L>(values, dim, c, last, prev, work),
-        6 => pair_fixed::<A, 6, L>(values, dim, c, last, prev, work),
-        7 => pair_fixed::<A, 7, L>(values, dim, c, last, prev, work),
-        _ => pair_fixed::<A, 8, L>(values, dim, c, last, prev, work),
+        1 => pair_fixed::<A, 1, L>(src, last, prev, work),
+        2 => pair_fixed::<A, 2, L>(src, last, prev, work),
+        3 => pair_fixed::<A, 3, L>(src, last, prev, work),
+        4 => pair_fixed::<A, 4, L>(src, last, prev, work),
+        5 => pair_fixed::<A, 5, L>(src, last, prev, work),
+        6 => pair_fixed::<A, 6, L>(src, last, prev, work),
+        7 => pair_fixed::<A, 7, L>(src, last, prev, work),
+        _ => pair_fixed::<A, 8, L>(src, last, prev, work),
     }
 }
 
@@ -407,15 +435,14 @@ fn innermost_pair<A: Arith, const L: usize>(
 /// their multiply-adds do not wait on each other, then their sum over the previous factor.
 #[inline(always)]
 fn pair_fixed<A: Arith, const N: usize, const L: usize>(
-    values: &[f64],
-    dim: usize,
-    c: usize,
+    src: Source,
     last: &[[f64; L]],
     prev: &[[f64; L]],
     work: &mut [[f64; L]],
 ) {
     let b: &[[f64; L]; N] = last.try_into().expect("N levels");
     let bp: &[[f64; L]; N] = prev.try_into().expect("N levels");
+    let Source { values, dim, c } = src;
     let stride = N * dim;
     for (g, w) in work.iter_mut().enumerate() {
         let group = &values[g * N * stride..(g + 1) * N * stride];
@@ -426,36 +453,29 @@ fn pair_fixed<A: Arith, const N: usize, const L: usize>(
 
 /// work[r] = Σ_i b[i] · values[(r·n + i)·dim + c] for every row r of the last factor.
 #[inline(always)]
-fn innermost<A: Arith, const L: usize>(
-    values: &[f64],
-    dim: usize,
-    c: usize,
-    b: &[[f64; L]],
-    work: &mut [[f64; L]],
-) {
+fn innermost<A: Arith, const L: usize>(src: Source, b: &[[f64; L]], work: &mut [[f64; L]]) {
     match b.len() {
-        1 => rows_fixed::<A, 1, L>(values, dim, c, b, work),
-        2 => rows_fixed::<A, 2, L>(values, dim, c, b, work),
-        3 => rows_fixed::<A, 3, L>(values, dim, c, b, work),
-        4 => rows_fixed::<A, 4, L>(values, dim, c, b, work),
-        5 => rows_fixed::<A, 5, L>(values, dim, c, b, work),
-        6 => rows_fixed::<A, 6, L>(values, dim, c, b, work),
-        7 => rows_fixed::<A, 7, L>(values, dim, c, b, work),
-        8 => rows_fixed::<A, 8, L>(values, dim, c, b, work),
-        _ => rows_any::<A, L>(values, dim, c, b, work),
+        1 => rows_fixed::<A, 1, L>(src, b, work),
+        2 => rows_fixed::<A, 2, L>(src, b, work),
+        3 => rows_fixed::<A, 3, L>(src, b, work),
+        4 => rows_fixed::<A, 4, L>(src, b, work),
+        5 => rows_fixed::<A, 5, L>(src, b, work),
+        6 => rows_fixed::<A, 6, L>(src, b, work),
+        7 => rows_fixed::<A, 7, L>(src, b, work),
+        8 => rows_fixed::<A, 8, L>(src, b, work),
+        _ => rows_any::<A, L>(src, b, work),
     }
 }
 
 /// [`innermost`] for N levels: ROWS rows side by side, the sum over the levels unrolled.
 #[inline(always)]
 fn rows_fixed<A: Arith, const N: usize, const L: usize>(
-    values: &[f64],
-    dim: usize,
-    c: usize,
+    src: Source,
     b: &[[f64; L]],
     work: &mut [[f64; L]],
 ) {
     let b: &[[f64; L]; N] = b.try_into().expect("N levels");
+    let Source { values, dim, c } = src;
     let stride = N * dim;
     let rows = work.len();
     let full = rows / ROWS * ROWS;
@@ -471,13 +491,8 @@ fn rows_fixed<A: Arith, const N: usize, const L: usize>(
 
 /// [`innermost`] for any number of levels.
 #[inline(always)]
-fn rows_any<A: Arith, const L: usize>(
-    values: &[f64],
-    dim: usize,
-    c: usize,
-    b: &[[f64; L]],
-    work: &mut [[f64; L]],
-) {
+fn rows_any<A: Arith, const L: usize>(src: Source, b: &[[f64; L]], work: &mut [[f64; L]]) {
+    let Source { values, dim, c } = src;
     let stride = b.len() * dim;
     for (r, w) in work.iter_mut().enumerate() {
         *w = row_sum::<A, L>(b, &values[r * stride..(r + 1) * stride], dim, c);
