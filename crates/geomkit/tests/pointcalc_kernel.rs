@@ -1,5 +1,5 @@
-//! The batched evaluation kernels of k-factor models (`Hypersurface::eval_many`: blocks of 4
-//! or 8 points, fused multiply-adds where the CPU has them) against single points, against
+//! The batched evaluation kernels of k-factor models (`Hypersurface::eval_many`: blocks of 8
+//! or 4 points, fused multiply-adds where the CPU has them) against single points, against
 //! the shares (an independent sum over the grid) and at the grid cells, for k = 1..5 factors,
 //! odd numbers of levels (1 to 17: the unrolled, general and large-node-set paths), dim 1
 //! and 3, and odd numbers of points (not a multiple of the block).

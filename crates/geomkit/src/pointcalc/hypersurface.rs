@@ -4,7 +4,7 @@
 //!
 //! Nothing is solved: the model is its source points and nodes. Evaluation contracts one
 //! factor at a time, the last (fastest-varying) first: Π n_i multiply-adds, then
-//! Π_(i<k-1) n_i, ...; [`Hypersurface::eval_many`] does it for blocks of 4 or 8 points at
+//! Π_(i<k-1) n_i, ...; [`Hypersurface::eval_many`] does it for blocks of 8 or 4 points at
 //! once, each source value read once per block (the kernels of `kernel.rs`); adding
 //! or removing a factor or a level touches only that factor's nodes and the values of the
 //! added or removed slice. The shares (function-parameters) of all source points at a point
@@ -368,10 +368,11 @@ impl Hypersurface {
 
     /// Evaluates at many points (`xs` row-major, k numbers each) into `out` (dim numbers
     /// each), in parallel over chunks of points. Every chunk runs in blocks of points (8 with
-    /// AVX-512, else 4; the CPU is checked at run time): their cardinal functions first, then
-    /// one pass over the source values multiplying each into all the block's points (fused
-    /// multiply-adds where the CPU has FMA). The same values as [`Hypersurface::eval`] point
-    /// by point (which runs the same operations). Errors: lengths, non-finite factor values.
+    /// AVX2+FMA or AVX-512, 4 on baseline x86-64; the CPU is checked at run time): their
+    /// cardinal functions first, then one pass over the source values multiplying each into
+    /// all the block's points (fused multiply-adds where the CPU has FMA). The same values as
+    /// [`Hypersurface::eval`] point by point (which runs the same operations). Errors:
+    /// lengths, non-finite factor values.
     ///
     /// ```
     /// use geomkit::pointcalc::{Factor, Hypersurface, Nodes, PointOptions};

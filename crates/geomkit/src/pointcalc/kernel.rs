@@ -16,7 +16,7 @@
 
 use super::nodes::{Nodes, SMALL};
 
-/// Most points per block of the batched evaluation (8 with AVX-512, else 4).
+/// Most points per block of the batched evaluation (8 with AVX2+FMA or AVX-512, else 4).
 pub(crate) const LANES: usize = 8;
 
 /// Rows of the last factor contracted side by side.
@@ -84,7 +84,8 @@ pub(crate) trait Job {
 
 /// Runs `job` compiled for the CPU (checked once, then cached by `pulp`): with AVX-512,
 /// fused multiply-adds in blocks of 8 points (one 512-bit register); with AVX2+FMA, fused in
-/// blocks of 4; otherwise plain multiply-adds in blocks of 4.
+/// blocks of 8 (two 256-bit registers: half the loads per multiply-add of 4); otherwise
+/// plain multiply-adds in blocks of 4 (SSE2 has too few registers for 8).
 pub(crate) fn dispatch<J: Job>(job: J) -> J::Output {
     #[cfg(target_arch = "x86_64")]
     {
@@ -100,7 +101,7 @@ pub(crate) fn dispatch<J: Job>(job: J) -> J::Output {
             return v4.vectorize(Run::<J, 8>(job));
         }
         if let Some(v3) = pulp::x86::V3::try_new() {
-            return v3.vectorize(Run::<J, 4>(job));
+            return v3.vectorize(Run::<J, 8>(job));
         }
         job.run::<Plain, 4>()
     }
@@ -612,7 +613,7 @@ fn basis_lane<const L: usize>(
 }
 
 /// The instruction set the k-factor evaluation kernels run with on this CPU:
-/// `"avx512"` (fused multiply-adds, blocks of 8 points), `"avx2+fma"` (fused, blocks of 4),
+/// `"avx512"` (fused multiply-adds, blocks of 8 points), `"avx2+fma"` (fused, blocks of 8),
 /// `"fma"` (aarch64), or `"baseline"` (plain multiply-adds, blocks of 4; what x86-64 without
 /// AVX2 gets). Chosen at run time; results differ between them only by rounding.
 ///
