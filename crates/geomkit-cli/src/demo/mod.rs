@@ -9,6 +9,7 @@
 mod bezier;
 mod bspline;
 mod compose;
+mod gallery;
 mod pointcalc;
 
 use crate::cli::DemoArgs;
@@ -28,6 +29,7 @@ const MODULES: &[fn() -> Vec<Item>] = &[
     bspline::items,
     compose::items,
     pointcalc::items,
+    gallery::items,
 ];
 
 /// One demo item: a figure or table of a paper, reproduced.
@@ -155,10 +157,22 @@ impl Report {
     }
 
     /// Writes an SVG picture and shows it with `caption`.
+    ///
+    /// A `.svg` picture is also rasterized to the PNG beside it (`NAME.png`, twice the SVG's
+    /// size, embedded font): the page shows the PNG and links the SVG under "files".
     pub fn picture(&mut self, ctx: &Context, file: &str, svg: &str, caption: &str) -> Result<()> {
         ctx.write(file, svg)?;
+        let shown = match file.strip_suffix(".svg") {
+            Some(stem) => {
+                let png = format!("{stem}.png");
+                ctx.write_bytes(&png, &crate::render::svg_to_png(svg, 2.0, None)?)?;
+                self.files.push((file.into(), "the picture as SVG".into()));
+                png
+            }
+            None => file.into(),
+        };
         self.pictures.push(Picture {
-            file: file.into(),
+            file: shown,
             caption: caption.into(),
         });
         Ok(())

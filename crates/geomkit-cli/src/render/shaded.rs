@@ -54,17 +54,6 @@ pub enum Overlay {
         /// Legend text.
         legend: String,
     },
-    /// A polyline (a curve on or near the surface).
-    Line {
-        /// The points.
-        points: Vec<[f64; 3]>,
-        /// CSS colour.
-        color: &'static str,
-        /// Width (px).
-        width: f64,
-        /// Legend text (empty: none).
-        legend: String,
-    },
 }
 
 /// A picture of meshes and overlays.
@@ -199,9 +188,7 @@ impl Scene<'_> {
         }
         for o in &self.overlays {
             let pts = match o {
-                Overlay::Net { points, .. }
-                | Overlay::Points { points, .. }
-                | Overlay::Line { points, .. } => points,
+                Overlay::Net { points, .. } | Overlay::Points { points, .. } => points,
             };
             pts.iter().for_each(|&p| grow(page(p)));
         }
@@ -213,9 +200,7 @@ impl Scene<'_> {
             .overlays
             .iter()
             .filter(|o| match o {
-                Overlay::Net { legend, .. }
-                | Overlay::Points { legend, .. }
-                | Overlay::Line { legend, .. } => !legend.is_empty(),
+                Overlay::Net { legend, .. } | Overlay::Points { legend, .. } => !legend.is_empty(),
             })
             .count();
         let top = if self.subtitle.is_empty() { 38.0 } else { 56.0 };
@@ -283,7 +268,7 @@ impl Scene<'_> {
                 .collect();
             let _ = writeln!(
                 s,
-                r#"<polyline points="{}" fill="none" stroke="{color}" stroke-width="{width}" stroke-linejoin="round" stroke-linecap="round"{}/>"#,
+                r#"<polyline points="{}" fill="none" stroke="{color}" stroke-width="{width}" stroke-opacity="0.8" stroke-linejoin="round" stroke-linecap="round"{}/>"#,
                 d.join(" "),
                 if dash {
                     r#" stroke-dasharray="5 3""#
@@ -314,11 +299,11 @@ impl Scene<'_> {
                     let q: Vec<[f64; 2]> = points.iter().map(|&p| px(p)).collect();
                     if q.len() == rows * cols {
                         for r in q.chunks_exact(*cols) {
-                            polyline(&mut s, r, color, 1.2, false);
+                            polyline(&mut s, r, color, 1.0, false);
                         }
                         for j in 0..*cols {
                             let col: Vec<[f64; 2]> = (0..*rows).map(|i| q[i * cols + j]).collect();
-                            polyline(&mut s, &col, color, 1.2, false);
+                            polyline(&mut s, &col, color, 1.0, false);
                         }
                     }
                     dots(&mut s, &q, color, 2.8);
@@ -348,16 +333,6 @@ impl Scene<'_> {
                     }
                     let _ = writeln!(s, "</g>");
                     legend.push((color, false, true, text));
-                }
-                Overlay::Line {
-                    points,
-                    color,
-                    width,
-                    legend: text,
-                } => {
-                    let q: Vec<[f64; 2]> = points.iter().map(|&p| px(p)).collect();
-                    polyline(&mut s, &q, color, *width, false);
-                    legend.push((color, true, false, text));
                 }
             }
         }
