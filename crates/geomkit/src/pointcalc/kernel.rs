@@ -127,6 +127,9 @@ pub(crate) struct Grid<'a> {
     pub values: &'a [f64],
     /// Numbers per source point.
     pub dim: usize,
+    /// Π_(i<f) n_i for every factor f: the sums left after contracting factors f.. (no
+    /// divisions per block).
+    before: Vec<usize>,
 }
 
 impl<'a> Grid<'a> {
@@ -137,18 +140,23 @@ impl<'a> Grid<'a> {
         for n in &shape {
             offsets.push(offsets[offsets.len() - 1] + n);
         }
+        let mut before = vec![1];
+        for n in &shape[..shape.len() - 1] {
+            before.push(before[before.len() - 1] * n);
+        }
         Grid {
             nodes,
             shape,
             offsets,
             values,
             dim,
+            before,
         }
     }
 
     /// Rows of the last factor: the length of the work buffer.
     fn rows(&self) -> usize {
-        self.values.len() / self.dim / self.shape[self.shape.len() - 1]
+        self.before[self.shape.len() - 1]
     }
 }
 
@@ -277,14 +285,12 @@ pub(crate) fn contract<A: Arith, const L: usize>(
 ) -> [f64; L] {
     let k = grid.shape.len();
     let last = &bases[grid.offsets[k - 1]..grid.offsets[k]];
-    let mut len = grid.rows();
     let mut reduce = k - 1;
     if k >= 2 && last.len() <= 8 && grid.shape[k - 2] == last.len() {
         // The last two factors in one pass: every row of the last factor goes straight into
         // its group's sum over the previous factor (nothing written per row).
         let prev = &bases[grid.offsets[k - 2]..grid.offsets[k - 1]];
-        len /= prev.len();
-        let work = &mut work[..len];
+        let work = &mut work[..grid.before[k - 2]];
         if grid.dim == 1 {
             innermost_pair::<A, L>(Source::scalar(grid.values), last, prev, work);
         } else {
@@ -292,7 +298,7 @@ pub(crate) fn contract<A: Arith, const L: usize>(
         }
         reduce = k - 2;
     } else {
-        let work = &mut work[..len];
+        let work = &mut work[..grid.before[k - 1]];
         if grid.dim == 1 {
             innermost::<A, L>(Source::scalar(grid.values), last, work);
         } else {
@@ -301,8 +307,7 @@ pub(crate) fn contract<A: Arith, const L: usize>(
     }
     for f in (0..reduce).rev() {
         let b = &bases[grid.offsets[f]..grid.offsets[f + 1]];
-        len /= b.len();
-        let work = &mut work[..len * b.len()];
+        let work = &mut work[..grid.before[f + 1]];
         match b.len() {
             2 => reduce_fixed::<A, 2, L>(b, work),
             3 => reduce_fixed::<A, 3, L>(b, work),
@@ -317,7 +322,8 @@ pub(crate) fn contract<A: Arith, const L: usize>(
     work[0]
 }
 
-/// work[j] = Σ_i b[i] · work[j·N + i] (lane by lane) for the N levels of a factor.
+/// work[j] = Σ_i b[i] · work[j·N + i] (lane by lane) for the N levels of a factor (`work`
+/// holds a multiple of N sums).
 #[inline(always)]
 fn reduce_fixed<A: Arith, const N: usize, const L: usize>(b: &[[f64; L]], work: &mut [[f64; L]]) {
     let b: &[[f64; L]; N] = b.try_into().expect("N levels");
@@ -328,8 +334,10 @@ fn reduce_fixed<A: Arith, const N: usize, const L: usize>(b: &[[f64; L]], work: 
 #[inline(always)]
 fn reduce_any<A: Arith, const L: usize>(b: &[[f64; L]], work: &mut [[f64; L]]) {
     let n = b.len();
-    for j in 0..work.len() / n {
+    let mut j = 0;
+    while (j + 1) * n <= work.len() {
         work[j] = lane_sum::<A, L>(b, &work[j * n..(j + 1) * n]);
+        j += 1;
     }
 }
 
