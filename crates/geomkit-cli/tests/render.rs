@@ -198,6 +198,45 @@ fn meshes_in_every_format() {
 }
 
 #[test]
+fn sampled_point_calculus_outputs_mesh_through_their_samples() {
+    let dir = setup();
+    let d = dir.path();
+    std::fs::write(
+        d.join("pcc.json"),
+        r#"{"type":"pointcalc-curve","nodes":[0,0.5,1],"lebesgue":1.25,"samples":[
+ [0,0,0],[0.25,0.5,0.75],[0.5,1,1],[0.75,1.5,0.75],[1,2,0]]}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("pcs.json"),
+        r#"{"type":"pointcalc-surface-samples","u":[0,0.5,1],"v":[0,1],"points":[
+ [0,0,0],[0,1,0],[1,0,1],[1,1,1],[2,0,0],[2,1,0]]}"#,
+    )
+    .unwrap();
+    let err = ok(d, &["mesh", "pcc.json", "-o", "pcc.obj", "--samples", "5"]);
+    assert!(err.contains("polyline of 5 points"), "{err}");
+    let obj = std::fs::read_to_string(d.join("pcc.obj")).unwrap();
+    assert!(obj.contains("v 1.5 0.75 0\n"), "{obj}");
+    let err = ok(
+        d,
+        &["mesh", "pcs.json", "-o", "pcs.obj", "--samples", "2x2"],
+    );
+    // A 2×2 grid plus the sample lines (break lines): the 3×2 grid, 6 vertices, 4 triangles.
+    assert!(err.contains("6 vertices, 4 triangles"), "{err}");
+    ok(
+        d,
+        &["render", "pcs.json", "-o", "pcs.png", "--size", "200x200"],
+    );
+    std::fs::write(
+        d.join("bad.json"),
+        r#"{"type":"pointcalc-surface-samples","u":[0,1],"v":[0,1],"points":[[0,0,0]]}"#,
+    )
+    .unwrap();
+    let e = fails(d, &["mesh", "bad.json", "-o", "bad.obj"]);
+    assert!(e.contains("1 points"), "{e}");
+}
+
+#[test]
 fn bad_requests_fail_cleanly() {
     let dir = setup();
     let d = dir.path();

@@ -293,8 +293,199 @@ fn pointcalc_model(v: &Value) -> Result<Loaded> {
     }
 }
 
+/// Rows of numbers at `name`, all of one length.
+fn rows(v: &Value, name: &str) -> Result<Vec<Vec<f64>>> {
+    let arr = v
+        .get(name)
+        .and_then(Value::as_array)
+        .ok_or_else(|| anyhow!("missing array \"{name}\""))?;
+    let rows: Vec<Vec<f64>> = arr
+        .iter()
+        .enumerate()
+        .map(|(k, r)| {
+            r.as_array()
+                .ok_or_else(|| anyhow!("{name}[{k}] is not an array"))?
+                .iter()
+                .map(|x| {
+                    x.as_f64()
+                        .ok_or_else(|| anyhow!("{name}[{k}] holds a non-number"))
+                })
+                .collect()
+        })
+        .collect::<Result<_>>()?;
+    if let Some(k) = rows
+        .iter()
+        .position(|r| r.len() != rows[0].len() || r.is_empty())
+    {
+        bail!(
+            "{name}[{k}] has {} numbers, {name}[0] has {}",
+            rows[k].len(),
+            rows[0].len()
+        );
+    }
+    Ok(rows)
+}
+
+fn numbers(v: &Value, name: &str) -> Result<Vec<f64>> {
+    v.get(name)
+        .and_then(Value::as_array)
+        .ok_or_else(|| anyhow!("missing array \"{name}\""))?
+        .iter()
+        .enumerate()
+        .map(|(k, x)| {
+            x.as_f64()
+                .ok_or_else(|| anyhow!("{name}[{k}] is not a number"))
+        })
+        .collect()
+}
+
+/// Samples (t, x, ...) joined by straight segments: the polyline through them.
+struct SampledCurve {
+    ts: Vec<f64>,
+    dim: usize,
+    points: Vec<f64>,
+}
+
+impl ParamCurve for SampledCurve {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn eval_into(&self, t: f64, out: &mut [f64]) {
+        let n = self.ts.len();
+        let k = self.ts.partition_point(|&x| x <= t).clamp(1, n - 1) - 1;
+        let (t0, t1) = (self.ts[k], self.ts[k + 1]);
+        let f = if t1 > t0 {
+            ((t - t0) / (t1 - t0)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (a, b) = (
+            &self.points[k * self.dim..],
+            &self.points[(k + 1) * self.dim..],
+        );
+        for c in 0..self.dim {
+            out[c] = a[c] + f * (b[c] - a[c]);
+        }
+    }
+}
+
+impl CurveShape for SampledCurve {
+    fn domain(&self) -> (f64, f64) {
+        (self.ts[0], self.ts[self.ts.len() - 1])
+    }
+    fn breaks(&self) -> Vec<f64> {
+        self.ts.clone()
+    }
+}
+
+/// `pointcalc curve -o X.json`: samples [t, x, y, ...] of the curve.
+fn sampled_curve(v: &Value) -> Result<Loaded> {
+    let samples = rows(v, "samples")?;
+    if samples.len() < 2 || samples[0].len() < 2 {
+        bail!("a pointcalc-curve needs at least 2 samples [t, x, ...]");
+    }
+    let ts: Vec<f64> = samples.iter().map(|r| r[0]).collect();
+    if let Some(k) = ts.windows(2).position(|w| w[1] <= w[0]) {
+        bail!("samples[{}]: t must increase", k + 1);
+    }
+    let dim = samples[0].len() - 1;
+    let points = samples.iter().flat_map(|r| r[1..].to_vec()).collect();
+    Ok(Loaded {
+        what: format!("point-equation curve in R^{dim}, {} samples", ts.len()),
+        shape: Shape::Curve {
+            curve: Box::new(SampledCurve { ts, dim, points }),
+            control: None,
+            references: Vec::new(),
+        },
+    })
+}
+
+/// A grid of samples joined bilinearly.
+struct SampledSurface {
+    us: Vec<f64>,
+    vs: Vec<f64>,
+    dim: usize,
+    points: Vec<f64>,
+}
+
+impl SurfaceShape for SampledSurface {
+    fn dim(&self) -> usize {
+        self.dim
+    }
+    fn domain(&self) -> ((f64, f64), (f64, f64)) {
+        (
+            (self.us[0], self.us[self.us.len() - 1]),
+            (self.vs[0], self.vs[self.vs.len() - 1]),
+        )
+    }
+    fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
+        let locate = |xs: &[f64], x: f64| {
+            let k = xs.partition_point(|&y| y <= x).clamp(1, xs.len() - 1) - 1;
+            let f = ((x - xs[k]) / (xs[k + 1] - xs[k])).clamp(0.0, 1.0);
+            (k, f)
+        };
+        let (d, nv) = (self.dim, self.vs.len());
+        let p = |i: usize, j: usize, c: usize| self.points[(i * nv + j) * d + c];
+        for (a, &u) in us.iter().enumerate() {
+            let (i, f) = locate(&self.us, u);
+            for (b, &v) in vs.iter().enumerate() {
+                let (j, g) = locate(&self.vs, v);
+                for c in 0..d {
+                    out[(a * vs.len() + b) * d + c] = (1.0 - f) * (1.0 - g) * p(i, j, c)
+                        + f * (1.0 - g) * p(i + 1, j, c)
+                        + (1.0 - f) * g * p(i, j + 1, c)
+                        + f * g * p(i + 1, j + 1, c);
+                }
+            }
+        }
+        Ok(())
+    }
+    fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
+        (self.us.clone(), self.vs.clone())
+    }
+}
+
+/// `pointcalc surface -o X.json`: a u × v grid of samples.
+fn sampled_surface(v: &Value) -> Result<Loaded> {
+    let (us, vs) = (numbers(v, "u")?, numbers(v, "v")?);
+    let points = rows(v, "points")?;
+    if us.len() < 2 || vs.len() < 2 || points.len() != us.len() * vs.len() {
+        bail!(
+            "a pointcalc-surface-samples needs u and v with at least 2 values each and \
+             u × v points ({} × {} given, {} points)",
+            us.len(),
+            vs.len(),
+            points.len()
+        );
+    }
+    for (name, xs) in [("u", &us), ("v", &vs)] {
+        if let Some(k) = xs.windows(2).position(|w| w[1] <= w[0]) {
+            bail!("{name}[{}] must be greater than the previous value", k + 1);
+        }
+    }
+    let dim = points[0].len();
+    Ok(Loaded {
+        what: format!(
+            "point-equation surface in R^{dim}, {}×{} samples",
+            us.len(),
+            vs.len()
+        ),
+        shape: Shape::Surface {
+            surface: Box::new(SampledSurface {
+                us,
+                vs,
+                dim,
+                points: points.concat(),
+            }),
+            net: None,
+            references: Vec::new(),
+        },
+    })
+}
+
 /// Reads any model file: Bézier and B-spline JSON (and control-point CSV/.npy pairs),
-/// composite scenes, point-calculus models.
+/// composite scenes, point-calculus models and the curve/surface samples of `pointcalc
+/// curve|surface` (joined by straight segments / bilinear cells).
 pub fn load(path: &Path) -> Result<Loaded> {
     if matches!(extension(path).as_deref(), Some("npy" | "csv")) {
         return Ok(from_any(read_any_model(path)?));
@@ -321,6 +512,8 @@ pub fn parse(text: &str) -> Result<Loaded> {
             })
         }
         Some("pointcalc-model") => pointcalc_model(&v),
+        Some("pointcalc-curve") => sampled_curve(&v),
+        Some("pointcalc-surface-samples") => sampled_surface(&v),
         Some("formula") => bail!(
             "a formula file holds printed formulas, not geometry: mesh or draw the body with \
              `geomkit compose body ... -o OUT.obj|.svg`"
