@@ -7,6 +7,9 @@
 //!    up and down, keeping the shape.
 //! 2. [`bspline`]: interpolating cubic B-spline curves through reference points.
 //!
+//! Every model tessellates with [`mesh`] (adaptive polylines, triangle meshes with normals,
+//! watertight closed bodies) and writes OBJ, STL, PLY and glTF binary to any `io::Write`.
+//!
 //! The library does no I/O; every operation on user input returns [`Result`] and never
 //! panics on bad input (non-finite numbers, too few points, wrong shapes).
 //!

@@ -8,7 +8,7 @@ use crate::commands::mesh::write_mesh;
 use crate::figures::View;
 use crate::model::Model;
 use crate::render::shaded::{Overlay, Scene, Solid, BACK, FRONT};
-use crate::render::shape::Tessellation;
+use crate::render::shape::{load, picture_svg, PictureOptions, Shape, Tessellation};
 use crate::render::svg_to_png;
 use crate::svg::palette;
 use anyhow::Result;
@@ -29,6 +29,11 @@ pub fn items() -> Vec<Item> {
             id: "fig3-mask",
             title: "Fig. 3: the \u{201c}Mask\u{201d} Bézier surface of degrees 10×10",
             run: mask,
+        },
+        Item {
+            id: "gallery-shaded",
+            title: "Fig. 4, Fig. 5 and the 14×14 B-spline surface, shaded",
+            run: shaded_views,
         },
         Item {
             id: "gallery-bodies",
@@ -527,5 +532,68 @@ fn bodies_item(ctx: &Context) -> Result<Report> {
         &scene,
         "cube, pyramid, cone and capped cylinder",
     )?;
+    Ok(r)
+}
+
+/// Shaded 3-D views of surfaces that earlier demo items wrote as model files (read back as
+/// `geomkit render` reads them).
+fn shaded_views(ctx: &Context) -> Result<Report> {
+    let mut r = Report::new(
+        "The wireframe figures above, read back from their model files and drawn as \
+         `geomkit render MODEL.json -o OUT.png` draws them: Nikulin's Fig. 4 (the 7×3 net) and \
+         Fig. 5 (the (4, 3) surface), and Ho's surface through 14×14 points with its control \
+         net and the reference points it passes through.",
+    );
+    let cases = [
+        (
+            "fig4_original.json",
+            "Fig. 4: the surface over the 7×3 net",
+            View::default(),
+        ),
+        (
+            "fig5_43.json",
+            "Fig. 5: the surface of degrees (4, 3)",
+            View::default(),
+        ),
+        (
+            "surf14.json",
+            "Ho: the bicubic surface through 14×14 points",
+            View {
+                azimuth: 35.0,
+                elevation: 35.0,
+            },
+        ),
+    ];
+    for (file, title, view) in cases {
+        let path = ctx.dir.join(file);
+        let loaded = load(&path)?;
+        if let Shape::Surface { surface, net, .. } = &loaded.shape {
+            // The mesh reaches the corner vertices of a Bézier net (end-point interpolation).
+            if let (Some((rows, cols, pts)), true) = (net, file.starts_with("fig")) {
+                let mesh = tessellate_surface(surface.as_ref(), &SurfaceOptions::uniform(33, 33))?;
+                let worst = [0, cols - 1, (rows - 1) * cols, rows * cols - 1]
+                    .iter()
+                    .map(|&k| {
+                        mesh.positions()
+                            .iter()
+                            .map(|q| (0..3).map(|c| (q[c] - pts[k][c]).abs()).fold(0.0, f64::max))
+                            .fold(f64::INFINITY, f64::min)
+                    })
+                    .fold(0.0, f64::max);
+                r.check(Check::at_most(
+                    format!("{file}: the mesh reaches the 4 corner vertices of the net"),
+                    worst,
+                    1e-12,
+                ));
+            }
+        }
+        let opts = PictureOptions {
+            view,
+            ..PictureOptions::default()
+        };
+        let svg = picture_svg(&loaded, title, &loaded.what, &opts)?;
+        let stem = format!("shaded-{}", file.trim_end_matches(".json"));
+        r.picture(ctx, &format!("{stem}.svg"), &svg, title)?;
+    }
     Ok(r)
 }
