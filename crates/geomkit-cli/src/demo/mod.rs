@@ -263,6 +263,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         .flat_map(|o| &o.report.checks)
         .filter(|c| !c.passed)
         .count();
+    write_atomic(&dir.join("favicon.svg"), FAVICON.as_bytes())?;
     write_atomic(
         &dir.join("index.html"),
         index_html(&outcomes, total, failed, elapsed).as_bytes(),
@@ -336,19 +337,70 @@ fn text_summary(
     s
 }
 
-const CSS: &str = "body{font-family:system-ui,-apple-system,'Segoe UI',Helvetica,Arial,sans-serif;\
-max-width:1340px;margin:2em auto;padding:0 1.2em;color:#222;line-height:1.45}\
-h1{margin-bottom:.2em}h2{margin-top:2.2em;border-bottom:1px solid #ddd;padding-bottom:.2em}\
-.summary{font-size:1.05em}.ok{color:#1d7a3a;font-weight:600}.bad{color:#b3261e;font-weight:600}\
-nav a{margin-right:1em;white-space:nowrap}\
-.pics{display:flex;flex-wrap:wrap;gap:1.2em;align-items:flex-start}\
-figure{margin:0;max-width:640px}figure img{max-width:100%;height:auto;border:1px solid #e4e4e4}\
-figcaption{font-size:.9em;color:#555}\
-table{border-collapse:collapse;margin:.8em 0;font-size:.92em}\
+/// The page's icon (a cubic Bézier arc over its control polygon), written beside index.html.
+const FAVICON: &str = "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 32 32\">\
+<rect width=\"32\" height=\"32\" rx=\"6\" fill=\"#1f4e9c\"/>\
+<path d=\"M5 26 L9 6 L23 6 L27 26\" fill=\"none\" stroke=\"#f0a060\" stroke-width=\"1.6\"/>\
+<path d=\"M5 26 C9 6 23 6 27 26\" fill=\"none\" stroke=\"#fff\" stroke-width=\"3\"/></svg>\n";
+
+const CSS: &str = "*{box-sizing:border-box}\
+body{font-family:system-ui,-apple-system,'Segoe UI',Helvetica,Arial,sans-serif;margin:0;\
+color:#1f2328;background:#f4f5f7;line-height:1.45}\
+.wrap{max-width:1380px;margin:0 auto;padding:0 1.2em}\
+header.top{background:#fff;border-bottom:1px solid #e1e4e8;padding:1.4em 0 1.1em}\
+h1{margin:0 0 .25em;font-size:1.9em}.lead{margin:.2em 0 .7em;color:#444;max-width:70em}\
+.stats{display:flex;flex-wrap:wrap;gap:.5em}\
+.stat{background:#eef1f4;border-radius:999px;padding:.2em .8em;font-size:.92em}\
+.stat.ok{background:#dff3e4;color:#14632d;font-weight:600}\
+.stat.bad{background:#fde2e0;color:#a1160d;font-weight:600}\
+.note{font-size:.88em;color:#666;margin:.7em 0 0}\
+.overview{display:grid;grid-template-columns:repeat(auto-fill,minmax(205px,1fr));gap:.8em;\
+margin:1.2em 0 .6em}\
+.card{display:flex;flex-direction:column;background:#fff;border:1px solid #e1e4e8;\
+border-radius:8px;overflow:hidden;color:inherit;text-decoration:none}\
+.card:hover{border-color:#0969da;box-shadow:0 2px 8px rgba(0,0,0,.08)}\
+.card img,.card .noimg{width:100%;height:132px;object-fit:contain;background:#fff;\
+border-bottom:1px solid #eee;padding:4px}\
+.card .noimg{display:flex;align-items:center;justify-content:center;color:#999;font-size:.85em}\
+.card .t{padding:.4em .6em 0;font-size:.84em;font-weight:600;line-height:1.3;flex:1}\
+.card .b{padding:.3em .6em .5em;font-size:.78em}\
+.ok{color:#1d7a3a;font-weight:600}.bad{color:#b3261e;font-weight:600}\
+section.item{background:#fff;border:1px solid #e1e4e8;border-radius:10px;margin:1.4em 0;\
+padding:.4em 1.4em 1em;scroll-margin-top:1em}\
+section.item h2{font-size:1.35em;margin:.6em 0 .3em;display:flex;flex-wrap:wrap;\
+align-items:baseline;gap:.3em .8em}\
+h2 .id{font-size:.6em;font-weight:normal;color:#888;font-family:ui-monospace,Menlo,Consolas,monospace}\
+h2 .badge{font-size:.6em;margin-left:auto}\
+.caption{margin:.2em 0 1em;color:#333;max-width:75em}\
+.pics{display:grid;grid-template-columns:repeat(auto-fill,minmax(400px,1fr));gap:1em;\
+align-items:start}\
+figure{margin:0;background:#fff;border:1px solid #e8e8e8;border-radius:6px;padding:.5em}\
+figure img{display:block;width:100%;height:auto}\
+figcaption{font-size:.86em;color:#555;margin-top:.4em}\
+table{border-collapse:collapse;margin:.8em 0;font-size:.9em}\
 th,td{border:1px solid #ddd;padding:.25em .6em;text-align:left}th{background:#f5f5f5}\
 td.num{font-family:ui-monospace,Menlo,Consolas,monospace;text-align:right}\
-pre{background:#f7f7f7;padding:.6em;overflow-x:auto;font-size:.9em}\
-.files{font-size:.9em;color:#555}";
+pre{background:#f7f7f7;padding:.6em;overflow-x:auto;font-size:.85em;border-radius:4px}\
+.files{font-size:.88em;color:#555}\
+details.checks{margin-top:.6em}details.checks summary{cursor:pointer;font-size:.92em}\
+details.checks table{margin:.5em 0 0}\
+footer{color:#777;font-size:.85em;padding:1em 0 2em}\
+@media (max-width:600px){.pics{grid-template-columns:1fr}\
+.overview{grid-template-columns:repeat(auto-fill,minmax(150px,1fr))}section.item{padding:.3em .8em}}";
+
+/// "5 checks passed" or "1 of 5 checks FAILED", with the CSS class to show it in.
+fn checks_badge(checks: &[Check]) -> (&'static str, String) {
+    let failed = checks.iter().filter(|c| !c.passed).count();
+    let plural = if checks.len() == 1 { "" } else { "s" };
+    if failed == 0 {
+        ("ok", format!("✓ {} check{plural} passed", checks.len()))
+    } else {
+        (
+            "bad",
+            format!("✗ {failed} of {} check{plural} FAILED", checks.len()),
+        )
+    }
+}
 
 fn index_html(outcomes: &[Outcome], total: usize, failed: usize, elapsed: Duration) -> String {
     let mut h = String::new();
@@ -356,36 +408,59 @@ fn index_html(outcomes: &[Outcome], total: usize, failed: usize, elapsed: Durati
         h,
         "<!doctype html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <link rel=\"icon\" href=\"favicon.svg\">\n\
          <title>geomkit demo</title>\n<style>{CSS}</style>\n</head>\n<body>\n\
-         <h1>geomkit demo</h1>\n"
+         <header class=\"top\"><div class=\"wrap\">\n<h1>geomkit demo</h1>\n\
+         <p class=\"lead\">The figures and worked examples of the papers, recomputed by \
+         geomkit; each item says which paper and figure it reproduces, what was checked and \
+         the measured error.</p>\n"
     );
     let status = if failed == 0 {
-        format!("<span class=\"ok\">all {total} checks passed</span>")
+        format!("<span class=\"stat ok\">✓ all {total} checks passed</span>")
     } else {
-        format!("<span class=\"bad\">{failed} of {total} checks FAILED</span>")
+        format!("<span class=\"stat bad\">✗ {failed} of {total} checks FAILED</span>")
     };
     let _ = writeln!(
         h,
-        "<p class=\"summary\">{} items, {status} ({:.2} s). Generated by <code>geomkit demo</code> \
-         {}; every model file here can be fed back to <code>geomkit eval</code> (and the Bézier \
-         ones to <code>geomkit bezier …</code>).</p>",
+        "<div class=\"stats\">{status}<span class=\"stat\">{} items</span>\
+         <span class=\"stat\">{:.2} s</span><span class=\"stat\">geomkit {}</span></div>\n\
+         <p class=\"note\">Generated by <code>geomkit demo</code>. Every model file here can be \
+         fed back to <code>geomkit eval</code> (and the Bézier ones to \
+         <code>geomkit bezier …</code>).</p>\n</div></header>\n<div class=\"wrap\">",
         outcomes.len(),
         elapsed.as_secs_f64(),
         env!("CARGO_PKG_VERSION")
     );
-    let _ = writeln!(h, "<nav>");
+    let _ = writeln!(h, "<nav class=\"overview\">");
     for o in outcomes {
-        let _ = writeln!(h, "<a href=\"#{}\">{}</a>", o.id, escape(o.title));
-    }
-    let _ = writeln!(h, "</nav>");
-    for o in outcomes {
-        let r = &o.report;
+        let (class, badge) = checks_badge(&o.report.checks);
+        let thumb = match o.report.pictures.first() {
+            Some(p) => format!(
+                "<img src=\"{}\" alt=\"{}\">",
+                escape(&p.file),
+                escape(o.title)
+            ),
+            None => format!("<span class=\"noimg\">{}</span>", escape(o.id)),
+        };
         let _ = writeln!(
             h,
-            "<section id=\"{}\">\n<h2>{}</h2>\n<p>{}</p>",
+            "<a class=\"card\" href=\"#{}\">{thumb}<span class=\"t\">{}</span>\
+             <span class=\"b {class}\">{badge}</span></a>",
             o.id,
+            escape(o.title)
+        );
+    }
+    let _ = writeln!(h, "</nav>\n<main>");
+    for o in outcomes {
+        let r = &o.report;
+        let (class, badge) = checks_badge(&r.checks);
+        let _ = writeln!(
+            h,
+            "<section class=\"item\" id=\"{id}\">\n<h2>{}<span class=\"id\">{id}</span>\
+             <span class=\"badge {class}\">{badge}</span></h2>\n<p class=\"caption\">{}</p>",
             escape(o.title),
-            escape(&r.caption)
+            escape(&r.caption),
+            id = o.id,
         );
         if !r.pictures.is_empty() {
             let _ = writeln!(h, "<div class=\"pics\">");
@@ -422,8 +497,12 @@ fn index_html(outcomes: &[Outcome], total: usize, failed: usize, elapsed: Durati
         }
         let _ = writeln!(
             h,
-            "<table class=\"checks\"><tr><th>check</th><th>measured</th><th>limit</th>\
-             <th>result</th></tr>"
+            "<details class=\"checks\"{}><summary><span class=\"{class}\">{badge}</span> \
+             <span class=\"files\">({:.0} ms)</span></summary>\n\
+             <table class=\"checks\"><tr><th>check</th><th>measured</th><th>limit</th>\
+             <th>result</th></tr>",
+            if class == "ok" { "" } else { " open" },
+            o.time.as_secs_f64() * 1e3
         );
         for c in &r.checks {
             let _ = writeln!(
@@ -437,12 +516,14 @@ fn index_html(outcomes: &[Outcome], total: usize, failed: usize, elapsed: Durati
                 if c.passed { "pass" } else { "FAIL" }
             );
         }
-        let _ = writeln!(
-            h,
-            "</table>\n<p class=\"files\">{:.0} ms</p>\n</section>",
-            o.time.as_secs_f64() * 1e3
-        );
+        let _ = writeln!(h, "</table>\n</details>\n</section>");
     }
+    let _ = writeln!(
+        h,
+        "</main>\n<footer>geomkit {} · {} items · {total} checks</footer>\n</div>",
+        env!("CARGO_PKG_VERSION"),
+        outcomes.len()
+    );
     h.push_str("</body>\n</html>\n");
     h
 }
