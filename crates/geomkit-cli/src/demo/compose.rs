@@ -161,7 +161,12 @@ fn piecewise(ctx: &Context) -> Result<Report> {
          F_i(x) = f_i(x_i + (x_(i+1) − x_i) P(x, x_i, x_(i+1) − x_i)) (spec §5), plotted from \
          the formula; the dots are the breakpoints by the structural evaluator.",
     );
-    let pieces = ["(x + 2)^2", "1 - x*(x + 1)", "cos(pi*x/2)", "(x - 1)*(3 - x)"];
+    let pieces = [
+        "(x + 2)^2",
+        "1 - x*(x + 1)",
+        "cos(pi*x/2)",
+        "(x - 1)*(3 - x)",
+    ];
     let p = Piecewise::function(vec![-2.0, -1.0, 0.0, 1.0, 2.0], &pieces)?;
     let f = p.formula()?;
     let text = f.print(Format::Maple);
