@@ -78,12 +78,24 @@ fn bodies_write_meshes_pictures_and_json() {
         ],
     );
     assert!(out.status.success(), "{}", text(&out.stderr));
+    // The welded mesh of `geomkit mesh`: 9 angles (the seam welded: 8) on 5 rows, the two
+    // cap centres single vertices; closed, its volume the inscribed octagonal prism's.
     let obj = fs::read_to_string(d.join("c.obj")).unwrap();
-    assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), 45);
     assert_eq!(
-        obj.lines().filter(|l| l.starts_with("f ")).count(),
-        2 * 8 * 4
+        obj.lines().filter(|l| l.starts_with("v ")).count(),
+        8 * 5 + 2
     );
+    assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 80);
+    let octagon = 2.0 * 2f64.sqrt() * 4.0;
+    let err = text(&out.stderr);
+    let volume: f64 = err
+        .trim()
+        .rsplit_once("volume ")
+        .unwrap_or_else(|| panic!("no volume in {err}"))
+        .1
+        .parse()
+        .unwrap();
+    assert!((volume - octagon).abs() < 1e-12 * octagon, "{err}");
     // Every vertex on the capped cylinder of radius 2, z in [-1/2, 1/2].
     for l in obj.lines().filter(|l| l.starts_with("v ")) {
         let p: Vec<f64> = l[2..].split(' ').map(|x| x.parse().unwrap()).collect();
@@ -107,6 +119,63 @@ fn bodies_write_meshes_pictures_and_json() {
     let v: Value = serde_json::from_str(&fs::read_to_string(d.join("p.json")).unwrap()).unwrap();
     assert_eq!(v["formulas"].as_object().unwrap().len(), 11);
     assert!(v["op_count"].as_u64().unwrap() > 0);
+    assert_eq!(v["model"]["type"], "ruled");
+}
+
+/// A body's JSON carries its model: `mesh`, `render` and `eval` read it back, and the
+/// mesh and picture formats come straight out of `compose body` too.
+#[test]
+fn body_files_mesh_render_and_evaluate() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(d, &["compose", "body", "cube", "-o", "cube.json"]);
+    let out = ok(d, &["mesh", "cube.json", "-o", "cube.stl"]);
+    let err = text(&out.stderr);
+    assert!(err.contains("closed, volume 8"), "{err}");
+    for file in ["direct.stl", "direct.ply", "direct.glb"] {
+        let out = ok(d, &["compose", "body", "cube", "-o", file]);
+        assert!(text(&out.stderr).contains("closed, volume 8"), "{file}");
+    }
+    for file in ["cube.png", "cube.svg"] {
+        ok(d, &["render", "cube.json", "-o", file]);
+        ok(d, &["compose", "body", "cone", "-o", file]);
+    }
+    assert!(fs::read(d.join("cube.png"))
+        .unwrap()
+        .starts_with(b"\x89PNG"));
+    // The structural evaluator on a 5×4 grid: every point on the cube, the poles included.
+    let out = ok(d, &["eval", "cube.json", "--samples", "5x4"]);
+    let rows: Vec<Vec<f64>> = text(&out.stdout)
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 20);
+    for r in &rows {
+        let m = r[2].abs().max(r[3].abs()).max(r[4].abs());
+        assert!((m - 1.0).abs() < 1e-15, "{r:?}");
+    }
+    // u = 1, v = 1: the corner (-1, 1, 1) of the top square; u = 2, v = 2: (-1, -1, -1).
+    assert!(rows.contains(&vec![1.0, 1.0, -1.0, 1.0, 1.0]), "{rows:?}");
+    assert!(rows.contains(&vec![2.0, 2.0, -1.0, -1.0, -1.0]), "{rows:?}");
+    let out = geomkit(d, &["compose", "body", "cube", "-o", "cube.step"]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("name it .txt, .json, .obj, .stl, .ply, .glb, .png or .svg"));
+    assert!(!d.join("cube.step").exists());
+    // A formula file without a model (a piecewise function) says so.
+    write(
+        d,
+        "f.json",
+        r#"{"type":"piecewise","knots":[0,1,2],"pieces":["x","2 - x"]}"#,
+    );
+    ok(d, &["compose", "piecewise", "f.json", "-o", "pf.json"]);
+    let out = geomkit(d, &["mesh", "pf.json", "-o", "pf.obj"]);
+    assert!(!out.status.success());
+    assert!(
+        text(&out.stderr).contains("carries no model"),
+        "{}",
+        text(&out.stderr)
+    );
 }
 
 #[test]
@@ -241,8 +310,15 @@ fn expression_patches_formula_report_and_eval() {
             "3x3",
         ],
     );
+    // Heights drawn as (x, y, z): the centre of the 3×3 grid is (0.5, 0.5, 1).
     let obj = fs::read_to_string(d.join("e.obj")).unwrap();
-    assert!(obj.contains("v 0.5 0.5 1.0\n"), "{obj}");
+    let vertices: Vec<Vec<f64>> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| l.split(' ').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(vertices.len(), 9, "{obj}");
+    assert!(vertices.contains(&vec![0.5, 0.5, 1.0]), "{obj}");
 }
 
 const RULED: &str = r#"{"type":"ruled","u":[0,4],"v":[0,1,2,3],"curves":[
@@ -275,6 +351,39 @@ fn ruled_formula_outputs_and_report() {
         );
         assert!(fs::read_to_string(d.join(file)).unwrap().contains(want));
     }
+    // The curves file itself is a model for `mesh`, `render` and `eval`; a circle given as
+    // {"circle":..} is the same surface as the formula circle.
+    let out = ok(d, &["mesh", "r.json", "-o", "r.stl"]);
+    assert!(
+        text(&out.stderr).contains("closed, volume"),
+        "{}",
+        text(&out.stderr)
+    );
+    ok(d, &["render", "r.json", "-o", "r.png"]);
+    let circle = RULED.replace(
+        r#"{"x":"cos(t)","y":"sin(t)","z":"1","t":[0,6.283185307179586]}"#,
+        r#"{"circle":{"center":[0,0,1],"radius":1}}"#,
+    );
+    write(d, "c.json", &circle);
+    let a = ok(d, &["eval", "r.json", "--samples", "7x7"]).stdout;
+    let b = ok(d, &["eval", "c.json", "--samples", "7x7"]).stdout;
+    let parse = |o: &[u8]| -> Vec<f64> {
+        text(o)
+            .lines()
+            .skip(1)
+            .flat_map(|l| {
+                l.split(',')
+                    .map(|x| x.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    let (a, b) = (parse(&a), parse(&b));
+    assert_eq!(a.len(), 49 * 5);
+    assert!(
+        a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-15),
+        "{a:?} {b:?}"
+    );
     let bad = [
         (
             RULED.replace("[0,1,2,3]", "[0,1,1,3]"),

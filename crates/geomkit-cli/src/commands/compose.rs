@@ -12,9 +12,12 @@
 //! - parametric patches may also be formulas `{"x":"expr","y":"expr","z":"expr"}` in u, v,
 //!   optionally with `"domain":[[u0,u1],[v0,v1]]` mapped linearly onto the cell.
 
+use super::mesh::{mesh_summary, write_mesh};
 use crate::figures::{linspace, surface_svg, Layer, SurfaceView};
 use crate::output::{Destination, RowSink, TableFormat};
 use crate::progress::Progress;
+use crate::render::shape::{picture_svg, tessellate, Loaded, PictureOptions, Sampling, Shape};
+use crate::render::svg_to_png;
 use crate::svg::palette;
 use crate::table::{extension, Table};
 use anyhow::{anyhow, bail, Context, Result};
@@ -25,6 +28,7 @@ use geomkit::compose::{
     SurfaceKind,
 };
 use geomkit::expr::Format;
+use geomkit::mesh::SurfaceShape;
 use serde_json::{json, Map, Value};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -33,13 +37,14 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, Subcommand)]
 pub enum ComposeCommand {
     /// A closed body as one formula (the paper's cube, and box, pyramid, cone, cylinder,
-    /// prism, frustum): formula text, or OUT .json / .obj (mesh) / .svg (wireframe).
+    /// prism, frustum): formula text, or OUT .json (formulas and model), a watertight mesh
+    /// (.obj, .stl, .ply, .glb) or a shaded picture (.png, .svg).
     Body(BodyArgs),
     /// A composite surface of patches (SCENE.json) as one formula (9)/(11), with its
-    /// continuity report.
+    /// continuity report: formula text, or OUT like `compose body`.
     Patches(PatchesArgs),
     /// A piecewise-ruled surface over curves (CURVES.json) as one formula (2), with its
-    /// consistency checks: formula text, or OUT .json / .obj / .svg like `compose body`.
+    /// consistency checks: formula text, or OUT like `compose body`.
     Ruled(RuledArgs),
     /// A piecewise function or composite curve (PIECES.json) as one formula (spec §5), with
     /// the continuity report at its breakpoints; OUT .svg plots it.
@@ -98,19 +103,9 @@ pub struct BodyArgs {
         conflicts_with = "ngon"
     )]
     pub polygon: Option<String>,
-    /// Syntax of the formula.
-    #[arg(long, value_name = "F", default_value = "maple")]
-    pub format: String,
-    /// Print with common subexpressions in temporaries.
-    #[arg(long)]
-    pub program: bool,
-    /// Output: .json (formula in every syntax), .obj (mesh), .svg (picture); default: the
-    /// formula on stdout.
-    #[arg(short, long, value_name = "OUT")]
-    pub output: Option<PathBuf>,
-    /// Sample grid of a mesh or picture (KxL) [default: 121x61].
-    #[arg(long, value_name = "KxL")]
-    pub samples: Option<String>,
+    /// Output options.
+    #[command(flatten)]
+    pub out: SurfaceOutput,
 }
 
 /// Arguments of `compose patches`.
@@ -118,21 +113,12 @@ pub struct BodyArgs {
 pub struct PatchesArgs {
     /// The scene (JSON).
     pub scene: PathBuf,
-    /// Syntax of the formula.
-    #[arg(long, value_name = "F", default_value = "maple")]
-    pub format: String,
-    /// Print with common subexpressions in temporaries.
-    #[arg(long)]
-    pub program: bool,
     /// Print the continuity report as JSON {"max_jump":..,"jumps":[..]} instead of the formula.
     #[arg(long)]
     pub report_json: bool,
-    /// Output: .obj (mesh), .svg (picture), .txt (the formula); default: stdout.
-    #[arg(short, long, value_name = "OUT")]
-    pub output: Option<PathBuf>,
-    /// Sample grid of a mesh or picture (KxL) [default: 101x101].
-    #[arg(long, value_name = "KxL")]
-    pub samples: Option<String>,
+    /// Output options, as for `compose body`.
+    #[command(flatten)]
+    pub out: SurfaceOutput,
 }
 
 /// Arguments of `compose ruled`.
@@ -140,11 +126,12 @@ pub struct PatchesArgs {
 pub struct RuledArgs {
     /// The curves (JSON): {"type":"ruled","curves":[C,...],"v":[...],"u":[u0,u1]} with C
     /// {"x":"expr","y":"expr","z":"expr","t":[t0,t1]} (formulas in t), {"point":[x,y,z]},
-    /// {"polygon":[[x,y,z],...]} or {"polyline":[[x,y,z],...]}; "u" defaults to [0,1].
+    /// {"polygon":[[x,y,z],...]}, {"polyline":[[x,y,z],...]} or
+    /// {"circle":{"center":[x,y,z],"radius":r}}; "u" defaults to [0,1].
     pub curves: PathBuf,
     /// Output options, as for `compose body`.
     #[command(flatten)]
-    pub out: FormulaOutput,
+    pub out: SurfaceOutput,
 }
 
 /// Arguments of `compose piecewise`.
@@ -158,12 +145,13 @@ pub struct PiecewiseArgs {
     /// Print the continuity report as JSON instead of the formula.
     #[arg(long)]
     pub report_json: bool,
-    /// Output options: .svg plots the function or the curve.
+    /// Output options: OUT .json (formula in every syntax and the report), .svg (a plot of
+    /// the function or the curve), .txt (the formula).
     #[command(flatten)]
     pub out: FormulaOutput,
 }
 
-/// Formula syntax and output file, shared by `compose ruled` and `compose piecewise`.
+/// Formula syntax and output file of every `compose` command.
 #[derive(Debug, Args)]
 pub struct FormulaOutput {
     /// Syntax of the formula.
@@ -172,11 +160,23 @@ pub struct FormulaOutput {
     /// Print with common subexpressions in temporaries.
     #[arg(long)]
     pub program: bool,
-    /// Output: .json (formula in every syntax), .obj (mesh), .svg (picture), .txt (the
-    /// formula); default: the formula on stdout.
+    /// Output file, its format by its extension (see the command's help); default: the
+    /// formula on stdout.
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
-    /// Sample grid of a mesh or picture (KxL) [default: 121x61].
+}
+
+/// Output options of the surface commands (`compose body`, `ruled`, `patches`): OUT .json
+/// (the formula in every syntax and the model, which `geomkit mesh`, `render` and `eval`
+/// read back), a watertight mesh where the surface is closed (.obj, .stl, .ply, .glb, as
+/// `geomkit mesh` writes them), a shaded picture (.png, .svg) or .txt (the formula).
+#[derive(Debug, Args)]
+pub struct SurfaceOutput {
+    /// Formula syntax and output file.
+    #[command(flatten)]
+    pub formula: FormulaOutput,
+    /// A mesh on a uniform KxL sample grid (break lines added) [default: adaptive, within
+    /// 1/1000 of the size].
     #[arg(long, value_name = "KxL")]
     pub samples: Option<String>,
 }
@@ -200,16 +200,16 @@ pub fn format_of(name: &str) -> Result<Format> {
     })
 }
 
-pub fn samples_of(text: Option<&str>, default: (usize, usize)) -> Result<(usize, usize)> {
-    let Some(t) = text else { return Ok(default) };
+/// "KxL" (or "K") → (K, L), each from 2 to 4000.
+pub fn samples_of(text: &str) -> Result<(usize, usize)> {
     let parse = |x: &str| -> Result<usize> {
         match x.trim().parse::<usize>() {
             Ok(k) if (2..=4000).contains(&k) => Ok(k),
             _ => bail!("--samples: {x:?} is not a count from 2 to 4000"),
         }
     };
-    match t.split_once(['x', 'X', ',']) {
-        None => Ok((parse(t)?, parse(t)?)),
+    match text.split_once(['x', 'X', ',']) {
+        None => Ok((parse(text)?, parse(text)?)),
         Some((a, b)) => Ok((parse(a)?, parse(b)?)),
     }
 }
@@ -355,16 +355,6 @@ impl SurfaceView for GridView<'_> {
     }
 }
 
-impl GridView<'_> {
-    fn out_dim(&self) -> usize {
-        if self.dim == 1 {
-            3
-        } else {
-            self.dim
-        }
-    }
-}
-
 pub fn ruled_view(s: &RuledSurface) -> GridView<'_> {
     GridView {
         dim: 3,
@@ -395,70 +385,116 @@ pub fn picture(view: &GridView<'_>, title: &str, subtitle: &str, lines: usize) -
     )
 }
 
-/// A triangulated K×L grid as Wavefront OBJ text.
-fn obj_text(view: &GridView<'_>, (k, l): (usize, usize), what: &str) -> Result<String> {
-    let ((u0, u1), (v0, v1)) = view.domain;
-    let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, l));
-    let d = view.out_dim();
-    let mut pts = vec![0.0; k * l * d];
-    view.view_grid(&us, &vs, &mut pts)?;
-    let mut s = format!(
-        "# geomkit {}: {what}, {k}x{l} grid\n",
-        env!("CARGO_PKG_VERSION")
-    );
-    for p in pts.chunks_exact(d) {
-        let z = if d > 2 { p[2] } else { 0.0 };
-        s.push_str(&format!("v {:?} {:?} {:?}\n", p[0], p[1], z));
-    }
-    for i in 0..k - 1 {
-        for j in 0..l - 1 {
-            let a = i * l + j + 1;
-            s.push_str(&format!(
-                "f {a} {} {}\nf {a} {} {}\n",
-                a + l,
-                a + l + 1,
-                a + l + 1,
-                a + 1
-            ));
-        }
-    }
-    Ok(s)
-}
-
 fn run_body(args: BodyArgs) -> Result<()> {
     let (body, what) = build_body(&args)?;
-    let out = FormulaOutput {
-        format: args.format,
-        program: args.program,
-        output: args.output,
-        samples: args.samples,
-    };
-    write_ruled(&body, &what, &out)
+    write_ruled(&body, &what, &args.out)
 }
 
-/// A ruled surface's formula, mesh or picture, as `out` asks.
-fn write_ruled(body: &RuledSurface, what: &str, out: &FormulaOutput) -> Result<()> {
-    let format = format_of(&out.format)?;
+/// A ruled surface's formula, model, mesh or picture, as `out` asks.
+fn write_ruled(body: &RuledSurface, what: &str, out: &SurfaceOutput) -> Result<()> {
     let f = body.formula()?;
-    let dest = Destination::from_option(out.output.as_deref());
-    match out.output.as_deref().map(extension) {
-        None => dest.write(formula_text(&f, format, out.program).as_bytes()),
-        Some(Some(e)) if e == "json" => dest.write(formula_json(&f, what, json!({})).as_bytes()),
-        Some(Some(e)) if e == "obj" => {
-            let k = samples_of(out.samples.as_deref(), (121, 61))?;
-            dest.write(obj_text(&ruled_view(body), k, what)?.as_bytes())
+    let model = ruled_json(body).map_or(json!({}), |m| json!({ "model": m }));
+    let subtitle = formula_line(&f);
+    write_surface(Box::new(body.clone()), &f, what, &subtitle, model, out)
+}
+
+/// The first line of the Maple formula, shortened to 140 characters (a picture's subtitle).
+pub fn formula_line(f: &Formula) -> String {
+    let first = f.print(Format::Maple);
+    let line = first.lines().next().unwrap_or_default();
+    if line.chars().count() > 140 {
+        line.chars().take(137).collect::<String>() + "..."
+    } else {
+        line.to_string()
+    }
+}
+
+/// Writes a surface's single formula `f` as `out` asks, by the extension of the output:
+/// none or .txt the formula, .json the formula in every syntax plus `extra`, .obj/.stl/.ply/
+/// .glb the mesh `geomkit mesh` writes, .png/.svg the shaded picture of `geomkit render`.
+fn write_surface(
+    surface: Box<dyn SurfaceShape>,
+    f: &Formula,
+    what: &str,
+    subtitle: &str,
+    extra: Value,
+    out: &SurfaceOutput,
+) -> Result<()> {
+    let o = &out.formula;
+    let format = format_of(&o.format)?;
+    let dest = Destination::from_option(o.output.as_deref());
+    let Some(path) = o.output.as_deref() else {
+        return dest.write(formula_text(f, format, o.program).as_bytes());
+    };
+    let loaded = || Loaded {
+        what: what.to_string(),
+        shape: Shape::Surface {
+            surface,
+            net: None,
+            references: Vec::new(),
+        },
+    };
+    match extension(path).unwrap_or_default().as_str() {
+        "txt" => dest.write(formula_text(f, format, o.program).as_bytes()),
+        "json" => dest.write(formula_json(f, what, extra).as_bytes()),
+        ext @ ("obj" | "stl" | "ply" | "glb") => {
+            let sampling = match out.samples.as_deref() {
+                Some(text) => {
+                    let (k, l) = samples_of(text)?;
+                    Sampling::Samples(k, l)
+                }
+                None => Sampling::Tolerance(None),
+            };
+            let t = tessellate(&loaded(), sampling)?;
+            let mut buf = Vec::new();
+            write_mesh(&t, ext, false, &mut buf)?;
+            dest.write(&buf)?;
+            let _ = writeln!(std::io::stderr(), "{}", mesh_summary(path, &t));
+            Ok(())
         }
-        Some(Some(e)) if e == "svg" => {
-            let first = f.print(Format::Maple);
-            let line = first.lines().next().unwrap_or_default();
-            dest.write(picture(&ruled_view(body), what, line, 16)?.as_bytes())
+        ext @ ("png" | "svg") => {
+            let svg = picture_svg(&loaded(), what, subtitle, &PictureOptions::default())?;
+            if ext == "png" {
+                dest.write(&svg_to_png(&svg, 2.0, None)?)
+            } else {
+                dest.write(svg.as_bytes())
+            }
         }
-        Some(Some(e)) if e == "txt" => dest.write(formula_text(&f, format, out.program).as_bytes()),
         _ => bail!(
-            "cannot tell the output format of {}: name it .json, .obj, .svg or .txt",
-            out.output.as_deref().unwrap_or(Path::new("")).display()
+            "cannot tell the output format of {}: name it .txt, .json, .obj, .stl, .ply, .glb, \
+             .png or .svg",
+            path.display()
         ),
     }
+}
+
+/// A ruled surface as the JSON `compose ruled` reads (the "model" of a formula file), or
+/// `None` when a curve is a formula in another variable than t.
+pub fn ruled_json(s: &RuledSurface) -> Option<Value> {
+    let curves = s
+        .curves()
+        .iter()
+        .map(|c| {
+            Some(match c {
+                RuledCurve::Point(p) => json!({ "point": p }),
+                RuledCurve::Polyline { vertices, closed } if *closed => {
+                    json!({ "polygon": vertices })
+                }
+                RuledCurve::Polyline { vertices, .. } => json!({ "polyline": vertices }),
+                RuledCurve::Circle { center, radius } => {
+                    json!({ "circle": { "center": center, "radius": radius } })
+                }
+                RuledCurve::Expr(e) if e.vars() == ["t"] && e.texts().len() == 3 => {
+                    let (t0, t1) = c.interval();
+                    let t = e.texts();
+                    json!({ "x": t[0], "y": t[1], "z": t[2], "t": [t0, t1] })
+                }
+                _ => return None,
+            })
+        })
+        .collect::<Option<Vec<Value>>>()?;
+    let ((u0, u1), _) = s.domain();
+    Some(json!({ "type": "ruled", "u": [u0, u1], "v": s.v_values(), "curves": curves }))
 }
 
 /// Reads a JSON file.
@@ -494,6 +530,14 @@ fn ruled_curve(c: &Value) -> Result<RuledCurve> {
     }
     if let Some(p) = c.get("polyline") {
         return Ok(RuledCurve::polyline(points3(p, "polyline")?)?);
+    }
+    if let Some(circle) = c.get("circle") {
+        let center = points3(&json!([circle.get("center")]), "circle.center")?[0];
+        let radius = circle
+            .get("radius")
+            .and_then(Value::as_f64)
+            .ok_or_else(|| anyhow!("\"circle\" needs a numeric \"radius\""))?;
+        return Ok(RuledCurve::Circle { center, radius });
     }
     let text = |n: &str| -> Result<&str> {
         match c.get(n) {
@@ -600,21 +644,58 @@ fn run_ruled(args: RuledArgs) -> Result<()> {
     Ok(())
 }
 
-/// Reads a scene file.
-pub fn read_scene(path: &Path) -> Result<CompositeSurface> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    parse_scene(&text).with_context(|| path.display().to_string())
+/// A surface model of `compose`: a composite scene, a ruled surface, or a formula file
+/// (`compose ... -o OUT.json`) through the model it carries.
+pub enum SurfaceModel {
+    /// `{"type":"composite_surface"|"composite_explicit",...}`.
+    Scene(CompositeSurface),
+    /// `{"type":"ruled",...}`.
+    Ruled(RuledSurface),
 }
 
-/// Whether JSON text is a composite scene (for `geomkit eval`).
-pub fn is_scene(text: &str) -> bool {
-    serde_json::from_str::<Value>(text)
-        .ok()
-        .and_then(|v| v.get("type").and_then(Value::as_str).map(str::to_string))
-        .is_some_and(|t| t == "composite_surface" || t == "composite_explicit")
+impl SurfaceModel {
+    /// The model in a parsed JSON file, `None` when it is no `compose` surface.
+    pub fn from_json(v: &Value) -> Option<Result<SurfaceModel>> {
+        match v.get("type").and_then(Value::as_str)? {
+            "composite_surface" | "composite_explicit" => {
+                Some(parse_scene_value(v).map(SurfaceModel::Scene))
+            }
+            "ruled" => Some(parse_ruled(v).map(SurfaceModel::Ruled)),
+            "formula" => Some(match v.get("model") {
+                Some(m) => SurfaceModel::from_json(m)
+                    .unwrap_or_else(|| Err(anyhow!("\"model\" is no composite or ruled surface")))
+                    .context("model"),
+                None => Err(anyhow!(
+                    "this formula file carries no model (a formula of `compose piecewise`, \
+                     or written by an older geomkit): mesh or draw the surface with \
+                     `geomkit compose ... -o OUT.obj|.png`"
+                )),
+            }),
+            _ => None,
+        }
+    }
+
+    /// What it is, for messages and pictures.
+    pub fn describe(&self) -> String {
+        match self {
+            SurfaceModel::Scene(s) => {
+                let (a, b) = s.cells();
+                format!("composite surface of {a}×{b} patches in R^{}", s.dim())
+            }
+            SurfaceModel::Ruled(s) => format!("ruled surface over {} curves", s.curves().len()),
+        }
+    }
+
+    /// The surface, to mesh or draw.
+    pub fn into_shape(self) -> Box<dyn SurfaceShape> {
+        match self {
+            SurfaceModel::Scene(s) => Box::new(s),
+            SurfaceModel::Ruled(s) => Box::new(s),
+        }
+    }
 }
 
+/// A list of finite numbers at `place`.
 pub fn number_list(v: Option<&Value>, place: &str) -> Result<Vec<f64>> {
     let arr = v
         .and_then(Value::as_array)
@@ -632,6 +713,11 @@ pub fn number_list(v: Option<&Value>, place: &str) -> Result<Vec<f64>> {
 /// Parses a scene (see the module docs).
 pub fn parse_scene(text: &str) -> Result<CompositeSurface> {
     let v: Value = serde_json::from_str(text).map_err(|e| anyhow!("invalid JSON: {e}"))?;
+    parse_scene_value(&v)
+}
+
+/// [`parse_scene`] of parsed JSON.
+pub fn parse_scene_value(v: &Value) -> Result<CompositeSurface> {
     let ty = v.get("type").and_then(Value::as_str).unwrap_or("");
     let (ku, kv) = match ty {
         "composite_surface" => ("u_knots", "v_knots"),
@@ -797,10 +883,11 @@ pub fn report_json(s: &CompositeSurface) -> String {
 }
 
 fn run_patches(args: PatchesArgs) -> Result<()> {
-    let format = format_of(&args.format)?;
-    let s = read_scene(&args.scene)?;
-    let dest = Destination::from_option(args.output.as_deref());
+    let text = std::fs::read_to_string(&args.scene)
+        .with_context(|| format!("cannot read {}", args.scene.display()))?;
+    let s = parse_scene(&text).with_context(|| args.scene.display().to_string())?;
     if args.report_json {
+        let dest = Destination::from_option(args.out.formula.output.as_deref());
         return dest.write(report_json(&s).as_bytes());
     }
     let (uk, vk) = s.knots();
@@ -811,61 +898,36 @@ fn run_patches(args: PatchesArgs) -> Result<()> {
     let statement = s.continuity().statement(names.0, names.1, (uk, vk));
     let (n, m) = s.cells();
     let what = format!("composite surface of {n}×{m} patches");
-    match args.output.as_deref().map(extension) {
-        Some(Some(e)) if e == "obj" => {
-            let k = samples_of(args.samples.as_deref(), (101, 101))?;
-            dest.write(obj_text(&composite_view(&s), k, &what)?.as_bytes())?;
-        }
-        Some(Some(e)) if e == "svg" => {
-            dest.write(
-                picture(
-                    &composite_view(&s),
-                    &what,
-                    &statement,
-                    2 * n.max(m).min(20) + 1,
-                )?
-                .as_bytes(),
-            )?;
-        }
-        Some(Some(e)) if e == "json" => {
-            let f = s.formula()?;
-            dest.write(
-                formula_json(
-                    &f,
-                    &what,
-                    json!({"continuity": serde_json::from_str::<Value>(&report_json(&s))?}),
-                )
-                .as_bytes(),
-            )?;
-        }
-        None | Some(Some(_)) => {
-            let f = s.formula()?;
-            dest.write(formula_text(&f, format, args.program).as_bytes())?;
-        }
-        Some(None) => bail!("cannot tell the output format: name OUT .txt, .json, .obj or .svg"),
-    }
+    let f = s.formula()?;
+    let extra = json!({
+        "continuity": serde_json::from_str::<Value>(&report_json(&s))?,
+        "model": serde_json::from_str::<Value>(&text)?,
+    });
+    write_surface(Box::new(s), &f, &what, &statement, extra, &args.out)?;
     let _ = writeln!(std::io::stderr(), "continuity: {statement}");
     Ok(())
 }
 
-/// `geomkit eval` on a scene: a K×L grid of the domain or the (u, v) pairs of a file, by the
-/// structural evaluator (equal to the single formula).
-pub fn eval_scene(
-    path: &Path,
+/// `geomkit eval` on a `compose` surface: a K×L grid of the domain or the (u, v) pairs of a
+/// file, by the structural evaluator (equal to the single formula).
+pub fn eval_surface(
+    model: &SurfaceModel,
     samples: Option<(usize, usize)>,
     at: Option<&Path>,
     output: Option<&Path>,
 ) -> Result<()> {
-    let s = read_scene(path)?;
     let format = match output.map(extension) {
         None => TableFormat::Csv,
         Some(Some(e)) if e == "csv" => TableFormat::Csv,
         Some(Some(e)) if e == "npy" => TableFormat::Npy,
         Some(_) => bail!("name the output .csv or .npy"),
     };
+    let ((u0, u1), (v0, v1)) = match model {
+        SurfaceModel::Scene(s) => s.domain(),
+        SurfaceModel::Ruled(s) => s.domain(),
+    };
     let uv: Vec<f64> = match (samples, at) {
         (Some((k, l)), _) => {
-            let ((u0, u1), (v0, v1)) = s.domain();
             let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, l));
             us.iter()
                 .flat_map(|&u| vs.iter().flat_map(move |&v| [u, v]))
@@ -884,15 +946,30 @@ pub fn eval_scene(
         }
         (None, None) => bail!("give --samples or --at"),
     };
-    let d = s.dim();
-    let mut pts = vec![0.0; uv.len() / 2 * d];
-    s.eval_many(&uv, &mut pts)?;
-    let names: Vec<&str> = match s.kind() {
-        SurfaceKind::Parametric => vec!["u", "v", "x", "y", "z"],
-        SurfaceKind::Explicit => vec!["x", "y", "z"],
-    };
-    let header: Vec<String> = names.iter().take(2 + d).map(|s| s.to_string()).collect();
     let n = uv.len() / 2;
+    let (d, names) = match model {
+        SurfaceModel::Scene(s) if s.kind() == SurfaceKind::Explicit => (1, ["x", "y", "z"]),
+        SurfaceModel::Scene(s) => (s.dim(), ["u", "v", "x"]),
+        SurfaceModel::Ruled(_) => (3, ["u", "v", "x"]),
+    };
+    let mut pts = vec![0.0; n * d];
+    match model {
+        SurfaceModel::Scene(s) => s.eval_many(&uv, &mut pts)?,
+        SurfaceModel::Ruled(s) => {
+            if let Some(k) = uv.iter().position(|x| !x.is_finite()) {
+                bail!("point {} of --at: {} is not finite", k / 2, uv[k]);
+            }
+            for (q, p) in uv.chunks_exact(2).zip(pts.chunks_exact_mut(3)) {
+                s.eval_into(q[0], q[1], p);
+            }
+        }
+    }
+    let header: Vec<String> = names
+        .iter()
+        .map(|s| s.to_string())
+        .chain(["y", "z"].iter().map(|s| s.to_string()))
+        .take(2 + d)
+        .collect();
     Destination::from_option(output).write_with(|w| {
         let mut sink = RowSink::start(w, format, &[n, d + 2], &header)?;
         let mut rows = Vec::with_capacity(n * (d + 2));
@@ -905,28 +982,27 @@ pub fn eval_scene(
     })
 }
 
-/// `geomkit eval` hook: evaluates MODEL if it is a composite scene (`Some(())`), else `None`.
-pub fn eval_if_scene(args: &crate::cli::ModelEvalArgs) -> Result<Option<()>> {
+/// `geomkit eval` hook: evaluates MODEL if it is a `compose` surface (`Some(())`), else
+/// `None`.
+pub fn eval_if_surface(args: &crate::cli::ModelEvalArgs) -> Result<Option<()>> {
     if extension(&args.model).as_deref() != Some("json") {
         return Ok(None);
     }
     let Ok(text) = std::fs::read_to_string(&args.model) else {
         return Ok(None);
     };
-    if !is_scene(&text) {
+    let Ok(v) = serde_json::from_str::<Value>(&text) else {
         return Ok(None);
-    }
+    };
+    let Some(model) = SurfaceModel::from_json(&v) else {
+        return Ok(None);
+    };
+    let model = model.with_context(|| args.model.display().to_string())?;
     let samples = args.samples.map(|s| (s.0, s.1.unwrap_or(s.0)));
     if let Some((k, l)) = samples {
         if !(2..=10_000).contains(&k) || !(2..=10_000).contains(&l) {
             bail!("--samples: each count must be from 2 to 10000 (got {k}x{l})");
         }
     }
-    eval_scene(
-        &args.model,
-        samples,
-        args.at.as_deref(),
-        args.output.as_deref(),
-    )
-    .map(Some)
+    eval_surface(&model, samples, args.at.as_deref(), args.output.as_deref()).map(Some)
 }

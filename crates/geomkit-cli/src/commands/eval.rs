@@ -100,7 +100,7 @@ pub fn run(args: ModelEvalArgs) -> Result<()> {
             ),
         },
     };
-    if let Some(done) = super::compose::eval_if_scene(&args)? {
+    if let Some(done) = super::compose::eval_if_surface(&args)? {
         return Ok(done);
     }
     let model = read_any_model(&args.model)?;

@@ -8,7 +8,7 @@ use anyhow::{bail, Result};
 use clap::Args;
 use geomkit::mesh;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `mesh`.
 #[derive(Debug, Args)]
@@ -62,10 +62,16 @@ pub fn run(args: MeshArgs) -> Result<()> {
     let mut buf = Vec::new();
     write_mesh(&t, &ext, args.ascii, &mut buf)?;
     write_atomic(&args.output, &buf)?;
-    let summary = match &t {
+    let _ = writeln!(std::io::stderr(), "{}", mesh_summary(&args.output, &t));
+    Ok(())
+}
+
+/// "OUT: V vertices, T triangles, closed, volume X" (or the polyline's size).
+pub fn mesh_summary(path: &Path, t: &Tessellation) -> String {
+    match t {
         Tessellation::Mesh(m) => format!(
             "{}: {} vertices, {} triangles{}",
-            args.output.display(),
+            path.display(),
             m.positions().len(),
             m.triangles().len(),
             if m.is_watertight() {
@@ -74,12 +80,8 @@ pub fn run(args: MeshArgs) -> Result<()> {
                 String::new()
             }
         ),
-        Tessellation::Polyline(p) => {
-            format!("{}: polyline of {} points", args.output.display(), p.len())
-        }
-    };
-    let _ = writeln!(std::io::stderr(), "{summary}");
-    Ok(())
+        Tessellation::Polyline(p) => format!("{}: polyline of {} points", path.display(), p.len()),
+    }
 }
 
 /// Writes a tessellation in the format named by `ext`.

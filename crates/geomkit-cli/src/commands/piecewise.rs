@@ -10,7 +10,8 @@
 //!   0, 1, 2, ... by default; one coordinate per point gives a function).
 
 use super::compose::{
-    format_of, formula_json, formula_text, number_list, read_json, FormulaOutput, PiecewiseArgs,
+    format_of, formula_json, formula_line, formula_text, number_list, read_json, FormulaOutput,
+    PiecewiseArgs,
 };
 use crate::figures::linspace;
 use crate::output::Destination;
@@ -18,7 +19,6 @@ use crate::svg::{palette, Axes, Figure};
 use crate::table::extension;
 use anyhow::{anyhow, bail, Context, Result};
 use geomkit::compose::{ExprPatch, Piecewise};
-use geomkit::expr::Format;
 use serde_json::{json, Value};
 use std::io::Write;
 use std::path::Path;
@@ -198,12 +198,7 @@ pub fn run(args: PiecewiseArgs) -> Result<()> {
             dest.write(formula_json(&f, &what, json!({"continuity": report_json(&p)})).as_bytes())?
         }
         Some(Some(e)) if e == "svg" => {
-            let first = f.print(Format::Maple);
-            let mut line = first.lines().next().unwrap_or_default().to_string();
-            if line.chars().count() > 140 {
-                line = line.chars().take(137).collect::<String>() + "...";
-            }
-            dest.write(plot(&p, &what, &line)?.as_bytes())?
+            dest.write(plot(&p, &what, &formula_line(&f))?.as_bytes())?
         }
         _ => bail!(
             "cannot tell the output format of {}: name it .json, .svg or .txt",

@@ -1,6 +1,7 @@
 //! A shaded 3-D view of triangle meshes as SVG: orthographic camera at an azimuth and
 //! elevation, triangles painted back to front with flat Lambert + Blinn–Phong shading (front
-//! faces blue, back faces warm, so the inside of an open surface reads at once), and on top
+//! faces blue, back faces warm, so the inside of an open surface reads at once; closed meshes
+//! cull their back faces), and on top
 //! the overlays: control nets, reference points, curves, with a legend.
 
 use crate::figures::View;
@@ -236,11 +237,22 @@ impl Scene<'_> {
         let mut faces: Vec<(f64, String, [[f64; 2]; 3])> = Vec::new();
         for solid in &self.solids {
             let m = solid.mesh;
+            // A closed mesh hides its back faces: culling them keeps them from bleeding
+            // through the edges of the painter's order (the sign of the volume tells which
+            // side the normals point to).
+            let outward = if m.is_watertight() {
+                m.volume().signum()
+            } else {
+                0.0
+            };
             for (t, tri) in m.triangles().iter().enumerate() {
                 let p = tri.map(|i| m.positions()[i as usize]);
                 let depth = (dot(p[0], toward) + dot(p[1], toward) + dot(p[2], toward)) / 3.0;
                 let n = m.face_normal(t);
                 let facing = dot(n, toward);
+                if facing * outward < 0.0 {
+                    continue;
+                }
                 let (base, n) = if facing >= 0.0 {
                     (solid.front, n)
                 } else {

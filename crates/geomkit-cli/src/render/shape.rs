@@ -3,7 +3,7 @@
 //! points).
 
 use super::shaded::{Overlay, Scene};
-use crate::commands::compose::parse_scene;
+use crate::commands::compose::SurfaceModel;
 use crate::figures::{add_polygon, View};
 use crate::model::{parse_any_model, read_any_model, AnyModel, Model};
 use crate::svg::{palette, Axes, Figure, Stroke};
@@ -498,26 +498,21 @@ pub fn load(path: &Path) -> Result<Loaded> {
 /// Parses a model from JSON text (see [`load`]).
 pub fn parse(text: &str) -> Result<Loaded> {
     let v: Value = serde_json::from_str(text).map_err(|e| anyhow!("invalid JSON: {e}"))?;
+    if let Some(model) = SurfaceModel::from_json(&v) {
+        let model = model?;
+        return Ok(Loaded {
+            what: model.describe(),
+            shape: Shape::Surface {
+                surface: model.into_shape(),
+                net: None,
+                references: Vec::new(),
+            },
+        });
+    }
     match v.get("type").and_then(Value::as_str) {
-        Some("composite_surface" | "composite_explicit") => {
-            let s = parse_scene(text)?;
-            let (a, b) = s.cells();
-            Ok(Loaded {
-                what: format!("composite surface of {a}×{b} patches in R^{}", s.dim()),
-                shape: Shape::Surface {
-                    surface: Box::new(s),
-                    net: None,
-                    references: Vec::new(),
-                },
-            })
-        }
         Some("pointcalc-model") => pointcalc_model(&v),
         Some("pointcalc-curve") => sampled_curve(&v),
         Some("pointcalc-surface-samples") => sampled_surface(&v),
-        Some("formula") => bail!(
-            "a formula file holds printed formulas, not geometry: mesh or draw the body with \
-             `geomkit compose body ... -o OUT.obj|.svg`"
-        ),
         _ => Ok(from_any(parse_any_model(text)?)),
     }
 }
