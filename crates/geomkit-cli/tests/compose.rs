@@ -188,7 +188,7 @@ fn patches_formula_report_and_eval() {
     assert!(out.status.success(), "{}", text(&out.stderr));
     let formula = text(&out.stdout);
     assert!(
-        formula.starts_with("x(u, v) = ") && formula.contains("abs(u - 1)"),
+        formula.starts_with("x := (u, v) -> ") && formula.contains("abs(u - 1)"),
         "{formula}"
     );
     assert!(text(&out.stderr).contains("continuous"));

@@ -146,17 +146,53 @@ fn formula_output() {
             "sympy",
         ],
     ));
-    assert!(out.starts_with("x = "), "{out}");
+    // Pasteable into Python: the import, the symbol, then the definitions.
+    assert!(
+        out.starts_with("from sympy import *\nt = symbols(\"t\")\nx = "),
+        "{out}"
+    );
     assert!(out.contains("Rational(1, 3)"), "{out}");
     fitted(dir.path());
+    // The C output compiles as it is and gives `pointcalc eval`'s values.
     let out = ok(&geomkit(
         dir.path(),
         &["pointcalc", "formula", "model.json", "--format", "c"],
     ));
     assert!(
-        out.starts_with("y = ") && out.contains('a') && out.contains('c'),
+        out.starts_with("#include <math.h>\ndouble y(double a, double b, double c) { return "),
         "{out}"
     );
+    write(dir.path(), "at.csv", "a,b,c\n40,0.9,1\n15,0.3,0.5\n");
+    let want: Vec<f64> = ok(&geomkit(
+        dir.path(),
+        &["pointcalc", "eval", "model.json", "at.csv"],
+    ))
+    .lines()
+    .skip(1)
+    .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+    .collect();
+    let main = format!(
+        "{out}#include <stdio.h>\nint main(void) {{ printf(\"%.17g %.17g\\n\", y(40, 0.9, 1), y(15, 0.3, 0.5)); return 0; }}\n"
+    );
+    write(dir.path(), "y.c", &main);
+    let cc = std::process::Command::new("/usr/bin/cc")
+        .args(["-O1", "-o", "y", "y.c", "-lm"])
+        .current_dir(dir.path())
+        .status()
+        .expect("a C compiler at /usr/bin/cc");
+    assert!(cc.success(), "{main}");
+    let run = std::process::Command::new(dir.path().join("y"))
+        .output()
+        .unwrap();
+    let got: Vec<f64> = String::from_utf8(run.stdout)
+        .unwrap()
+        .split_whitespace()
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(got.len(), 2);
+    for (g, w) in got.iter().zip(&want) {
+        assert!((g - w).abs() <= 1e-12 * w.abs().max(1.0), "{g} vs {w}");
+    }
     let bad = geomkit(
         dir.path(),
         &["pointcalc", "formula", "model.json", "--format", "cobol"],

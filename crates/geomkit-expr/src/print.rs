@@ -615,6 +615,75 @@ impl Graph {
         Printer::new(self, f).piece(e).0.to_string()
     }
 
+    /// One definition `name(params) = e` that the target accepts as it is (inline, no
+    /// temporaries): Maple `x := (u, v) -> e;`, Mathematica `x[u_, v_] := e`, SymPy
+    /// `x = e` after `u, v = symbols("u v")` (the caller prints that line once:
+    /// [`Graph::print_preamble`]), NumPy `x = lambda u, v: e`, MATLAB/Octave
+    /// `x = @(u, v) e;`, C `double x(double u, double v) { return e; }`, Rust
+    /// `fn x(u: f64, v: f64) -> f64 { e }`, GLSL `float x(float u, float v) { return e; }`,
+    /// JavaScript `const x = (u, v) => e;`, LaTeX `x(u, v) = e`, Desmos `f_{x}(u,v)=e`
+    /// (Desmos reserves x, y, z, so a coordinate is the subscript of f).
+    ///
+    /// ```
+    /// use geomkit_expr::{parse, Format, Graph};
+    /// let mut g = Graph::new();
+    /// let e = parse(&mut g, "abs(u) - v").unwrap();
+    /// assert_eq!(g.print_definition("x", &["u", "v"], e, Format::Mathematica), "x[u_, v_] := Abs[u] - v");
+    /// assert_eq!(g.print_definition("x", &["u", "v"], e, Format::Maple), "x := (u, v) -> abs(u) - v;");
+    /// assert_eq!(g.print_definition("x", &["u", "v"], e, Format::Js), "const x = (u, v) => Math.abs(u) - v;");
+    /// ```
+    pub fn print_definition(&self, name: &str, params: &[&str], e: Id, f: Format) -> String {
+        let p = Printer::new(self, f);
+        let rhs = p.piece(e).0.to_string();
+        let name = p.var_name(name);
+        let vars: Vec<String> = params.iter().map(|v| p.var_name(v)).collect();
+        let list = vars.join(", ");
+        let typed = |ty: &str, suffix: &str| -> String {
+            vars.iter()
+                .map(|v| format!("{ty}{v}{suffix}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        match f {
+            Format::Maple => format!("{name} := ({list}) -> {rhs};"),
+            Format::Mathematica => {
+                let pats: Vec<String> = vars.iter().map(|v| format!("{v}_")).collect();
+                format!("{name}[{}] := {rhs}", pats.join(", "))
+            }
+            Format::Sympy => format!("{name} = {rhs}"),
+            Format::Numpy => format!("{name} = lambda {list}: {rhs}"),
+            Format::Matlab => format!("{name} = @({list}) {rhs};"),
+            Format::Latex => format!("{name}({list}) = {rhs}"),
+            Format::C => format!(
+                "double {name}({}) {{ return {rhs}; }}",
+                typed("double ", "")
+            ),
+            Format::Rust => format!("fn {name}({}) -> f64 {{ {rhs} }}", typed("", ": f64")),
+            Format::Glsl => format!("float {name}({}) {{ return {rhs}; }}", typed("float ", "")),
+            Format::Js => format!("const {name} = ({list}) => {rhs};"),
+            Format::Desmos => format!("f_{{{name}}}({})={rhs}", vars.join(",")),
+        }
+    }
+
+    /// What must come before the definitions of [`Graph::print_definition`] in format `f`
+    /// for them to run as pasted: SymPy `from sympy import *` and the symbols, NumPy
+    /// `import numpy as np`, C `#include <math.h>`; empty for the others.
+    pub fn print_preamble(&self, params: &[&str], f: Format) -> String {
+        match f {
+            Format::Sympy if params.len() == 1 => {
+                format!("from sympy import *\n{0} = symbols(\"{0}\")\n", params[0])
+            }
+            Format::Sympy => format!(
+                "from sympy import *\n{} = symbols(\"{}\")\n",
+                params.join(", "),
+                params.join(" ")
+            ),
+            Format::Numpy => "import numpy as np\n".into(),
+            Format::C => "#include <math.h>\n".into(),
+            _ => String::new(),
+        }
+    }
+
     /// A program computing all `outputs` (name, expression) with common-subexpression
     /// temporaries: C `const double t0 = ...;`, Rust `let`, GLSL `float`, JS `const`,
     /// SymPy/NumPy/MATLAB assignments, Maple `:=`, Mathematica `=` (wrap it in `Module`

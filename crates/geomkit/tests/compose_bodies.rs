@@ -40,7 +40,7 @@ fn cube_formula_is_the_papers() {
     assert_eq!(
         f.print(Format::Maple),
         format!(
-            "x(u, v) = {}\ny(u, v) = {}\nz(u, v) = {}\n",
+            "x := (u, v) -> {};\ny := (u, v) -> {};\nz := (u, v) -> {};\n",
             g.print(f.roots[0], Format::Maple),
             g.print(f.roots[1], Format::Maple),
             g.print(f.roots[2], Format::Maple)

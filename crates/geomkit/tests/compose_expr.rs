@@ -205,7 +205,7 @@ fn explicit_patches_that_jump_are_shifted_by_formula_11() {
         .formula()
         .unwrap()
         .print(geomkit::expr::Format::Maple)
-        .starts_with("z(x, y) = "));
+        .starts_with("z := (x, y) -> "));
 }
 
 #[test]

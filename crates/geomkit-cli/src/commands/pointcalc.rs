@@ -638,32 +638,34 @@ fn formula(args: FormulaArgs) -> Result<()> {
     let is_model = serde_json::from_str::<serde_json::Value>(&text)
         .map(|v| v.get("type").and_then(|t| t.as_str()) == Some(MODEL_TYPE))
         .unwrap_or(false);
-    let lines: Vec<(String, String)> = if is_model {
+    // (name, parameters, expression) of every printed coordinate or response.
+    let (params, lines): (Vec<String>, Vec<(String, _)>) = if is_model {
         let (model, response) = read_model(&args.model)?;
-        let vars: Vec<_> = model.factors().iter().map(|f| g.var(f.name())).collect();
+        let params: Vec<String> = model
+            .factors()
+            .iter()
+            .map(|f| f.name().to_string())
+            .collect();
+        let vars: Vec<_> = params.iter().map(|p| g.var(p)).collect();
         let exprs = model.to_expr(&mut g, &vars);
-        response
-            .into_iter()
-            .zip(exprs)
-            .map(|(name, e)| (name, g.print(e, args.format)))
-            .collect()
+        (params, response.into_iter().zip(exprs).collect())
     } else {
         let eq = read_curve(&args.model, args.nodes.as_deref(), false)?;
         let t = g.var("t");
         let exprs = eq.to_expr(&mut g, t);
         let names = ["x", "y", "z"];
-        exprs
+        let lines = exprs
             .into_iter()
             .enumerate()
-            .map(|(d, e)| {
-                let name = names.get(d).map_or(format!("x{d}"), |s| s.to_string());
-                (name, g.print(e, args.format))
-            })
-            .collect()
+            .map(|(d, e)| (names.get(d).map_or(format!("x{d}"), |s| s.to_string()), e))
+            .collect();
+        (vec!["t".to_string()], lines)
     };
-    let mut out = String::new();
-    for (name, f) in lines {
-        out.push_str(&format!("{name} = {f}\n"));
+    let params: Vec<&str> = params.iter().map(String::as_str).collect();
+    let mut out = g.print_preamble(&params, args.format);
+    for (name, e) in lines {
+        out.push_str(&g.print_definition(&name, &params, e, args.format));
+        out.push('\n');
     }
     write_stdout(out.as_bytes())
 }

@@ -102,7 +102,7 @@ pub fn abs_sum_expr(g: &mut Graph, f: &AbsSum, t: Id) -> Id {
 /// use geomkit::compose::bodies;
 /// let f = bodies::cube().unwrap().formula().unwrap();
 /// assert_eq!(f.names, vec!["x", "y", "z"]);
-/// assert!(f.print(geomkit::expr::Format::Maple).starts_with("x(u, v) = "));
+/// assert!(f.print(geomkit::expr::Format::Maple).starts_with("x := (u, v) -> "));
 /// ```
 #[derive(Debug, Clone)]
 pub struct Formula {
@@ -122,13 +122,18 @@ impl Formula {
         self.graph.op_count(&self.roots)
     }
 
-    /// One line per coordinate, `x(u, v) = ...` inline in format `f` (shared subexpressions
-    /// are repeated; see [`Formula::print_program`] for temporaries).
+    /// One definition per coordinate in format `f`, as the target accepts it pasted
+    /// (Maple `x := (u, v) -> ...;`, Mathematica `x[u_, v_] := ...`, C `double x(double u,
+    /// double v) { return ...; }`, ...: [`Graph::print_definition`]), after the lines the
+    /// target needs first (SymPy's import and symbols, NumPy's import, C's `<math.h>`).
+    /// Inline: shared subexpressions are repeated; see [`Formula::print_program`] for
+    /// temporaries.
     pub fn print(&self, f: Format) -> String {
-        let vars = self.vars.join(", ");
-        let mut out = String::new();
+        let vars: Vec<&str> = self.vars.iter().map(String::as_str).collect();
+        let mut out = self.graph.print_preamble(&vars, f);
         for (name, &root) in self.names.iter().zip(&self.roots) {
-            out.push_str(&format!("{name}({vars}) = {}\n", self.graph.print(root, f)));
+            out.push_str(&self.graph.print_definition(name, &vars, root, f));
+            out.push('\n');
         }
         out
     }

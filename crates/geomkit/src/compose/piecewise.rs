@@ -446,8 +446,9 @@ mod tests {
         let f = p.formula().unwrap();
         let text = f.print(crate::expr::Format::Maple);
         assert!(
-            text.starts_with("x(t) = 1 - abs(t) + abs(t - 1) + abs(t - 2) - abs(t - 3)")
-                || text.starts_with("x(t) = -abs(t) + abs(t - 1) + abs(t - 2) - abs(t - 3) + 1"),
+            text.starts_with("x := (t) -> 1 - abs(t) + abs(t - 1) + abs(t - 2) - abs(t - 3)")
+                || text
+                    .starts_with("x := (t) -> -abs(t) + abs(t - 1) + abs(t - 2) - abs(t - 3) + 1"),
             "{text}"
         );
         assert!(p.continuity().is_continuous());
