@@ -360,6 +360,34 @@ fn batched_evaluation_equals_single_points() {
     }
 }
 
+/// The bucket table of batched evaluation on very uneven knots: clusters where one bucket
+/// holds many knots, a repeated interior knot, and long empty stretches; the spans must be
+/// those of single-point evaluation, bit for bit.
+#[test]
+fn batched_evaluation_on_uneven_knots() {
+    let mut rng = Rng(5);
+    let mut knots = vec![0.0; 4];
+    knots.extend((1..40).map(|k| 1e-6 * k as f64)); // a cluster
+    knots.extend([0.3, 0.5, 0.5, 0.5]); // a knot of multiplicity 3
+    knots.extend((1..200).map(|k| 0.6 + 0.002 * k as f64));
+    knots.extend([1.0; 4]);
+    let n_c = knots.len() - 4;
+    let control: Vec<Vec<f64>> = (0..n_c)
+        .map(|_| vec![rng.uniform(), rng.uniform()])
+        .collect();
+    let curve = BsplineCurve::new(3, knots.clone(), control).unwrap();
+    for count in [2000usize, 50_000] {
+        let mut ts: Vec<f64> = (0..count).map(|_| 0.6 * rng.uniform() + 0.5).collect();
+        ts.extend(knots.iter().copied());
+        ts.extend([-1.0, 2.0, 1e-7, 0.5 - 1e-17]);
+        let mut got = vec![0.0; ts.len() * 2];
+        curve.eval_many_par(&ts, &mut got).unwrap();
+        for (t, g) in ts.iter().zip(got.chunks_exact(2)) {
+            assert_eq!(g, curve.eval(*t).as_slice(), "t={t}");
+        }
+    }
+}
+
 /// Far from the origin (parameters up to 1e5) the span polynomials must still be formed in
 /// local coordinates: samples at exactly representable parameters k/8 against direct
 /// evaluation, within the reported bound.

@@ -301,6 +301,13 @@ fn fd_steps<const D: usize>(state: &[f64], out: &mut [f64]) {
 }
 
 /// Finds knot spans for batches of parameters.
+///
+/// Non-uniform knots and large batches use a bucket table over the domain: t falls in bucket
+/// b = floor((t - start)·inv_width), which is monotone in t, so every interior knot in an
+/// earlier bucket is <= t and every knot in a later one > t. A bucket stores the span that
+/// count gives and how many knots it holds itself (usually at most one): the span is then
+/// one comparison away, without a branch that unsorted parameters would mispredict, and
+/// equal to [`find_span`]'s.
 struct Locator<'a> {
     knots: &'a [f64],
     /// First and last span of the domain.
@@ -308,12 +315,17 @@ struct Locator<'a> {
     hi: usize,
     /// Uniform knots: the span by one division.
     uniform: bool,
-    /// Non-uniform knots, large batches: `table[k]` is the span holding the start of bucket k
-    /// of width 1/`inv_width` from `start`.
+    /// The buckets (empty: no table): base span | knots in the bucket << [`COUNT_SHIFT`]
+    /// (saturated at [`MANY`]).
     table: Vec<u32>,
     start: f64,
     inv_width: f64,
 }
+
+/// Where a bucket's knot count sits in its table entry (spans must fit below).
+const COUNT_SHIFT: u32 = 28;
+/// Saturated knot count: search on from the base span.
+const MANY: u32 = 15;
 
 impl<'a> Locator<'a> {
     fn new(curve: &'a BsplineCurve, count: usize) -> Self {
@@ -329,56 +341,84 @@ impl<'a> Locator<'a> {
             inv_width: 0.0,
         };
         let spans = hi - lo + 1;
-        if !loc.uniform && count >= 1024 && spans >= 16 && u32::try_from(hi).is_ok() {
-            let (a, b) = (knots[lo], knots[hi + 1]);
-            let buckets = spans.min(count);
-            loc.inv_width = buckets as f64 / (b - a);
-            let mut s = lo;
-            loc.table = (0..buckets)
-                .map(|k| {
-                    let x = a + k as f64 * (b - a) / buckets as f64;
-                    while s < hi && knots[s + 1] <= x {
-                        s += 1;
-                    }
-                    s as u32
-                })
-                .collect();
+        // Building the table costs O(spans): worth it from batches of spans/8 points on.
+        if loc.uniform || count < 1024 || spans < 16 || 8 * count < spans || hi >= 1 << COUNT_SHIFT
+        {
+            return loc;
+        }
+        // Twice as many buckets as spans (fewer for small batches): most buckets then hold
+        // at most one knot even where the spans are uneven.
+        let buckets = (2 * spans).min(4 * count);
+        let (a, b) = (knots[lo], knots[hi + 1]);
+        loc.inv_width = buckets as f64 / (b - a);
+        loc.table = vec![0; buckets];
+        for j in lo + 1..=hi {
+            let b = loc.bucket(knots[j]);
+            loc.table[b] += 1;
+        }
+        let mut base = lo as u32;
+        for e in &mut loc.table {
+            let here = *e;
+            *e = base | (here.min(MANY) << COUNT_SHIFT);
+            base += here;
         }
         loc
     }
 
-    /// The span holding t (clamped to the domain), trying `hint` first.
+    /// The bucket of t (clamped to the table).
+    #[inline]
+    fn bucket(&self, t: f64) -> usize {
+        // Clamped first, truncation is floor; NaN converts to 0.
+        let b = ((t - self.start) * self.inv_width).clamp(0.0, (self.table.len() - 1) as f64);
+        b as usize
+    }
+
+    /// The span holding t (clamped to the domain) from its bucket's table entry `e`.
+    #[inline]
+    fn span_in_bucket(&self, t: f64, e: u32) -> usize {
+        let k = self.knots;
+        let base = (e & ((1 << COUNT_SHIFT) - 1)) as usize;
+        match e >> COUNT_SHIFT {
+            0 => base,
+            1 => base + usize::from(t >= k[base + 1]),
+            _ => {
+                let mut s = base;
+                while s < self.hi && t >= k[s + 1] {
+                    s += 1;
+                }
+                s
+            }
+        }
+    }
+
+    /// The span holding t (clamped to the domain), trying `hint` first when there is no
+    /// bucket table.
     #[inline]
     fn span(&self, curve: &BsplineCurve, t: f64, hint: usize) -> usize {
         if self.uniform {
             return curve.span(t);
         }
-        let k = self.knots;
-        if (hint == self.lo || k[hint] <= t) && (hint == self.hi || t < k[hint + 1]) {
+        if !self.table.is_empty() {
+            return self.span_in_bucket(t, self.table[self.bucket(t)]);
+        }
+        if self.holds(hint, t) {
             return hint;
         }
-        if self.table.is_empty() {
-            return find_span(k, self.lo, self.hi + 1, t);
-        }
-        let b = ((t - self.start) * self.inv_width).floor();
-        let b = if b >= 0.0 {
-            (b as usize).min(self.table.len() - 1)
-        } else {
-            0
-        };
-        let mut s = self.table[b] as usize;
-        while s > self.lo && t < k[s] {
-            s -= 1;
-        }
-        for _ in 0..8 {
-            if s == self.hi || t < k[s + 1] {
-                return s;
-            }
-            s += 1;
-        }
-        find_span(k, self.lo, self.hi + 1, t)
+        find_span(self.knots, self.lo, self.hi + 1, t)
+    }
+
+    /// Whether span s holds t (the first and last span extend to ±∞).
+    #[inline]
+    fn holds(&self, s: usize, t: f64) -> bool {
+        let k = self.knots;
+        (s == self.lo || k[s] <= t) && (s == self.hi || t < k[s + 1])
     }
 }
+
+/// Points a cubic kernel handles per block: first the spans of all of them, touching the
+/// memory each will read, then the evaluations. Unsorted parameters make every access a
+/// cache miss; issued together the misses overlap instead of queueing one per point.
+const BLOCK: usize = 64;
 
 /// [`BsplineCurve::eval_many_par`]'s kernel for cubics in dimension D.
 fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], out: &mut [f64]) {
@@ -386,35 +426,67 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
     let control = curve.control_flat();
     let inv_step = curve.uniform_step().map(|h| 1.0 / h);
     let n_c = curve.n_control();
-    let mut hint = loc.lo;
-    let mut inv = cubic_span_inverses(knots, hint);
-    for (&t, o) in ts.iter().zip(out.chunks_exact_mut(D)) {
-        let mut basis = [0.0f64; 4];
-        let s = match inv_step {
+    let mut spans = [0usize; BLOCK];
+    let mut touched = 0.0;
+    let mut inv_span = loc.lo;
+    let mut inverses = cubic_span_inverses(knots, inv_span);
+    for (tb, ob) in ts.chunks(BLOCK).zip(out.chunks_mut(BLOCK * D)) {
+        let spans = &mut spans[..tb.len()];
+        // The spans (the table entries first, so that their misses overlap too).
+        match inv_step {
             Some(inv) => {
-                let s = uniform_span(knots[0], inv, 3, n_c, t);
-                uniform_cubic_basis((t - knots[s]) * inv, &mut basis);
-                s
+                for (s, &t) in spans.iter_mut().zip(tb) {
+                    *s = uniform_span(knots[0], inv, 3, n_c, t);
+                }
+            }
+            None if !loc.table.is_empty() => {
+                for (s, &t) in spans.iter_mut().zip(tb) {
+                    *s = loc.bucket(t);
+                    touched += f64::from(loc.table[*s]);
+                }
+                for (s, &t) in spans.iter_mut().zip(tb) {
+                    *s = loc.span_in_bucket(t, loc.table[*s]);
+                }
             }
             None => {
-                let s = loc.span(curve, t, hint);
-                if s != hint {
-                    inv = cubic_span_inverses(knots, s);
-                    hint = s;
+                let mut hint = loc.lo;
+                for (s, &t) in spans.iter_mut().zip(tb) {
+                    *s = loc.span(curve, t, hint);
+                    hint = *s;
                 }
-                basis = basis_funs_cubic_with(knots, s, t, &inv);
-                s
-            }
-        };
-        let c = &control[(s - 3) * D..(s + 1) * D];
-        let mut acc = [0.0f64; D];
-        for (w, row) in basis.iter().zip(c.chunks_exact(D)) {
-            for (a, x) in acc.iter_mut().zip(row) {
-                *a += w * x;
             }
         }
-        o.copy_from_slice(&acc);
+        // Touch the control points and knots each evaluation reads.
+        for &s in spans.iter() {
+            touched += control[(s - 3) * D] + control[(s + 1) * D - 1];
+            if inv_step.is_none() {
+                touched += knots[s - 2] + knots[s + 3];
+            }
+        }
+        for ((&s, &t), o) in spans.iter().zip(tb).zip(ob.chunks_exact_mut(D)) {
+            let mut basis = [0.0f64; 4];
+            match inv_step {
+                Some(inv) => uniform_cubic_basis((t - knots[s]) * inv, &mut basis),
+                None => {
+                    // The knot differences' reciprocals, kept while the span repeats.
+                    if s != inv_span {
+                        inverses = cubic_span_inverses(knots, s);
+                        inv_span = s;
+                    }
+                    basis = basis_funs_cubic_with(knots, s, t, &inverses);
+                }
+            }
+            let c = &control[(s - 3) * D..(s + 1) * D];
+            let mut acc = [0.0f64; D];
+            for (w, row) in basis.iter().zip(c.chunks_exact(D)) {
+                for (a, x) in acc.iter_mut().zip(row) {
+                    *a += w * x;
+                }
+            }
+            o.copy_from_slice(&acc);
+        }
     }
+    std::hint::black_box(touched);
 }
 
 /// [`BsplineCurve::eval_many_par`]'s kernel for other degrees and dimensions.

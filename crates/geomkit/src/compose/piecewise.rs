@@ -13,7 +13,7 @@
 //! assert!(f.continuity().is_continuous());
 //! assert_eq!(f.eval(-0.5), vec![0.5]);
 //! let text = f.formula().unwrap().print(geomkit::expr::Format::Maple);
-//! assert!(text.starts_with("f(x) = "), "{text}");
+//! assert!(text.starts_with("f := (x) -> "), "{text}");
 //! ```
 
 use super::expr_patch::ExprPatch;
