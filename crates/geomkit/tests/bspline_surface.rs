@@ -352,3 +352,58 @@ fn surface_tiles_equal_the_global_solve() {
     )
     .is_err());
 }
+
+/// Large scattered batches on nets larger than the caches are grouped by span before they
+/// are evaluated: each point must get the value it gets in a small batch, bit for bit, for
+/// height surfaces and surfaces in R^3, with points in any order and outside the domain.
+#[test]
+fn grouped_scattered_evaluation_equals_small_batches() {
+    let mut rng = Rng(23);
+    let heights: Vec<f64> = (0..800 * 800).map(|_| rng.uniform()).collect();
+    let h = interpolate_heights(
+        &heights,
+        800,
+        800,
+        (0.0, 0.0),
+        (1.0, 1.0),
+        &EndCondition::NotAKnot,
+    )
+    .unwrap();
+    let grid = terrain(440, 420, 3);
+    let r3 = interpolate_surface(&grid, &SurfaceInterpolationOptions::default())
+        .unwrap()
+        .surface;
+    for s in [&h, &r3] {
+        let d = s.dim();
+        assert!(
+            s.control_flat().len() * 8 >= 4 << 20,
+            "the net must exceed the caches"
+        );
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let n = 60_000;
+        let us: Vec<f64> = (0..n)
+            .map(|_| (u0 + u1) / 2.0 + (u1 - u0) * 0.55 * rng.uniform())
+            .collect();
+        let vs: Vec<f64> = (0..n)
+            .map(|_| (v0 + v1) / 2.0 + (v1 - v0) * 0.55 * rng.uniform())
+            .collect();
+        let mut all = vec![0.0; n * d];
+        s.eval_many_par(&us, &vs, &mut all).unwrap();
+        let mut small = vec![0.0; n * d];
+        for ((u, v), o) in us
+            .chunks(1000)
+            .zip(vs.chunks(1000))
+            .zip(small.chunks_mut(1000 * d))
+        {
+            s.eval_many_par(u, v, o).unwrap();
+        }
+        assert!(all == small, "dim {d}");
+        // And the small batches are the surface (within rounding of the summation order).
+        for k in (0..n).step_by(997) {
+            let want = s.eval(us[k], vs[k]);
+            for (g, w) in all[k * d..(k + 1) * d].iter().zip(&want) {
+                assert!((g - w).abs() <= 1e-13 * (1.0 + w.abs()), "{g} vs {w}");
+            }
+        }
+    }
+}
