@@ -345,7 +345,7 @@ def measure(cfg, rust_bin, log):
     # --- curve builds
     for n in cfg["curve_n"]:
         gk = {}
-        for v in ("uniform", "tiled", "chord", "at"):
+        for v in ("uniform", "into", "tiled", "chord", "at"):
             gk[v] = run_rust(rust_bin, dict(op="curve_build", variant=v, n=n, seed=SEED_CURVE,
                                             check=cfg["check"], **knobs), log,
                              f"curve build {v:8s} N={n:.0e}")
@@ -356,7 +356,7 @@ def measure(cfg, rust_bin, log):
                                    input_sample=gk[src].get("input_sample"), **py_knobs),
                               log, f"make_interp_spline {v:8s} N={n:.0e}")
         for v in gk:
-            ref = sp["uniform" if v in ("uniform", "tiled") else "at"]
+            ref = sp["uniform" if v in ("uniform", "into", "tiled") else "at"]
             if gk[v].get("ok"):
                 gk[v]["agreement_rel"] = agreement(gk[v]["check_values"], ref["check_values"],
                                                    gk[v]["max_abs_p"])
@@ -537,6 +537,8 @@ def temp_ratio(mem):
 
 BUILD_LABEL = {
     "uniform": ("`interpolate_curve_flat`, Uniform", "uniform"),
+    "into": ("`CurveInterpolator::solve_into` (Uniform; set up once, the caller's buffer reused)",
+             "uniform"),
     "tiled": ("`interpolate_curve_tiled`, Uniform (tiles of 65 536, parallel)", "uniform"),
     "at": ("`interpolate_curve_at(x)`, x = chord lengths given", "at"),
     "chord": ("`interpolate_curve_flat`, ChordLength (computes x too)", "at"),
@@ -606,7 +608,7 @@ def markdown(res, meta, cfg):
     big = None
     for row in res["curve_build"]:
         n = row["n"]
-        for v in ("uniform", "tiled", "at", "chord"):
+        for v in ("uniform", "into", "tiled", "at", "chord"):
             g = row["geomkit"][v]
             label, src = BUILD_LABEL[v]
             s = row["scipy"][src]
@@ -630,7 +632,7 @@ def markdown(res, meta, cfg):
     w("|---|---|---:|---:|---:|---:|---:|")
     for row in res["curve_build"]:
         entries = [(f"geomkit {BUILD_LABEL[v][0]}", row["geomkit"][v])
-                   for v in ("uniform", "tiled", "at", "chord")]
+                   for v in ("uniform", "into", "tiled", "at", "chord")]
         entries += [(f"SciPy {SCIPY_BUILD[v]}", row["scipy"][v]) for v in ("uniform", "at")]
         for label, r in entries:
             m = r.get("memory", {})
@@ -641,7 +643,7 @@ def markdown(res, meta, cfg):
               f" | {f'{tr:.2f}' if tr is not None else '—'} | {fmt_time(r['time']['first_s'])} |")
     w("")
     if big:
-        for v in ("uniform", "tiled", "at", "chord"):
+        for v in ("uniform", "into", "tiled", "at", "chord"):
             g = big["geomkit"][v]
             s = big["scipy"][BUILD_LABEL[v][1]]
             ratio = med(s) / med(g)
@@ -662,7 +664,7 @@ def markdown(res, meta, cfg):
           "copy + `BsplineCurve::from_flat` "
           "| `eval_many_par` at the N data parameters | copy of the input (memcpy floor) |")
         w("|---|---:|---:|---:|---:|---:|---:|")
-        for v in ("uniform", "tiled", "at", "chord"):
+        for v in ("uniform", "into", "tiled", "at", "chord"):
             g = big["geomkit"][v]
             sub = g.get("substeps", {})
             w(f"| {v} | {fmt_time(med(g))} | {fmt_time(sub.get('parameters_s'))} | "

@@ -5,8 +5,8 @@ mod common;
 use common::Rng;
 use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
-    interpolate_curve, interpolate_curve_flat, paper_dense_inner_points, BsplineCurve,
-    EndCondition, InterpolationOptions, Parametrization,
+    interpolate_curve, interpolate_curve_at, interpolate_curve_flat, paper_dense_inner_points,
+    BsplineCurve, CurveInterpolator, EndCondition, InterpolationOptions, Parametrization,
 };
 use geomkit::Error;
 
@@ -484,4 +484,84 @@ fn tiny_parameter_steps_are_fine() {
             );
         }
     }
+}
+
+/// A reusable interpolator gives the curves of `interpolate_curve` / `interpolate_curve_at`
+/// for every frame it solves, into the caller's buffer, for every end condition, small and
+/// large (the parallel one-pass path); bad frames are errors that name the point.
+#[test]
+fn reusable_interpolator_matches_one_shot_interpolation() {
+    let mut rng = Rng(41);
+    let ends = [
+        EndCondition::NotAKnot,
+        EndCondition::Natural,
+        EndCondition::Clamped {
+            start: None,
+            end: Some(vec![1.0, -2.0]),
+        },
+        EndCondition::Periodic,
+        EndCondition::Repeat,
+    ];
+    for n in [5usize, 40, 70_000] {
+        for end in &ends {
+            let solver = CurveInterpolator::uniform(n, end).unwrap();
+            assert_eq!(solver.n_points(), n);
+            let mut control = vec![0.0; solver.n_control() * 2];
+            for _frame in 0..2 {
+                let pts: Vec<f64> = (0..2 * n).map(|_| 3.0 * rng.uniform()).collect();
+                solver.solve_into(&pts, 2, &mut control).unwrap();
+                let options = InterpolationOptions::default()
+                    .with_end(end.clone())
+                    .with_parametrization(Parametrization::Uniform);
+                let once = interpolate_curve_flat(2, &pts, &options).unwrap();
+                assert_eq!(solver.knots(), once.curve.knots(), "{end:?}");
+                assert_eq!(solver.parameters(), &once.parameters[..], "{end:?}");
+                let err = control
+                    .iter()
+                    .zip(once.curve.control_flat())
+                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                assert!(err <= 1e-14 * 3.0, "n={n} {end:?}: {err:e}");
+                // And it interpolates.
+                let curve = BsplineCurve::from_flat(3, solver.knots().to_vec(), 2, control.clone())
+                    .unwrap();
+                for i in (0..n).step_by(n / 5 + 1) {
+                    let p = curve.eval(solver.parameters()[i]);
+                    assert!(
+                        (p[0] - pts[2 * i]).abs() < 1e-13 && (p[1] - pts[2 * i + 1]).abs() < 1e-13
+                    );
+                }
+            }
+        }
+    }
+    // At given, uneven parameters.
+    let t: Vec<f64> = (0..50).map(|i| (i as f64).powf(1.3)).collect();
+    let y: Vec<f64> = t.iter().map(|x| x.sin()).collect();
+    let solver = CurveInterpolator::at(&t, &EndCondition::NotAKnot).unwrap();
+    let mut control = vec![0.0; solver.n_control()];
+    solver.solve_into(&y, 1, &mut control).unwrap();
+    let once = interpolate_curve_at(1, &y, &t, &EndCondition::NotAKnot).unwrap();
+    let err = control
+        .iter()
+        .zip(once.curve.control_flat())
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(err < 1e-14, "{err:e}");
+    // Bad input.
+    let solver = CurveInterpolator::uniform(70_000, &EndCondition::NotAKnot).unwrap();
+    let mut pts = vec![0.5; 140_000];
+    let mut out = vec![0.0; solver.n_control() * 2];
+    assert!(matches!(
+        solver.solve_into(&pts[1..], 2, &mut out),
+        Err(Error::BufferSize { .. })
+    ));
+    assert!(matches!(
+        solver.solve_into(&pts, 2, &mut out[1..]),
+        Err(Error::BufferSize { .. })
+    ));
+    pts[2 * 31_337 + 1] = f64::NAN;
+    match solver.solve_into(&pts, 2, &mut out) {
+        Err(Error::NonFinite { index, .. }) => assert_eq!(index, 31_337),
+        other => panic!("{other:?}"),
+    }
+    assert!(CurveInterpolator::at(&[0.0, 1.0, 1.0], &EndCondition::Natural).is_err());
+    assert!(CurveInterpolator::uniform(1, &EndCondition::NotAKnot).is_err());
 }

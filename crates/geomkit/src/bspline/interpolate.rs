@@ -178,7 +178,14 @@ pub fn interpolate_curve_at(
     if closed && parameters.len() == n && n >= 2 && points[..dim] == points[(n - 1) * dim..] {
         n -= 1;
     }
-    let want = if closed { n + 1 } else { n };
+    check_parameters(parameters, if closed { n + 1 } else { n })?;
+    let points = &points[..n * dim];
+    Solver1d::new_single(parameters.to_vec(), end, Parametrization::ChordLength)?
+        .interpolate(points, dim)
+}
+
+/// `want` finite, strictly increasing parameters.
+fn check_parameters(parameters: &[f64], want: usize) -> Result<()> {
     if parameters.len() != want {
         return Err(Error::InvalidParameter {
             index: parameters.len().min(want),
@@ -197,9 +204,117 @@ pub fn interpolate_curve_at(
             reason: "parameters must be strictly increasing",
         });
     }
-    let points = &points[..n * dim];
-    Solver1d::new_single(parameters.to_vec(), end, Parametrization::ChordLength)?
-        .interpolate(points, dim)
+    Ok(())
+}
+
+/// A factored interpolation system for N points at fixed parameters with one end condition,
+/// solved for any number of point sets without refactoring or allocating: curves that share
+/// their parametrization (every frame of a time series, isolines sampled alike, the rows of
+/// a grid) and large curves whose buffers the caller keeps. [`CurveInterpolator::solve_into`]
+/// gives the control points of [`interpolate_curve`] / [`interpolate_curve_at`] for the
+/// same parameters, within rounding; uniform parameters (the paper's case) take one pass
+/// over the points, in parallel cache-sized chunks.
+///
+/// ```
+/// use geomkit::bspline::{BsplineCurve, CurveInterpolator, EndCondition};
+/// use geomkit::bezier::ParamCurve;
+/// let solver = CurveInterpolator::uniform(5, &EndCondition::NotAKnot).unwrap();
+/// let mut control = vec![0.0; solver.n_control() * 2];
+/// for frame in 0..3 {
+///     let points: Vec<f64> = (0..10).map(|k| (k * (frame + 1)) as f64).collect();
+///     solver.solve_into(&points, 2, &mut control).unwrap();
+///     let curve = BsplineCurve::from_flat(3, solver.knots().to_vec(), 2, control.clone()).unwrap();
+///     let at = curve.eval(solver.parameters()[3]);
+///     assert!((at[0] - points[6]).abs() < 1e-12 && (at[1] - points[7]).abs() < 1e-12);
+/// }
+/// ```
+#[derive(Debug, Clone)]
+pub struct CurveInterpolator {
+    solver: Solver1d,
+    n: usize,
+}
+
+impl CurveInterpolator {
+    /// The system for N points at the parameters 0, 1, ..., N - 1 (the uniform
+    /// parametrization; periodic curves close at N). Errors: too few points for the end
+    /// condition, invalid end conditions (as [`interpolate_curve`]).
+    pub fn uniform(n: usize, end: &EndCondition) -> Result<Self> {
+        let count = if *end == EndCondition::Periodic {
+            n + 1
+        } else {
+            n
+        };
+        let t: Vec<f64> = (0..count).map(|i| i as f64).collect();
+        Ok(CurveInterpolator {
+            solver: Solver1d::new(t, end, Parametrization::Uniform)?,
+            n,
+        })
+    }
+
+    /// The system for points at `parameters` (N finite, strictly increasing values; N + 1
+    /// for periodic curves, the last closing the curve), as [`interpolate_curve_at`].
+    /// Errors: as [`interpolate_curve_at`].
+    pub fn at(parameters: &[f64], end: &EndCondition) -> Result<Self> {
+        if *end == EndCondition::Repeat {
+            return Err(Error::InvalidOption {
+                option: "end condition",
+                reason: "the paper's repeated end points fix their own parameters",
+            });
+        }
+        check_parameters(parameters, parameters.len())?;
+        let n = parameters.len() - usize::from(*end == EndCondition::Periodic);
+        Ok(CurveInterpolator {
+            solver: Solver1d::new(parameters.to_vec(), end, Parametrization::ChordLength)?,
+            n,
+        })
+    }
+
+    /// Number of points N a solve takes.
+    pub fn n_points(&self) -> usize {
+        self.n
+    }
+
+    /// Number of control points a solve gives.
+    pub fn n_control(&self) -> usize {
+        self.solver.n_control()
+    }
+
+    /// Knots of the curves (degree 3).
+    pub fn knots(&self) -> &[f64] {
+        &self.solver.knots
+    }
+
+    /// The parameter of each point.
+    pub fn parameters(&self) -> &[f64] {
+        &self.solver.parameters
+    }
+
+    /// Writes the control points (`n_control() × dim`, row-major) of the cubic through
+    /// `points` (`n_points() × dim`, row-major) into `control`. Errors: buffers of the wrong
+    /// size, non-finite points (named by index), a given end tangent of the wrong
+    /// dimension.
+    pub fn solve_into(&self, points: &[f64], dim: usize, control: &mut [f64]) -> Result<()> {
+        if dim == 0 || points.len() != self.n * dim {
+            return Err(Error::BufferSize {
+                expected: self.n * dim.max(1),
+                got: points.len(),
+            });
+        }
+        if control.len() != self.n_control() * dim {
+            return Err(Error::BufferSize {
+                expected: self.n_control() * dim,
+                got: control.len(),
+            });
+        }
+        if !self.solver.solves_fused() {
+            crate::points::validate_points("reference points", dim, points)?;
+        }
+        self.solver.solve(points, dim, control).or_else(|e| {
+            // Non-finite output from the one-pass solve: name the point that caused it.
+            crate::points::validate_points("reference points", dim, points)?;
+            Err(e)
+        })
+    }
 }
 
 /// Parameters t_0 = 0 < t_1 < ... (N values, or N+1 with the closing one for closed curves).
@@ -643,6 +758,12 @@ impl Solver1d {
         ])
     }
 
+    /// Whether [`Solver1d::solve`] takes the one-pass Toeplitz path (which detects
+    /// non-finite input by its output instead of a pass of its own).
+    pub fn solves_fused(&self) -> bool {
+        matches!(&self.kind, Kind::Open { sys, .. } if sys.is_toeplitz())
+    }
+
     /// Whether [`Solver1d::solve_in_place`] applies: open systems whose end rows do not ask
     /// for a given tangent (of one point's dimension, not a whole row's).
     pub fn solves_in_place(&self) -> bool {
@@ -681,6 +802,14 @@ impl Solver1d {
         let n = points.len() / dim;
         debug_assert_eq!(out.len(), self.n_control() * dim);
         match &self.kind {
+            Kind::Open {
+                sys, interp_scale, ..
+            } if sys.is_toeplitz() => {
+                let ends = self.open_ends(points, dim)?;
+                if sys.solve_scaled_into(&ends[0], points, &ends[1], *interp_scale, out, dim) {
+                    return Ok(());
+                }
+            }
             Kind::Open {
                 sys, interp_scale, ..
             } => {

@@ -23,7 +23,8 @@ mod tridiag;
 pub use curve::BsplineCurve;
 pub use interpolate::{
     interpolate_curve, interpolate_curve_at, interpolate_curve_flat, paper_dense_inner_points,
-    parameters, CurveInterpolation, EndCondition, InterpolationOptions, Parametrization,
+    parameters, CurveInterpolation, CurveInterpolator, EndCondition, InterpolationOptions,
+    Parametrization,
 };
 pub use sample::FdReport;
 pub use surface::{

@@ -25,6 +25,10 @@ const HALO: usize = 40;
 /// Numbers per parallel chunk of the Toeplitz sweeps (rows × columns).
 const CHUNK: usize = 3 << 16;
 
+/// Numbers per chunk of [`TridiagSystem::solve_scaled_into`]: small enough that a chunk
+/// swept forward is still in the core's cache when it is swept back.
+const FUSED_CHUNK: usize = 3 << 13;
+
 /// Entries of the decaying columns below this (relative to their first) are dropped.
 const NEGLIGIBLE: f64 = 1e-40;
 
@@ -352,6 +356,115 @@ impl TridiagSystem {
 }
 
 impl TridiagSystem {
+    /// Whether T is the Toeplitz tridiag(1, 4, 1) ([`TridiagSystem::solve_scaled_into`]
+    /// applies).
+    pub fn is_toeplitz(&self) -> bool {
+        matches!(self.tri, Tri::Toeplitz { .. })
+    }
+
+    /// Solves a Toeplitz system ([`TridiagSystem::toeplitz`]) for the right-hand side
+    /// b = [first; scale · interior; last] (one row, n - 2 rows, one row of `cols`), writing
+    /// the solution to `out` (n × cols) in one pass: chunks of rows that fit the cache are
+    /// swept forward from the input and back in place, in parallel, each starting [`HALO`]
+    /// rows early from zero and ending [`HALO`] rows late (as [`TridiagSystem::solve`] does
+    /// for large systems; a single chunk is the sequential solve). The input is read once and
+    /// the output written once, with no copy of b. Returns whether every entry of the
+    /// solution is finite.
+    pub fn solve_scaled_into(
+        &self,
+        first: &[f64],
+        interior: &[f64],
+        last: &[f64],
+        scale: f64,
+        out: &mut [f64],
+        cols: usize,
+    ) -> bool {
+        let Tri::Toeplitz {
+            inv_pivot,
+            inv_limit,
+        } = &self.tri
+        else {
+            unreachable!("solve_scaled_into on a Toeplitz system only")
+        };
+        let n = self.n;
+        debug_assert_eq!(interior.len(), (n - 2) * cols);
+        debug_assert_eq!(out.len(), n * cols);
+        let inv = |r: usize| Self::inv(inv_pivot, *inv_limit, r);
+        // Row r of b, scaled, into `row`.
+        let rhs = |r: usize, row: &mut [f64]| {
+            if r == 0 {
+                row.copy_from_slice(first);
+            } else if r + 1 == n {
+                row.copy_from_slice(last);
+            } else {
+                for (x, p) in row.iter_mut().zip(&interior[(r - 1) * cols..r * cols]) {
+                    *x = scale * p;
+                }
+            }
+        };
+        let rows = (FUSED_CHUNK / cols).max(8 * HALO);
+        let parallel = n > 2 * rows && rayon::current_num_threads() > 1;
+        let chunk = if parallel { rows } else { n };
+        let finite = out
+            .par_chunks_mut(chunk * cols)
+            .enumerate()
+            .map(|(k, part)| {
+                let lo = k * chunk;
+                let hi = lo + part.len() / cols;
+                let mut y = vec![0.0; cols];
+                let mut b = vec![0.0; cols];
+                // Forward from HALO rows before the chunk (from row 0 near the start, so
+                // that the early pivots are the exact ones), over the chunk into `part`,
+                // and HALO rows past it into `tail`.
+                let s = if lo <= HALO + STORED { 0 } else { lo - HALO };
+                let e = (hi + HALO).min(n);
+                let step = |r: usize, y: &mut [f64], b: &mut [f64]| {
+                    rhs(r, b);
+                    let l = if r == 0 { 0.0 } else { inv(r - 1) };
+                    for (v, x) in y.iter_mut().zip(b.iter()) {
+                        *v = x - l * *v;
+                    }
+                };
+                for r in s..lo {
+                    step(r, &mut y, &mut b);
+                }
+                for (r, row) in (lo..hi).zip(part.chunks_exact_mut(cols)) {
+                    step(r, &mut y, &mut b);
+                    row.copy_from_slice(&y);
+                }
+                let mut tail = vec![0.0; (e - hi) * cols];
+                for (r, row) in (hi..e).zip(tail.chunks_exact_mut(cols)) {
+                    step(r, &mut y, &mut b);
+                    row.copy_from_slice(&y);
+                }
+                // Backward from the end of the tail (from zero; exact at the true end).
+                let mut x_next = vec![0.0; cols];
+                for (r, row) in (hi..e).zip(tail.chunks_exact(cols)).rev() {
+                    let i = inv(r);
+                    for (xn, yv) in x_next.iter_mut().zip(row) {
+                        *xn = (yv - *xn) * i;
+                    }
+                }
+                let mut finite = true;
+                for (r, row) in (lo..hi).zip(part.chunks_exact_mut(cols)).rev() {
+                    let i = inv(r);
+                    for (xn, v) in x_next.iter_mut().zip(row.iter_mut()) {
+                        *v = (*v - *xn) * i;
+                        *xn = *v;
+                        finite &= v.is_finite();
+                    }
+                }
+                finite
+            })
+            .reduce(|| true, |a, b| a && b);
+        self.correct(out, cols);
+        // The correction changed only the rows its decaying columns reach.
+        let reach = self.z[0].len().max(self.z[1].len()).min(n);
+        finite
+            && out[..reach * cols].iter().all(|x| x.is_finite())
+            && out[(n - reach) * cols..].iter().all(|x| x.is_finite())
+    }
+
     /// Solves the system of [`TridiagSystem::general`] for one right-hand side `b` (n × cols,
     /// in place), fusing the factorization with the forward sweep: the rows are computed once
     /// and only u_r = c_r/d_r is stored (n numbers; the factored system would keep 3n).
@@ -569,6 +682,42 @@ mod tests {
                     dense_check(n, (0, d4.clone()), (n - 5, d4), inner);
                 }
             }
+        }
+    }
+
+    /// The one-pass solve from the input equals copy-scale-then-solve, in one chunk and in
+    /// many (parallel, from zero halos), with the Woodbury end rows, and flags non-finite
+    /// solutions.
+    #[test]
+    fn one_pass_toeplitz_solve_equals_the_two_pass_one() {
+        let d4 = vec![-1.0, 4.0, -6.0, 4.0, -1.0];
+        for (n, cols) in [
+            (7usize, 1usize),
+            (300, 2),
+            (3 * FUSED_CHUNK / 2 + 11, 3),
+            (40_000, 1),
+        ] {
+            let sys = TridiagSystem::toeplitz(n, (0, d4.clone()), (n - 5, d4.clone())).unwrap();
+            let interior: Vec<f64> = (0..(n - 2) * cols)
+                .map(|i| ((i as f64) * 0.71).sin())
+                .collect();
+            let (first, last) = (vec![0.25; cols], vec![-0.5; cols]);
+            let mut want = Vec::with_capacity(n * cols);
+            want.extend_from_slice(&first);
+            want.extend(interior.iter().map(|x| 6.0 * x));
+            want.extend_from_slice(&last);
+            sys.solve(&mut want, cols);
+            let mut got = vec![0.0; n * cols];
+            assert!(sys.solve_scaled_into(&first, &interior, &last, 6.0, &mut got, cols));
+            let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let err = got
+                .iter()
+                .zip(&want)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(err <= 4.0 * f64::EPSILON * scale, "n={n}: {err:e}");
+            let mut bad = interior.clone();
+            bad[(n / 2) * cols - 1] = f64::INFINITY;
+            assert!(!sys.solve_scaled_into(&first, &bad, &last, 6.0, &mut got, cols));
         }
     }
 
