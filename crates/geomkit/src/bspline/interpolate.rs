@@ -784,15 +784,12 @@ impl Solver1d {
         let n = self.parameters.len();
         debug_assert_eq!(buf.len(), (n + 2) * dim);
         let ends = self.open_ends(&buf[dim..(n + 1) * dim], dim)?;
-        let scale = *interp_scale;
-        if scale != 1.0 {
-            buf[dim..(n + 1) * dim]
-                .par_chunks_mut(1 << 14)
-                .for_each(|o| o.iter_mut().for_each(|x| *x *= scale));
-        }
         buf[..dim].copy_from_slice(&ends[0]);
         buf[(n + 1) * dim..].copy_from_slice(&ends[1]);
-        sys.solve(buf, dim);
+        // Scaled and checked on the way: no passes of their own.
+        if sys.solve_scaled(buf, dim, *interp_scale) {
+            return Ok(());
+        }
         check_solution(buf, dim)
     }
 

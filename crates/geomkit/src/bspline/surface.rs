@@ -709,15 +709,22 @@ fn solve_grid_rows(
             let w = b * dim;
             buf.clear();
             buf.resize(nc * w, 0.0);
+            // Element by element: slices of `dim` numbers would be a memcpy call each.
             for (r, row) in rows.chunks_exact(n * dim).enumerate() {
                 for (k, p) in row.chunks_exact(dim).enumerate() {
-                    buf[(k + 1) * w + r * dim..][..dim].copy_from_slice(p);
+                    let at = (k + 1) * w + r * dim;
+                    for (c, x) in p.iter().enumerate() {
+                        buf[at + c] = *x;
+                    }
                 }
             }
             sys.solve_in_place(buf, w)?;
             for (r, row) in o.chunks_exact_mut(nc * dim).enumerate() {
                 for (j, c) in row.chunks_exact_mut(dim).enumerate() {
-                    c.copy_from_slice(&buf[j * w + r * dim..][..dim]);
+                    let at = j * w + r * dim;
+                    for (k, x) in c.iter_mut().enumerate() {
+                        *x = buf[at + k];
+                    }
                 }
             }
             Ok(())

@@ -193,7 +193,7 @@ impl TridiagSystem {
                     rows: [(0, Vec::new()), (0, Vec::new())],
                     cap_inv: [[1.0, 0.0], [0.0, 1.0]],
                 };
-                trunc.solve_t(&mut z, 1);
+                trunc.solve_t(&mut z, 1, 1.0);
                 z.truncate(80.min(n));
                 z
             }
@@ -267,9 +267,14 @@ impl TridiagSystem {
         }
     }
 
-    /// Solves T x = b in place (b row-major n × cols).
-    fn solve_t(&self, b: &mut [f64], cols: usize) {
+    /// Solves T x = b in place (b row-major n × cols), where rows 1..n-1 of `b` hold the
+    /// right-hand side divided by `scale` (multiplied back during the forward sweep: no pass
+    /// of its own). Returns whether every entry of the solution is finite.
+    fn solve_t(&self, b: &mut [f64], cols: usize, scale: f64) -> bool {
         let n = self.n;
+        // The factor of row r of b.
+        let sc = |r: usize| if r == 0 || r + 1 == n { 1.0 } else { scale };
+        let mut finite = true;
         match &self.tri {
             Tri::Toeplitz {
                 inv_pivot,
@@ -278,24 +283,26 @@ impl TridiagSystem {
                 let inv = |r| Self::inv(inv_pivot, *inv_limit, r);
                 let chunks = (n * cols / CHUNK).min(n / (8 * HALO));
                 if chunks >= 2 && rayon::current_num_threads() > 1 {
-                    return toeplitz_par(b, cols, n, chunks, &inv);
+                    return toeplitz_par(b, cols, n, chunks, &inv, &sc);
                 }
                 for r in 1..n {
-                    let l = inv(r - 1);
+                    let (l, f) = (inv(r - 1), sc(r));
                     let (prev, cur) = b[(r - 1) * cols..(r + 1) * cols].split_at_mut(cols);
                     for (x, p) in cur.iter_mut().zip(prev.iter()) {
-                        *x -= l * p;
+                        *x = f * *x - l * p;
                     }
                 }
                 let last = inv(n - 1);
                 for x in &mut b[(n - 1) * cols..n * cols] {
                     *x *= last;
+                    finite &= x.is_finite();
                 }
                 for r in (0..n - 1).rev() {
                     let i = inv(r);
                     let (cur, next) = b[r * cols..(r + 2) * cols].split_at_mut(cols);
                     for (x, nx) in cur.iter_mut().zip(next.iter()) {
                         *x = (*x - nx) * i;
+                        finite &= x.is_finite();
                     }
                 }
             }
@@ -304,31 +311,51 @@ impl TridiagSystem {
             }
             Tri::General { factors } => {
                 for r in 1..n {
-                    let m = factors[r][0];
+                    let (m, f) = (factors[r][0], sc(r));
                     let (prev, cur) = b[(r - 1) * cols..(r + 1) * cols].split_at_mut(cols);
                     for (x, p) in cur.iter_mut().zip(prev.iter()) {
-                        *x -= m * p;
+                        *x = f * *x - m * p;
                     }
                 }
                 let last = factors[n - 1][1];
                 for x in &mut b[(n - 1) * cols..n * cols] {
                     *x *= last;
+                    finite &= x.is_finite();
                 }
                 for r in (0..n - 1).rev() {
                     let [_, i, u] = factors[r];
                     let (cur, next) = b[r * cols..(r + 2) * cols].split_at_mut(cols);
                     for (x, nx) in cur.iter_mut().zip(next.iter()) {
                         *x = *x * i - u * nx;
+                        finite &= x.is_finite();
                     }
                 }
             }
         }
+        finite
     }
 
     /// Solves the full system in place (b row-major n × cols).
     pub fn solve(&self, b: &mut [f64], cols: usize) {
-        self.solve_t(b, cols);
+        self.solve_t(b, cols, 1.0);
         self.correct(b, cols);
+    }
+
+    /// [`TridiagSystem::solve`] for the right-hand side whose rows 1..n-1 are `scale` times
+    /// those of `b` (the scaling done on the way, with no pass of its own). Returns whether
+    /// every entry of the solution is finite.
+    pub fn solve_scaled(&self, b: &mut [f64], cols: usize, scale: f64) -> bool {
+        let finite = self.solve_t(b, cols, scale);
+        self.correct(b, cols);
+        finite && self.ends_finite(b, cols)
+    }
+
+    /// Whether the rows the Woodbury correction changed are finite.
+    fn ends_finite(&self, b: &[f64], cols: usize) -> bool {
+        let n = self.n;
+        let reach = self.z[0].len().max(self.z[1].len()).min(n);
+        b[..reach * cols].iter().all(|x| x.is_finite())
+            && b[(n - reach) * cols..].iter().all(|x| x.is_finite())
     }
 
     /// The Woodbury step: turns T^-1 b (in `b`) into the solution of the full system.
@@ -458,11 +485,7 @@ impl TridiagSystem {
             })
             .reduce(|| true, |a, b| a && b);
         self.correct(out, cols);
-        // The correction changed only the rows its decaying columns reach.
-        let reach = self.z[0].len().max(self.z[1].len()).min(n);
-        finite
-            && out[..reach * cols].iter().all(|x| x.is_finite())
-            && out[(n - reach) * cols..].iter().all(|x| x.is_finite())
+        finite && self.ends_finite(out, cols)
     }
 
     /// Solves the system of [`TridiagSystem::general`] for one right-hand side `b` (n × cols,
@@ -539,7 +562,8 @@ fn toeplitz_par(
     n: usize,
     chunks: usize,
     inv: &(impl Fn(usize) -> f64 + Sync),
-) {
+    sc: &(impl Fn(usize) -> f64 + Sync),
+) -> bool {
     let bounds: Vec<(usize, usize)> = (0..chunks)
         .map(|k| (k * n / chunks, (k + 1) * n / chunks))
         .collect();
@@ -568,31 +592,31 @@ fn toeplitz_par(
     parts
         .into_par_iter()
         .zip(bounds.par_iter().zip(halos.par_iter()))
-        .for_each(|(part, (&(lo, hi), (s, before, after)))| {
+        .map(|(part, (&(lo, hi), (s, before, after)))| {
             let mut y = vec![0.0; cols];
             // Forward over the rows before the chunk (not stored).
             for (k, row) in before.chunks_exact(cols).enumerate() {
                 let r = s + k;
-                let l = if r == 0 { 0.0 } else { inv(r - 1) };
+                let (l, f) = (if r == 0 { 0.0 } else { inv(r - 1) }, sc(r));
                 for (v, x) in y.iter_mut().zip(row) {
-                    *v = x - l * *v;
+                    *v = f * x - l * *v;
                 }
             }
             // Forward over the chunk, in place.
             for (k, row) in part.chunks_exact_mut(cols).enumerate() {
                 let r = lo + k;
-                let l = if r == 0 { 0.0 } else { inv(r - 1) };
+                let (l, f) = (if r == 0 { 0.0 } else { inv(r - 1) }, sc(r));
                 for (v, x) in y.iter_mut().zip(row.iter_mut()) {
-                    *x -= l * *v;
+                    *x = f * *x - l * *v;
                     *v = *x;
                 }
             }
             // Forward past the chunk into scratch, then backward from its end.
             let mut tail: Vec<f64> = after.clone();
             for (k, row) in tail.chunks_exact_mut(cols).enumerate() {
-                let l = inv(hi + k - 1);
+                let (l, f) = (inv(hi + k - 1), sc(hi + k));
                 for (v, x) in y.iter_mut().zip(row.iter_mut()) {
-                    *x -= l * *v;
+                    *x = f * *x - l * *v;
                     *v = *x;
                 }
             }
@@ -603,14 +627,18 @@ fn toeplitz_par(
                     *xn = (yv - *xn) * i;
                 }
             }
+            let mut finite = true;
             for (k, row) in part.chunks_exact_mut(cols).enumerate().rev() {
                 let i = inv(lo + k);
                 for (xn, v) in x_next.iter_mut().zip(row.iter_mut()) {
                     *v = (*v - *xn) * i;
                     *xn = *v;
+                    finite &= v.is_finite();
                 }
             }
-        });
+            finite
+        })
+        .reduce(|| true, |a, b| a && b)
 }
 
 #[cfg(test)]
@@ -721,6 +749,50 @@ mod tests {
         }
     }
 
+    /// Scaling the interior rows during the forward sweep gives the solution of the scaled
+    /// right-hand side (sequential and parallel Toeplitz, general systems), and non-finite
+    /// solutions are flagged.
+    #[test]
+    fn scaled_solves_equal_solves_of_the_scaled_right_hand_side() {
+        let d2 = vec![1.0, -2.0, 1.0];
+        let uneven = |r: usize| {
+            let a = 0.1 + (r % 3) as f64 * 0.2;
+            [a, 1.0, 0.9 - a]
+        };
+        for (n, cols) in [(50usize, 2usize), (5 * CHUNK / 3 + 17, 3)] {
+            let systems = [
+                TridiagSystem::toeplitz(n, (0, d2.clone()), (n - 3, d2.clone())).unwrap(),
+                TridiagSystem::general(n, uneven, (0, d2.clone()), (n - 3, d2.clone())).unwrap(),
+            ];
+            for sys in systems {
+                let b: Vec<f64> = (0..n * cols).map(|i| ((i as f64) * 0.37).cos()).collect();
+                let mut want: Vec<f64> = b
+                    .iter()
+                    .enumerate()
+                    .map(|(i, x)| {
+                        if i < cols || i >= (n - 1) * cols {
+                            *x
+                        } else {
+                            6.0 * x
+                        }
+                    })
+                    .collect();
+                sys.solve(&mut want, cols);
+                let mut got = b.clone();
+                assert!(sys.solve_scaled(&mut got, cols, 6.0));
+                let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let err = got
+                    .iter()
+                    .zip(&want)
+                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+                assert!(err <= 4.0 * f64::EPSILON * scale, "n={n}: {err:e}");
+                let mut bad = b.clone();
+                bad[n / 2 * cols] = f64::NAN;
+                assert!(!sys.solve_scaled(&mut bad, cols, 6.0));
+            }
+        }
+    }
+
     #[test]
     fn parallel_toeplitz_sweeps_equal_the_sequential_ones() {
         let n = 5 * CHUNK / 3 + 17;
@@ -736,7 +808,7 @@ mod tests {
         };
         let inv = |r| TridiagSystem::inv(inv_pivot, *inv_limit, r);
         let mut par = b.clone();
-        toeplitz_par(&mut par, cols, n, 7, &inv);
+        toeplitz_par(&mut par, cols, n, 7, &inv, &|_| 1.0);
         let mut seq = b;
         for r in 1..n {
             for c in 0..cols {
