@@ -91,6 +91,37 @@ impl BsplineSurface {
         })
     }
 
+    /// [`BsplineSurface::from_flat`] for parts the library computed itself (a net from a
+    /// solve that checked it is finite, knots it built): no pass over the net.
+    pub(crate) fn from_trusted(
+        degree: (usize, usize),
+        knots_u: Vec<f64>,
+        knots_v: Vec<f64>,
+        n_u: usize,
+        n_v: usize,
+        dim: usize,
+        control: Vec<f64>,
+    ) -> Self {
+        debug_assert_eq!(control.len(), n_u * n_v * dim);
+        debug_assert!(check_knots(&knots_u, degree.0, n_u).is_ok());
+        debug_assert!(check_knots(&knots_v, degree.1, n_v).is_ok());
+        let inv = |h: Option<f64>| h.map(|h| 1.0 / h);
+        let inv_steps = (
+            inv(detect_uniform_step(&knots_u)),
+            inv(detect_uniform_step(&knots_v)),
+        );
+        BsplineSurface {
+            degree,
+            dim,
+            knots_u,
+            knots_v,
+            n_u,
+            n_v,
+            control,
+            inv_steps,
+        }
+    }
+
     /// Degrees (p, q).
     pub fn degrees(&self) -> (usize, usize) {
         self.degree
@@ -785,7 +816,7 @@ pub(crate) fn separable(
         transpose(&ct, nv, nu, dim)
     };
     Ok(SurfaceInterpolation {
-        surface: BsplineSurface::from_flat(
+        surface: BsplineSurface::from_trusted(
             (3, 3),
             sys_u.knots.clone(),
             sys_v.knots.clone(),
@@ -793,7 +824,7 @@ pub(crate) fn separable(
             nv,
             dim,
             control,
-        )?,
+        ),
         params_u: sys_u.parameters.clone(),
         params_v: sys_v.parameters.clone(),
     })
@@ -835,15 +866,11 @@ pub fn interpolate_heights(
     let fit = interpolate_surface_flat(rows, cols, 1, z, &opts)?;
     let s = fit.surface;
     let map = |k: &[f64], o: f64, h: f64| k.iter().map(|t| o + t * h).collect::<Vec<_>>();
-    let mut mapped = BsplineSurface::from_flat(
-        s.degree,
-        map(&s.knots_u, origin.0, dx),
-        map(&s.knots_v, origin.1, dy),
-        s.n_u,
-        s.n_v,
-        1,
-        s.control,
-    )?;
+    let (ku, kv) = (map(&s.knots_u, origin.0, dx), map(&s.knots_v, origin.1, dy));
+    // (An extreme origin or spacing can overflow the mapped knots.)
+    check_knots(&ku, s.degree.0, s.n_u)?;
+    check_knots(&kv, s.degree.1, s.n_v)?;
+    let mut mapped = BsplineSurface::from_trusted(s.degree, ku, kv, s.n_u, s.n_v, 1, s.control);
     // Uniform by construction: the solve used the exact rows (1, 4, 1)/6 of integer knots,
     // and evaluation must too (the mapped knots carry rounding of o + t·h).
     mapped.inv_steps = (Some(1.0 / dx), Some(1.0 / dy));
