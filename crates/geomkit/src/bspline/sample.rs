@@ -313,7 +313,7 @@ struct Locator<'a> {
     /// First and last span of the domain.
     lo: usize,
     hi: usize,
-    /// Uniform knots: the span by one division.
+    /// Uniform knots: the span by one multiplication (`BsplineCurve::span`).
     uniform: bool,
     /// The buckets (empty: no table): base span | knots in the bucket << [`COUNT_SHIFT`]
     /// (saturated at [`MANY`]).
