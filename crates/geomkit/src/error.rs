@@ -218,7 +218,7 @@ pub enum Error {
     /// A formula that does not parse or evaluate, with the place of the problem.
     #[error("{what}: {message}")]
     Expression {
-        /// Which formula ("patch [1][0] x", "piece 2").
+        /// Which formula ("patch \[1\]\[0\] x", "piece 2").
         what: String,
         /// The expression engine's message (with the position).
         message: String,
@@ -303,5 +303,5 @@ pub enum Error {
     Expr(#[from] geomkit_expr::ExprError),
 }
 
-/// Result with the library's [`Error`].
+/// Result with the library's [`enum@Error`].
 pub type Result<T> = std::result::Result<T, Error>;

@@ -197,7 +197,7 @@ pub fn e_matrix(rows: usize, cols: usize) -> ExactMatrix {
 /// C(n,i) C(n'-n, j-i) / C(n',j). For n' < n it is exact only when the degree defect is at
 /// least n - n'; otherwise applying it **truncates the power form at t = 0** (drops the
 /// power coefficients s_(n'+1..n)), which is not a good approximation — use
-/// [`crate::bezier::reduce_degree_approx`] for that.
+/// [`crate::bezier::BezierCurve::reduce_degree_approx`] for that.
 pub fn degree_change_matrix(n: usize, n_new: usize) -> ExactMatrix {
     let prod = h_matrix(n)
         .mul(&e_matrix(n + 1, n_new + 1))

@@ -10,7 +10,7 @@
 //!   ([`DEFAULT_TOLERANCE`]). Never through the power form.
 //! - **Exact reduction** (when the defect allows): least squares on the elevation matrix
 //!   (Householder QR) with iterative refinement of the residual in double-double.
-//! - **Approximate reduction** (when it does not): best approximation in L2[0,1] (or the
+//! - **Approximate reduction** (when it does not): best approximation in L2\[0,1\] (or the
 //!   Chebyshev-weighted norm, near-best in L∞) with optional C^α / C^β continuity at the
 //!   ends, and a guaranteed error report.
 //! - The paper's unified formula (10) as written, in exact rationals rounded once, and the

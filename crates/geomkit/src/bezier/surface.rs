@@ -202,7 +202,7 @@ impl BezierSurface {
         out
     }
 
-    /// Evaluates on the grid `us` × `vs`, writing p(us[a], vs[b]) to
+    /// Evaluates on the grid `us` × `vs`, writing p(us\[a\], vs\[b\]) to
     /// `out[(a * vs.len() + b) * r ..]`. Each row of the grid costs one de Casteljau in u.
     /// Errors: wrong buffer length, non-finite parameters.
     pub fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
@@ -391,7 +391,7 @@ impl BezierSurface {
         self.rebuild(direction, &pts, len - 1)
     }
 
-    /// Distance between two surfaces of the same dimension over [0,1]²: the largest distance
+    /// Distance between two surfaces of the same dimension over \[0,1\]²: the largest distance
     /// found on a 65×65 grid, and a guaranteed upper bound (both elevated to common degrees;
     /// the largest difference of net points bounds the difference surface).
     pub fn deviation_from(&self, other: &BezierSurface) -> Result<DeviationBound> {

@@ -5,7 +5,7 @@ use crate::bezier::ParamCurve;
 use crate::points::{check_knots, flatten_points, validate_points};
 use crate::{Error, Result};
 
-/// A B-spline curve c(t) = Σ_j N_(j,p)(t) c_j over the domain [knots[p], knots[n_c]]
+/// A B-spline curve c(t) = Σ_j N_(j,p)(t) c_j over the domain \[knots\[p\], knots\[n_c\]\]
 /// (n_c control points, n_c + p + 1 knots). Evaluation outside the domain extends the end
 /// polynomial pieces.
 ///
@@ -350,7 +350,7 @@ impl BsplineCurve {
         self.control.len() / self.dim
     }
 
-    /// The parameter domain [knots[p], knots[n_c]].
+    /// The parameter domain \[knots\[p\], knots\[n_c\]\].
     pub fn domain(&self) -> (f64, f64) {
         (self.knots[self.degree], self.knots[self.n_control()])
     }

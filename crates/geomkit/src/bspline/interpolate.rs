@@ -108,7 +108,7 @@ impl InterpolationOptions {
 pub struct CurveInterpolation {
     /// The cubic B-spline.
     pub curve: BsplineCurve,
-    /// parameters[i]: the curve passes through reference point i there.
+    /// parameters\[i\]: the curve passes through reference point i there.
     pub parameters: Vec<f64>,
 }
 

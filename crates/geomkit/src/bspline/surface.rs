@@ -283,7 +283,7 @@ impl BsplineSurface {
             );
     }
 
-    /// Evaluates at scattered points (us[k], vs[k]) into `out` (row-major, `dim` per point),
+    /// Evaluates at scattered points (us\[k\], vs\[k\]) into `out` (row-major, `dim` per point),
     /// in parallel; uniform knots locate spans by one division. Large batches on nets larger
     /// than the caches are first grouped by their span in u (a counting sort), so that the
     /// points of one span read the same few rows of the net: the net then streams through
@@ -830,7 +830,7 @@ pub(crate) fn separable(
     })
 }
 
-/// Interpolates heights z[i][j] given over the regular grid x_i = x0 + i·dx, y_j = y0 + j·dy
+/// Interpolates heights z\[i\]\[j\] given over the regular grid x_i = x0 + i·dx, y_j = y0 + j·dy
 /// (row-major, `rows × cols`): the result is a scalar surface z(x, y) with S(x_i, y_j) = z_ij.
 /// Errors as [`interpolate_surface`], plus non-positive or non-finite spacing.
 pub fn interpolate_heights(
@@ -877,8 +877,8 @@ pub fn interpolate_heights(
     Ok(mapped)
 }
 
-/// Interpolates heights z[i][j] (row-major, `xs.len() × ys.len()`) given at the grid
-/// (xs[i], ys[j]) with any strictly increasing coordinates (SciPy's
+/// Interpolates heights z\[i\]\[j\] (row-major, `xs.len() × ys.len()`) given at the grid
+/// (xs\[i\], ys\[j\]) with any strictly increasing coordinates (SciPy's
 /// `RectBivariateSpline(x, y, z, s=0)` is the not-a-knot case): a scalar surface z(x, y).
 /// Errors: coordinates not finite or not increasing, fewer than 2 per direction, a `z` of
 /// the wrong length or with non-finite values, periodic or repeat ends.

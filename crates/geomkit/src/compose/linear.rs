@@ -56,8 +56,8 @@ impl AbsSum {
         Ok(f)
     }
 
-    /// The composite linear function through (knots[i], values[i]) by the 1-D formula of §5:
-    /// values[0] + Σ_i (values[i+1] - values[i]) P(t, knots[i], knots[i+1] - knots[i]);
+    /// The composite linear function through (knots\[i\], values\[i\]) by the 1-D formula of §5:
+    /// values\[0\] + Σ_i (values\[i+1\] - values\[i\]) P(t, knots\[i\], knots\[i+1\] - knots\[i\]);
     /// constant beyond the ends. Errors: lengths differ or below 1, knots not increasing.
     pub fn through(knots: &[Rational], values: &[Rational]) -> Result<Self> {
         if knots.len() != values.len() {

@@ -61,7 +61,7 @@ fn coordinate_names(dim: usize) -> Vec<String> {
 }
 
 impl Piecewise {
-    /// A function with pieces given as formulas in x: `pieces[i]` on [knots[i],
+    /// A function with pieces given as formulas in x: `pieces[i]` on \[knots\[i\],
     /// knots[i+1]]. Errors: knots not finite and strictly increasing, a count of pieces
     /// other than knots - 1, [`Error::Expression`] naming the piece for a formula that does
     /// not parse (with the position) or is not finite on its interval.
@@ -75,7 +75,7 @@ impl Piecewise {
     }
 
     /// Pieces given as formulas in one variable `var` (a function for one coordinate, a
-    /// composite curve for more), each on its own domain mapped linearly onto [knots[i],
+    /// composite curve for more), each on its own domain mapped linearly onto \[knots\[i\],
     /// knots[i+1]] or, without one, defined there. Errors: as [`Self::function`]; pieces of
     /// different dimensions or in other than one variable.
     pub fn from_pieces(knots: Vec<f64>, pieces: Vec<ExprPatch>, var: &str) -> Result<Self> {

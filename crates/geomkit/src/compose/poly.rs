@@ -230,7 +230,7 @@ impl PolyPatch {
 
     /// The patches of a B-spline surface, one per non-empty knot cell of its domain, with
     /// the cells' parameter bounds: `(u_cells, v_cells, patches)` where `patches[i * m + j]`
-    /// lives on [u_cells[i], u_cells[i+1]] × [v_cells[j], v_cells[j+1]] (in local (s, t)).
+    /// lives on \[u_cells\[i\], u_cells\[i+1\]\] × \[v_cells\[j\], v_cells\[j+1\]\] (in local (s, t)).
     pub fn from_bspline(s: &BsplineSurface) -> (Vec<f64>, Vec<f64>, Vec<PolyPatch>) {
         let (p, q) = s.degrees();
         let (ku, kv) = s.knots();

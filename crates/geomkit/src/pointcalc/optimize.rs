@@ -45,7 +45,7 @@ pub enum Goal {
 pub struct OptimizeOptions {
     /// Stop when bound - value <= tolerance × (range of the source values) [1e-9].
     pub tolerance: f64,
-    /// Most boxes examined [4000].
+    /// Most boxes examined \[4000\].
     pub max_boxes: usize,
 }
 

@@ -40,7 +40,7 @@ pub struct PointSurface {
 }
 
 impl PointSurface {
-    /// The tensor-product surface: every row of `net` (net[i][j], i across along v, j along
+    /// The tensor-product surface: every row of `net` (net\[i\]\[j\], i across along v, j along
     /// the row along u) uses `u_nodes`, the rows sit at `v_nodes`. Errors: ragged or empty
     /// net, mixed dimensions, non-finite coordinates, counts that differ from the nodes.
     pub fn tensor(u_nodes: Nodes, v_nodes: Nodes, net: Vec<Vec<Vec<f64>>>) -> Result<Self> {
@@ -308,7 +308,7 @@ pub struct PrintedSurface {
 }
 
 impl PrintedSurface {
-    /// Over a 3×3 net (net[i][j]). Errors: not 3×3, mixed dimensions, non-finite.
+    /// Over a 3×3 net (net\[i\]\[j\]). Errors: not 3×3, mixed dimensions, non-finite.
     pub fn new(net: Vec<Vec<Vec<f64>>>) -> Result<Self> {
         let (rows, cols, dim, data) = flatten_grid("net", &net)?;
         if rows != 3 || cols != 3 {
