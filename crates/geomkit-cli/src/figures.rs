@@ -662,19 +662,47 @@ pub fn heightmap_svg(
     if surface.dim() != 1 {
         bail!("a height map needs a surface of heights (1-D points)");
     }
-    let ((x0, x1), (y0, y1)) = surface.domain();
+    let field = HeightField {
+        domain: surface.domain(),
+        grid: &|xs, ys, z| surface.eval_grid(xs, ys, z),
+    };
+    Ok(heightmap_figure(title, subtitle, &field, cells, levels, Axes::Equal)?.render())
+}
+
+/// A grid evaluator `grid(xs, ys, out)`, out row-major by x.
+pub type GridEval<'a> = dyn Fn(&[f64], &[f64], &mut [f64]) -> geomkit::Result<()> + 'a;
+
+/// Heights z(x, y) over a box, evaluated on grids.
+pub struct HeightField<'a> {
+    /// ((x0, x1), (y0, y1)).
+    pub domain: ((f64, f64), (f64, f64)),
+    /// The evaluator.
+    pub grid: &'a GridEval<'a>,
+}
+
+/// The figure of [`heightmap_svg`] for any height field, on `axes` (equal scales for
+/// terrain, a chart for factors of different units), to draw more on.
+pub fn heightmap_figure(
+    title: &str,
+    subtitle: &str,
+    field: &HeightField<'_>,
+    cells: usize,
+    levels: usize,
+    axes: Axes,
+) -> Result<Figure> {
+    let ((x0, x1), (y0, y1)) = field.domain;
     let cells = cells.max(2);
     // Values at the cell centres.
     let (hx, hy) = ((x1 - x0) / cells as f64, (y1 - y0) / cells as f64);
     let cx: Vec<f64> = (0..cells).map(|i| x0 + (i as f64 + 0.5) * hx).collect();
     let cy: Vec<f64> = (0..cells).map(|j| y0 + (j as f64 + 0.5) * hy).collect();
     let mut z = vec![0.0; cells * cells];
-    surface.eval_grid(&cx, &cy, &mut z)?;
+    (field.grid)(&cx, &cy, &mut z)?;
     // Contours on a finer grid through the corners.
     let fine = 2 * cells + 1;
     let (fx, fy) = (linspace(x0, x1, fine), linspace(y0, y1, fine));
     let mut zf = vec![0.0; fine * fine];
-    surface.eval_grid(&fx, &fy, &mut zf)?;
+    (field.grid)(&fx, &fy, &mut zf)?;
     let (lo, hi) = zf
         .iter()
         .chain(&z)
@@ -701,7 +729,7 @@ pub fn heightmap_svg(
             j = end;
         }
     }
-    let mut fig = Figure::new(title, Axes::Equal).subtitle(subtitle);
+    let mut fig = Figure::new(title, axes).subtitle(subtitle);
     fig.rects(rects);
     let contour = Stroke::solid("#202020", 0.7).with_opacity(0.55);
     let mut segments = Vec::new();
@@ -718,7 +746,7 @@ pub fn heightmap_svg(
         fig.legend(Stroke::solid(key, 9.0), None, text);
     }
     fig.legend(contour, None, format!("{levels} contour lines"));
-    Ok(fig.render())
+    Ok(fig)
 }
 
 /// A number with 4 significant digits.
