@@ -297,17 +297,28 @@ pub fn interpolate_curve_tiled(
     let tiler = CurveTiler::new(n, dim, options, tiles)?;
     let plan = tiler.plan();
     let t = parameters(points, dim, options.parametrization, false)?;
-    let parts: Vec<Vec<f64>> = plan
-        .par_iter()
-        .map(|p| {
+    // Each tile writes its range of the control points straight into the result (the
+    // ranges follow one another): no copy of the whole curve, only a few tiles of scratch.
+    let mut control = vec![0.0; (n + 2) * dim];
+    let mut ranges: Vec<&mut [f64]> = Vec::with_capacity(plan.len());
+    let mut rest = control.as_mut_slice();
+    for p in &plan {
+        let (here, tail) = std::mem::take(&mut rest).split_at_mut(p.write.len() * dim);
+        ranges.push(here);
+        rest = tail;
+    }
+    plan.par_iter()
+        .zip(ranges.into_par_iter())
+        .try_for_each(|(p, out)| {
             let pts = &points[p.read.start * dim..p.read.end * dim];
-            tiler.solve(p, pts, t[p.read.start]).map(|s| s.control)
-        })
-        .collect::<Result<_>>()?;
-    let control = parts.concat();
+            out.copy_from_slice(&tiler.solve(p, pts, t[p.read.start])?.control);
+            Ok::<(), Error>(())
+        })?;
     let knots = super::interpolate::open_knots(&t);
+    // The tiles' solves checked their control points (finite); the knots are the global
+    // curve's.
     Ok(CurveInterpolation {
-        curve: BsplineCurve::from_flat(3, knots, dim, control)?,
+        curve: BsplineCurve::from_trusted(3, knots, dim, control),
         parameters: t,
     })
 }
