@@ -381,6 +381,8 @@ fn grouped_scattered_evaluation_equals_small_batches() {
         );
         let ((u0, u1), (v0, v1)) = s.domain();
         let n = 60_000;
+        // The grouped path takes batches of at least 32 points per net row.
+        assert!(n >= 32 * s.net_size().0);
         let us: Vec<f64> = (0..n)
             .map(|_| (u0 + u1) / 2.0 + (u1 - u0) * 0.55 * rng.uniform())
             .collect();

@@ -357,25 +357,32 @@ fn curve_solve_into(case: &Case, timing: Timing) -> Value {
     );
     let times = summarize(first_s, times, inner);
     let curve = BsplineCurve::from_flat(3, solver.knots().to_vec(), 3, control).expect("finite");
+    let mut report = curve_report(&curve, solver.parameters(), &points, case.check);
+    report["time"] = times.json(n);
+    report["memory"] = memory;
+    report["setup_s"] = json!(setup_s);
+    report
+}
+
+/// What every curve build reports besides its times: sizes, the residual at all data
+/// points, the input sample and the curve at check parameters (for the agreement).
+fn curve_report(curve: &BsplineCurve, parameters: &[f64], points: &[f64], check: usize) -> Value {
     let mut at_data = vec![0.0; points.len()];
     curve
-        .eval_many_par(solver.parameters(), &mut at_data)
+        .eval_many_par(parameters, &mut at_data)
         .expect("finite parameters");
-    let scale = max_abs(&points);
-    let residual = max_diff(&at_data, &points) / scale;
-    let cp = check_params(solver.parameters(), case.check);
+    let scale = max_abs(points);
+    let residual = max_diff(&at_data, points) / scale;
+    let cp = check_params(parameters, check);
     let mut cv = vec![0.0; cp.len() * 3];
     curve.eval_many_par(&cp, &mut cv).expect("finite");
     json!({
         "ok": true,
-        "n": n,
+        "n": parameters.len(),
         "n_control": curve.n_control(),
         "uniform_knots": curve.is_uniform(),
-        "setup_s": setup_s,
-        "time": times.json(n),
-        "memory": memory,
         "max_abs_p": scale,
-        "input_sample": input_sample(&points, 3),
+        "input_sample": input_sample(points, 3),
         "residual_rel": residual,
         "check_params": cp,
         "check_values": rows(&cv, 3),
@@ -411,17 +418,7 @@ fn curve_build(case: &Case, timing: Timing) -> Value {
     if case.only_time {
         return json!({"ok": true, "n": n, "time": times.json(n), "memory": memory});
     }
-    // Residual at every data point.
-    let mut at_data = vec![0.0; points.len()];
-    fit.curve
-        .eval_many_par(&fit.parameters, &mut at_data)
-        .expect("finite parameters");
-    let scale = max_abs(&points);
-    let residual = max_diff(&at_data, &points) / scale;
-    drop(at_data);
-    let cp = check_params(&fit.parameters, case.check);
-    let mut cv = vec![0.0; cp.len() * 3];
-    fit.curve.eval_many_par(&cp, &mut cv).expect("finite");
+    let mut report = curve_report(&fit.curve, &fit.parameters, &points, case.check);
     // Sub-steps (profiling hints): parameters, the curve constructor (validation and the
     // uniform-knot test), a copy of the result's size (the memory-bandwidth floor).
     let param_kind = if case.variant == "chord" || case.variant == "at" {
@@ -440,20 +437,10 @@ fn curve_build(case: &Case, timing: Timing) -> Value {
         }),
         "copy_points_s": time_small(|| points.to_vec()),
     });
-    json!({
-        "ok": true,
-        "n": n,
-        "n_control": fit.curve.n_control(),
-        "uniform_knots": fit.curve.is_uniform(),
-        "time": times.json(n),
-        "memory": memory,
-        "max_abs_p": scale,
-        "input_sample": input_sample(&points, 3),
-        "residual_rel": residual,
-        "check_params": cp,
-        "check_values": rows(&cv, 3),
-        "substeps": substeps,
-    })
+    report["time"] = times.json(n);
+    report["memory"] = memory;
+    report["substeps"] = substeps;
+    report
 }
 
 fn curve_eval(case: &Case, timing: Timing) -> Value {

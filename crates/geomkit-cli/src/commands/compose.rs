@@ -13,7 +13,7 @@
 //!   optionally with `"domain":[[u0,u1],[v0,v1]]` mapped linearly onto the cell.
 
 use super::mesh::{mesh_summary, write_mesh};
-use crate::figures::{linspace, surface_svg, Layer, SurfaceView};
+use crate::figures::{linspace, surface_svg, GridEval, Layer, SurfaceView};
 use crate::output::{Destination, RowSink, TableFormat};
 use crate::progress::Progress;
 use crate::render::shape::{picture_svg, tessellate, Loaded, PictureOptions, Sampling, Shape};
@@ -321,14 +321,11 @@ pub fn formula_json(f: &Formula, what: &str, extra: Value) -> String {
     s
 }
 
-/// A grid evaluator `(us, vs, out)`.
-type GridFn<'a> = Box<dyn Fn(&[f64], &[f64], &mut [f64]) -> geomkit::Result<()> + 'a>;
-
 /// Evaluations on a grid, for pictures and meshes (structural evaluators).
 pub struct GridView<'a> {
     dim: usize,
     domain: ((f64, f64), (f64, f64)),
-    grid: GridFn<'a>,
+    grid: Box<GridEval<'a>>,
 }
 
 impl SurfaceView for GridView<'_> {

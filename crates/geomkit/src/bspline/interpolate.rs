@@ -811,18 +811,12 @@ impl Solver1d {
                 sys, interp_scale, ..
             } => {
                 let ends = self.open_ends(points, dim)?;
-                let scale = *interp_scale;
-                out[dim..(n + 1) * dim]
-                    .par_chunks_mut(1 << 14)
-                    .zip(points.par_chunks(1 << 14))
-                    .for_each(|(o, p)| {
-                        for (o, p) in o.iter_mut().zip(p) {
-                            *o = scale * p;
-                        }
-                    });
+                out[dim..(n + 1) * dim].copy_from_slice(points);
                 out[..dim].copy_from_slice(&ends[0]);
                 out[(n + 1) * dim..].copy_from_slice(&ends[1]);
-                sys.solve(out, dim);
+                if sys.solve_scaled(out, dim, *interp_scale) {
+                    return Ok(());
+                }
             }
             Kind::OpenOnce { rows, .. } => {
                 let ends = self.open_ends(points, dim)?;

@@ -74,21 +74,9 @@ impl BsplineSurface {
         }
         check_knots(&knots_u, degree.0, n_u)?;
         check_knots(&knots_v, degree.1, n_v)?;
-        let inv = |h: Option<f64>| h.map(|h| 1.0 / h);
-        let inv_steps = (
-            inv(detect_uniform_step(&knots_u)),
-            inv(detect_uniform_step(&knots_v)),
-        );
-        Ok(BsplineSurface {
-            degree,
-            dim,
-            knots_u,
-            knots_v,
-            n_u,
-            n_v,
-            control,
-            inv_steps,
-        })
+        Ok(Self::from_trusted(
+            degree, knots_u, knots_v, n_u, n_v, dim, control,
+        ))
     }
 
     /// [`BsplineSurface::from_flat`] for parts the library computed itself (a net from a
@@ -445,11 +433,7 @@ impl BsplineSurface {
     /// The span in u holding u (as [`BsplineSurface::basis_u`] finds it).
     #[inline]
     fn basis_u_span(&self, u: f64) -> usize {
-        let (knots, p, n) = (&self.knots_u, self.degree.0, self.n_u);
-        match (self.inv_steps.0, p) {
-            (Some(inv), 3) => uniform_span(knots[0], inv, p, n, u),
-            _ => find_span(knots, p, n, u),
-        }
+        axis_span(&self.knots_u, self.degree.0, self.n_u, self.inv_steps.0, u)
     }
 
     /// The unit normal of a surface in R^3 (Su × Sv normalized); `Ok(None)` where it is
@@ -781,14 +765,21 @@ fn axis_basis(
     x: f64,
 ) -> (usize, [f64; 8]) {
     let mut b = [0.0; 8];
-    if let (Some(inv), 3) = (inv_step, p) {
-        let s = uniform_span(knots[0], inv, p, n, x);
-        uniform_cubic_basis((x - knots[s]) * inv, &mut b[..4]);
-        return (s, b);
+    let s = axis_span(knots, p, n, inv_step, x);
+    match (inv_step, p) {
+        (Some(inv), 3) => uniform_cubic_basis((x - knots[s]) * inv, &mut b[..4]),
+        _ => basis_funs(knots, s, x, p, &mut b[..=p]),
     }
-    let s = find_span(knots, p, n, x);
-    basis_funs(knots, s, x, p, &mut b[..=p]);
     (s, b)
+}
+
+/// The span of [`axis_basis`] (one multiplication on uniform cubic knots).
+#[inline(always)]
+fn axis_span(knots: &[f64], p: usize, n: usize, inv_step: Option<f64>, x: f64) -> usize {
+    match (inv_step, p) {
+        (Some(inv), 3) => uniform_span(knots[0], inv, p, n, x),
+        _ => find_span(knots, p, n, x),
+    }
 }
 
 /// The separable solve: rows along v, then along u.

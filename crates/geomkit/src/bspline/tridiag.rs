@@ -335,15 +335,9 @@ impl TridiagSystem {
         finite
     }
 
-    /// Solves the full system in place (b row-major n × cols).
-    pub fn solve(&self, b: &mut [f64], cols: usize) {
-        self.solve_t(b, cols, 1.0);
-        self.correct(b, cols);
-    }
-
-    /// [`TridiagSystem::solve`] for the right-hand side whose rows 1..n-1 are `scale` times
-    /// those of `b` (the scaling done on the way, with no pass of its own). Returns whether
-    /// every entry of the solution is finite.
+    /// Solves the full system in place (b row-major n × cols) for the right-hand side whose
+    /// rows 1..n-1 are `scale` times those of `b` (the scaling done on the way, with no pass
+    /// of its own). Returns whether every entry of the solution is finite.
     pub fn solve_scaled(&self, b: &mut [f64], cols: usize, scale: f64) -> bool {
         let finite = self.solve_t(b, cols, scale);
         self.correct(b, cols);
@@ -393,7 +387,7 @@ impl TridiagSystem {
     /// b = [first; scale · interior; last] (one row, n - 2 rows, one row of `cols`), writing
     /// the solution to `out` (n × cols) in one pass: chunks of rows that fit the cache are
     /// swept forward from the input and back in place, in parallel, each starting [`HALO`]
-    /// rows early from zero and ending [`HALO`] rows late (as [`TridiagSystem::solve`] does
+    /// rows early from zero and ending [`HALO`] rows late (as [`TridiagSystem::solve_scaled`] does
     /// for large systems; a single chunk is the sequential solve). The input is read once and
     /// the output written once, with no copy of b. Returns whether every entry of the
     /// solution is finite.
@@ -672,7 +666,7 @@ mod tests {
         let mut solutions = Vec::new();
         for sys in systems {
             let mut got = b.clone();
-            sys.unwrap().solve(&mut got, 1);
+            assert!(sys.unwrap().solve_scaled(&mut got, 1, 1.0));
             solutions.push(got);
         }
         let mut once = b.clone();
@@ -713,6 +707,16 @@ mod tests {
         }
     }
 
+    /// got equals want within 4 ulps of want's largest entry.
+    fn assert_close(got: &[f64], want: &[f64], n: usize) {
+        let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let err = got
+            .iter()
+            .zip(want)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(err <= 4.0 * f64::EPSILON * scale, "n={n}: {err:e}");
+    }
+
     /// The one-pass solve from the input equals copy-scale-then-solve, in one chunk and in
     /// many (parallel, from zero halos), with the Woodbury end rows, and flags non-finite
     /// solutions.
@@ -734,15 +738,10 @@ mod tests {
             want.extend_from_slice(&first);
             want.extend(interior.iter().map(|x| 6.0 * x));
             want.extend_from_slice(&last);
-            sys.solve(&mut want, cols);
+            assert!(sys.solve_scaled(&mut want, cols, 1.0));
             let mut got = vec![0.0; n * cols];
             assert!(sys.solve_scaled_into(&first, &interior, &last, 6.0, &mut got, cols));
-            let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let err = got
-                .iter()
-                .zip(&want)
-                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-            assert!(err <= 4.0 * f64::EPSILON * scale, "n={n}: {err:e}");
+            assert_close(&got, &want, n);
             let mut bad = interior.clone();
             bad[(n / 2) * cols - 1] = f64::INFINITY;
             assert!(!sys.solve_scaled_into(&first, &bad, &last, 6.0, &mut got, cols));
@@ -777,15 +776,10 @@ mod tests {
                         }
                     })
                     .collect();
-                sys.solve(&mut want, cols);
+                assert!(sys.solve_scaled(&mut want, cols, 1.0));
                 let mut got = b.clone();
                 assert!(sys.solve_scaled(&mut got, cols, 6.0));
-                let scale = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                let err = got
-                    .iter()
-                    .zip(&want)
-                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-                assert!(err <= 4.0 * f64::EPSILON * scale, "n={n}: {err:e}");
+                assert_close(&got, &want, n);
                 let mut bad = b.clone();
                 bad[n / 2 * cols] = f64::NAN;
                 assert!(!sys.solve_scaled(&mut bad, cols, 6.0));
