@@ -249,8 +249,14 @@ def bezier_reference():
 
 
 def geomkit_distance(a, b):
-    """crate::numeric::distance, operation for operation: m·sqrt(Σ ((x-y)/m)²) with
-    m = max |x-y|, summed left to right from 0."""
+    """crate::numeric::distance, operation for operation: sqrt(Σ (x-y)²) summed left to right
+    from 0 when that sum is finite and >= 2^-900, else m·sqrt(Σ ((x-y)/m)²) with
+    m = max |x-y|."""
+    s = 0.0
+    for x, y in zip(a, b):
+        s += (x - y) * (x - y)
+    if math.isfinite(s) and s >= 2.0 ** -900:
+        return math.sqrt(s)
     m = 0.0
     for x, y in zip(a, b):
         m = max(m, abs(x - y))

@@ -5,6 +5,24 @@ use crate::{Error, Result};
 /// Checks a row-major point array: dimension >= 1, length a multiple of it, at least one
 /// point, every number finite.
 pub(crate) fn validate_points(what: &'static str, dim: usize, data: &[f64]) -> Result<()> {
+    check_shape(what, dim, data)?;
+    if let Some(k) = first_non_finite(data) {
+        // One of `what`: "reference points" -> "reference point 7 is not a finite number".
+        let one = match what {
+            "control net" => "control net point",
+            "reference grid" => "reference grid point",
+            _ => what.strip_suffix('s').unwrap_or(what),
+        };
+        return Err(Error::NonFinite {
+            what: one,
+            index: k / dim,
+        });
+    }
+    Ok(())
+}
+
+/// The checks of [`validate_points`] but finiteness: a dimension, points, whole points.
+pub(crate) fn check_shape(what: &'static str, dim: usize, data: &[f64]) -> Result<()> {
     if dim == 0 {
         return Err(Error::ZeroDimension { what });
     }
@@ -19,19 +37,41 @@ pub(crate) fn validate_points(what: &'static str, dim: usize, data: &[f64]) -> R
             got: data.len() % dim,
         });
     }
-    if let Some(k) = first_non_finite(data) {
-        // One of `what`: "reference points" -> "reference point 7 is not a finite number".
-        let one = match what {
-            "control net" => "control net point",
-            "reference grid" => "reference grid point",
-            _ => what.strip_suffix('s').unwrap_or(what),
-        };
-        return Err(Error::NonFinite {
-            what: one,
-            index: k / dim,
-        });
-    }
     Ok(())
+}
+
+/// Copies `src` into `dst` (same length), large slices in parallel chunks: fresh memory
+/// is then faulted in by every core.
+pub(crate) fn par_copy(src: &[f64], dst: &mut [f64]) {
+    const CHUNK: usize = 1 << 16;
+    if src.len() >= 4 * CHUNK {
+        use rayon::prelude::*;
+        dst.par_chunks_mut(CHUNK)
+            .zip(src.par_chunks(CHUNK))
+            .for_each(|(d, s)| d.copy_from_slice(s));
+    } else {
+        dst.copy_from_slice(src);
+    }
+}
+
+/// The first i < `len` with `pred(i)`: in parallel chunks for large `len` (rayon's
+/// per-item `position_first` costs more than most tests).
+pub(crate) fn first_index(len: usize, pred: impl Fn(usize) -> bool + Sync) -> Option<usize> {
+    const CHUNK: usize = 1 << 14;
+    if len < 4 * CHUNK {
+        return (0..len).find(|&i| pred(i));
+    }
+    use rayon::prelude::*;
+    (0..len.div_ceil(CHUNK))
+        .into_par_iter()
+        .find_map_first(|k| (k * CHUNK..((k + 1) * CHUNK).min(len)).find(|&i| pred(i)))
+}
+
+/// `src.to_vec()` through [`par_copy`].
+pub(crate) fn par_to_vec(src: &[f64]) -> Vec<f64> {
+    let mut v = vec![0.0; src.len()];
+    par_copy(src, &mut v);
+    v
 }
 
 /// Index of the first non-finite number. Large inputs are first scanned in parallel by a

@@ -565,3 +565,59 @@ fn reusable_interpolator_matches_one_shot_interpolation() {
     assert!(CurveInterpolator::at(&[0.0, 1.0, 1.0], &EndCondition::Natural).is_err());
     assert!(CurveInterpolator::uniform(1, &EndCondition::NotAKnot).is_err());
 }
+
+/// Large curves at uneven parameters (solved in parallel chunks joined by a reduced system):
+/// every end condition interpolates all points to rounding, the factored small-system route
+/// agrees on a stretch, and a non-finite point is named.
+#[test]
+fn large_uneven_curves_interpolate_every_point() {
+    let n = 120_000;
+    let t: Vec<f64> = (0..n)
+        .map(|i| i as f64 + 0.45 * ((i as f64) * 0.7).sin())
+        .collect();
+    let pts: Vec<f64> = (0..2 * n)
+        .map(|k| {
+            let x = t[k / 2];
+            if k % 2 == 0 {
+                (x * 0.01).cos() * 3.0
+            } else {
+                (x * 0.013).sin() + ((k * 7919) % 13) as f64 * 1e-3
+            }
+        })
+        .collect();
+    let ends = [
+        EndCondition::NotAKnot,
+        EndCondition::Natural,
+        EndCondition::Clamped {
+            start: Some(vec![0.5, -1.0]),
+            end: None,
+        },
+    ];
+    for end in &ends {
+        let fit = interpolate_curve_at(2, &pts, &t, end).unwrap();
+        let mut worst = 0.0f64;
+        for i in 0..n {
+            let p = fit.curve.eval(t[i]);
+            worst = worst.max((p[0] - pts[2 * i]).abs().max((p[1] - pts[2 * i + 1]).abs()));
+        }
+        assert!(worst <= 1e-14 * 3.0, "{end:?}: {worst:e}");
+        // The reusable system (same route for large N) gives the same control points.
+        let solver = CurveInterpolator::at(&t, end).unwrap();
+        let mut control = vec![0.0; solver.n_control() * 2];
+        solver.solve_into(&pts, 2, &mut control).unwrap();
+        assert_eq!(control, fit.curve.control_flat());
+    }
+    // A small system (factored, sequential) on the first 2000 points agrees with the large
+    // one where the ends' influence has died out.
+    let small = interpolate_curve_at(2, &pts[..4000], &t[..2000], &EndCondition::Natural).unwrap();
+    let large = interpolate_curve_at(2, &pts, &t, &EndCondition::Natural).unwrap();
+    let (a, b) = (small.curve.control_flat(), large.curve.control_flat());
+    let err = (0..2000).fold(0.0f64, |m, k| m.max((a[k] - b[k]).abs()));
+    assert!(err <= 1e-14 * 3.0, "{err:e}");
+    let mut bad = pts.clone();
+    bad[2 * 98_765] = f64::INFINITY;
+    match interpolate_curve_at(2, &bad, &t, &EndCondition::NotAKnot) {
+        Err(Error::NonFinite { index, .. }) => assert_eq!(index, 98_765),
+        other => panic!("{other:?}"),
+    }
+}

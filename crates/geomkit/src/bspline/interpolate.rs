@@ -130,7 +130,13 @@ pub fn interpolate_curve_flat(
     points: &[f64],
     options: &InterpolationOptions,
 ) -> Result<CurveInterpolation> {
-    crate::points::validate_points("reference points", dim, points)?;
+    // Chord lengths need finite points; other parametrizations leave the check to the solve.
+    let validated = options.parametrization != Parametrization::Uniform;
+    if validated {
+        crate::points::validate_points("reference points", dim, points)?;
+    } else {
+        crate::points::check_shape("reference points", dim, points)?;
+    }
     let mut n = points.len() / dim;
     if options.end == EndCondition::Periodic && n >= 2 && points[..dim] == points[(n - 1) * dim..] {
         n -= 1;
@@ -142,7 +148,8 @@ pub fn interpolate_curve_flat(
         options.parametrization,
         options.end == EndCondition::Periodic,
     )?;
-    Solver1d::new_single(t, &options.end, options.parametrization)?.interpolate(points, dim)
+    Solver1d::new_single(t, &options.end, options.parametrization)?
+        .interpolate(points, dim, validated)
 }
 
 /// Interpolates row-major points at given parameters (SciPy's `make_interp_spline(x, y)`):
@@ -166,7 +173,7 @@ pub fn interpolate_curve_at(
     parameters: &[f64],
     end: &EndCondition,
 ) -> Result<CurveInterpolation> {
-    crate::points::validate_points("reference points", dim, points)?;
+    crate::points::check_shape("reference points", dim, points)?;
     if *end == EndCondition::Repeat {
         return Err(Error::InvalidOption {
             option: "end condition",
@@ -180,8 +187,12 @@ pub fn interpolate_curve_at(
     }
     check_parameters(parameters, if closed { n + 1 } else { n })?;
     let points = &points[..n * dim];
-    Solver1d::new_single(parameters.to_vec(), end, Parametrization::ChordLength)?
-        .interpolate(points, dim)
+    let solver = Solver1d::new_single(
+        crate::points::par_to_vec(parameters),
+        end,
+        Parametrization::ChordLength,
+    )?;
+    solver.interpolate(points, dim, false)
 }
 
 /// `want` finite, strictly increasing parameters.
@@ -192,13 +203,16 @@ fn check_parameters(parameters: &[f64], want: usize) -> Result<()> {
             reason: "need one parameter per point (periodic: plus the closing one)",
         });
     }
-    if let Some(index) = parameters.iter().position(|t| !t.is_finite()) {
+    if let Some(index) = crate::points::first_non_finite(parameters) {
         return Err(Error::NonFinite {
             what: "parameter",
             index,
         });
     }
-    if let Some(i) = parameters.windows(2).position(|w| w[1] <= w[0]) {
+    let found = crate::points::first_index(parameters.len().saturating_sub(1), |i| {
+        parameters[i + 1] <= parameters[i]
+    });
+    if let Some(i) = found {
         return Err(Error::InvalidParameter {
             index: i + 1,
             reason: "parameters must be strictly increasing",
@@ -206,6 +220,10 @@ fn check_parameters(parameters: &[f64], want: usize) -> Result<()> {
     }
     Ok(())
 }
+
+/// Points from which [`CurveInterpolator::at`] solves in parallel chunks instead of by a
+/// stored factorization.
+const PARALLEL_SOLVE: usize = 1 << 16;
 
 /// A factored interpolation system for N points at fixed parameters with one end condition,
 /// solved for any number of point sets without refactoring or allocating: curves that share
@@ -263,8 +281,12 @@ impl CurveInterpolator {
         }
         check_parameters(parameters, parameters.len())?;
         let n = parameters.len() - usize::from(*end == EndCondition::Periodic);
+        // Large systems solve fastest in parallel chunks from their rows (a factorization
+        // would be swept sequentially).
+        let once = n >= PARALLEL_SOLVE;
+        let t = crate::points::par_to_vec(parameters);
         Ok(CurveInterpolator {
-            solver: Solver1d::new(parameters.to_vec(), end, Parametrization::ChordLength)?,
+            solver: Solver1d::build(t, end, Parametrization::ChordLength, once)?,
             n,
         })
     }
@@ -306,14 +328,7 @@ impl CurveInterpolator {
                 got: control.len(),
             });
         }
-        if !self.solver.solves_fused() {
-            crate::points::validate_points("reference points", dim, points)?;
-        }
-        self.solver.solve(points, dim, control).or_else(|e| {
-            // Non-finite output from the one-pass solve: name the point that caused it.
-            crate::points::validate_points("reference points", dim, points)?;
-            Err(e)
-        })
+        self.solver.solve_checked(points, dim, control, false)
     }
 }
 
@@ -347,10 +362,10 @@ pub(crate) fn parameters_from(
             .collect_into_vec(&mut t);
         return Ok(t);
     }
-    let mut t = Vec::with_capacity(count);
-    t.push(t0);
-    for i in 1..count {
-        let step = match kind {
+    // The steps in parallel, then their running sum (the same additions in the same order
+    // as a sequential loop: bit for bit).
+    let step = |i: usize| -> f64 {
+        match kind {
             Parametrization::Uniform => 1.0,
             Parametrization::ChordLength | Parametrization::Centripetal => {
                 let j = if i == n { 0 } else { i };
@@ -358,19 +373,29 @@ pub(crate) fn parameters_from(
                     &points[(i - 1) * dim..i * dim],
                     &points[j * dim..(j + 1) * dim],
                 );
-                if d == 0.0 {
-                    return Err(Error::RepeatedPoint { index: i - 1 });
-                }
                 if kind == Parametrization::Centripetal {
                     d.sqrt()
                 } else {
                     d
                 }
             }
-        };
-        t.push(t[i - 1] + step);
+        }
+    };
+    let mut t = vec![0.0; count];
+    const CHUNK: usize = 1 << 14;
+    t.par_chunks_mut(CHUNK).enumerate().for_each(|(k, part)| {
+        for (j, v) in part.iter_mut().enumerate() {
+            let i = k * CHUNK + j;
+            *v = if i == 0 { t0 } else { step(i) };
+        }
+    });
+    if let Some(i) = crate::points::first_index(count - 1, |i| t[i + 1] == 0.0) {
+        return Err(Error::RepeatedPoint { index: i });
     }
-    if let Some(index) = t.iter().position(|v| !v.is_finite()) {
+    for i in 1..count {
+        t[i] += t[i - 1];
+    }
+    if let Some(index) = crate::points::first_non_finite(&t) {
         return Err(Error::NonFinite {
             what: "parameter of reference point",
             index,
@@ -474,10 +499,16 @@ impl Solver1d {
         Self::build(t, end, param, true)
     }
 
-    /// Solves for `points` (N × dim) and moves the knots and parameters into the result.
-    pub fn interpolate(self, points: &[f64], dim: usize) -> Result<CurveInterpolation> {
+    /// Solves for `points` (N × dim) and moves the knots and parameters into the result
+    /// (`validated`: as [`Solver1d::solve_checked`]).
+    pub fn interpolate(
+        self,
+        points: &[f64],
+        dim: usize,
+        validated: bool,
+    ) -> Result<CurveInterpolation> {
         let mut control = vec![0.0; self.n_control() * dim];
-        self.solve(points, dim, &mut control)?;
+        self.solve_checked(points, dim, &mut control, validated)?;
         Ok(CurveInterpolation {
             curve: BsplineCurve::from_trusted(3, self.knots, dim, control),
             parameters: self.parameters,
@@ -661,7 +692,7 @@ impl Solver1d {
         let (sys, interp_scale) = match sys {
             Some(sys) => (Some(sys), interp_scale),
             None => {
-                let inner = |r: usize| interp_row(&knots, &t, r);
+                let inner = |r: usize| interp_row(&knots, r);
                 let (s0, s1) = end_rows();
                 (TridiagSystem::general(nc, inner, s0, s1), 1.0)
             }
@@ -758,10 +789,11 @@ impl Solver1d {
         ])
     }
 
-    /// Whether [`Solver1d::solve`] takes the one-pass Toeplitz path (which detects
-    /// non-finite input by its output instead of a pass of its own).
+    /// Whether [`Solver1d::solve`] takes a one-pass path (Toeplitz, or general solved once),
+    /// which detects non-finite input by its output instead of a pass of its own.
     pub fn solves_fused(&self) -> bool {
         matches!(&self.kind, Kind::Open { sys, .. } if sys.is_toeplitz())
+            || matches!(self.kind, Kind::OpenOnce { .. })
     }
 
     /// Whether [`Solver1d::solve_in_place`] applies: open systems whose end rows do not ask
@@ -793,6 +825,28 @@ impl Solver1d {
         check_solution(buf, dim)
     }
 
+    /// [`Solver1d::solve`] for points not known to be finite (`validated` false): the
+    /// one-pass paths detect non-finite input by their output and only then look for the
+    /// point to name; the others check the points first.
+    pub fn solve_checked(
+        &self,
+        points: &[f64],
+        dim: usize,
+        out: &mut [f64],
+        validated: bool,
+    ) -> Result<()> {
+        let validate = || crate::points::validate_points("reference points", dim, points);
+        if !validated && !self.solves_fused() {
+            validate()?;
+        }
+        self.solve(points, dim, out).or_else(|e| {
+            if !validated {
+                validate()?;
+            }
+            Err(e)
+        })
+    }
+
     /// Control points (row-major, `n_control() * dim`) interpolating `points` (N × dim).
     /// Errors: a given tangent of the wrong dimension or not finite.
     pub fn solve(&self, points: &[f64], dim: usize, out: &mut [f64]) -> Result<()> {
@@ -820,15 +874,15 @@ impl Solver1d {
             }
             Kind::OpenOnce { rows, .. } => {
                 let ends = self.open_ends(points, dim)?;
-                out[dim..(n + 1) * dim].copy_from_slice(points);
-                out[..dim].copy_from_slice(&ends[0]);
-                out[(n + 1) * dim..].copy_from_slice(&ends[1]);
-                let inner = |r: usize| interp_row(&self.knots, &self.parameters, r);
-                TridiagSystem::solve_general_once(
+                let inner = |r: usize| interp_row(&self.knots, r);
+                let finite = TridiagSystem::solve_general_into(
                     n + 2,
-                    inner,
+                    &inner,
                     rows[0].clone(),
                     rows[1].clone(),
+                    &ends[0],
+                    points,
+                    &ends[1],
                     out,
                     dim,
                 )
@@ -836,6 +890,9 @@ impl Solver1d {
                     operation: "banded solve",
                     reason: "the interpolation system is singular",
                 })?;
+                if finite {
+                    return Ok(());
+                }
             }
             Kind::Periodic { lu } => {
                 let mut p = points.to_vec();
@@ -884,18 +941,23 @@ fn check_solution(out: &[f64], dim: usize) -> Result<()> {
     }
 }
 
-/// Row r = i + 1 of an open system interpolates at t_i: the basis values on controls i, i+1,
-/// i+2 (the only ones non-zero at the knot t_i).
-fn interp_row(knots: &[f64], t: &[f64], r: usize) -> [f64; 3] {
-    let (i, n) = (r - 1, t.len());
-    let mut basis = [0.0; 4];
-    if i + 1 == n {
-        basis_funs(knots, n + 1, t[i], 3, &mut basis);
-        [basis[1], basis[2], basis[3]]
-    } else {
-        basis_funs(knots, 3 + i, t[i], 3, &mut basis);
-        [basis[0], basis[1], basis[2]]
-    }
+/// Row r = i + 1 of an open system interpolates at t_i = knots\[i + 3\]: the values there of
+/// the basis functions on controls i, i+1, i+2 (the only ones non-zero at a knot). In closed
+/// form from the knots k_(i+1)..k_(i+5) (one step of the Cox–de Boor recursion from the
+/// quadratic values at a knot), every term positive: the middle value is not 1 minus the
+/// others, which would cancel when it is small.
+#[inline(always)]
+fn interp_row(k: &[f64], r: usize) -> [f64; 3] {
+    let i = r - 1;
+    let (k1, k2, k3, k4, k5) = (k[i + 1], k[i + 2], k[i + 3], k[i + 4], k[i + 5]);
+    let (before, after) = (k3 - k2, k4 - k3);
+    let p = 1.0 / ((k4 - k1) * (k4 - k2));
+    let q = 1.0 / ((k5 - k2) * (k4 - k2));
+    [
+        after * after * p,
+        (k3 - k1) * after * p + (k5 - k3) * before * q,
+        before * before * q,
+    ]
 }
 
 /// Whether parameters are exactly equally spaced (all differences equal, as the integers of
@@ -914,10 +976,12 @@ fn is_uniform(t: &[f64]) -> bool {
 pub(crate) fn open_knots(t: &[f64]) -> Vec<f64> {
     let n = t.len();
     let (h0, h1) = (t[1] - t[0], t[n - 1] - t[n - 2]);
-    let mut knots = Vec::with_capacity(n + 6);
-    knots.extend((1..=3).rev().map(|k| t[0] - k as f64 * h0));
-    knots.extend_from_slice(t);
-    knots.extend((1..=3).map(|k| t[n - 1] + k as f64 * h1));
+    let mut knots = vec![0.0; n + 6];
+    for k in 1..=3 {
+        knots[3 - k] = t[0] - k as f64 * h0;
+        knots[n + 2 + k] = t[n - 1] + k as f64 * h1;
+    }
+    crate::points::par_copy(t, &mut knots[3..n + 3]);
     knots
 }
 

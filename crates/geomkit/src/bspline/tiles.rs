@@ -142,7 +142,7 @@ impl CurveTiler {
         };
         let (start_end, finish_end) = (end(lo == 0), end(hi == self.n));
         let t = parameters_from(points, d, self.options.parametrization, false, t_start)?;
-        let fit = Solver1d::new_mixed(t, &start_end, &finish_end)?.interpolate(points, d)?;
+        let fit = Solver1d::new_mixed(t, &start_end, &finish_end)?.interpolate(points, d, true)?;
         debug_assert_eq!(fit.curve.n_control(), local_n + 2);
         let (w0, w1) = (plan.write.start - lo, plan.write.end - lo);
         Ok(TileSolution {
