@@ -270,8 +270,11 @@ impl CurveInterpolator {
     }
 
     /// The system for points at `parameters` (N finite, strictly increasing values; N + 1
-    /// for periodic curves, the last closing the curve), as [`interpolate_curve_at`].
-    /// Errors: as [`interpolate_curve_at`].
+    /// for periodic curves, the last closing the curve), as [`interpolate_curve_at`]. Open
+    /// curves of 2^16 points or more keep no factorization: each solve rebuilds the rows
+    /// from the knots and sweeps them in parallel chunks (as [`interpolate_curve_at`] does),
+    /// which is faster than a stored factorization swept sequentially. Errors: as
+    /// [`interpolate_curve_at`].
     pub fn at(parameters: &[f64], end: &EndCondition) -> Result<Self> {
         if *end == EndCondition::Repeat {
             return Err(Error::InvalidOption {

@@ -13,6 +13,12 @@
 //! sweeps also run in parallel over chunks: the influence of a row decays like
 //! (2 - √3)^k = 0.268^k, so a chunk started [`HALO`] rows early from zero and ended
 //! [`HALO`] rows late equals the global sweeps to rounding (0.268^40 ≈ 1e-23).
+//!
+//! Other parameters (chord length, centripetal, given abscissae), solved once: a
+//! partitioned LU ([`TridiagSystem::solve_general_into`]) — cache-sized chunks swept in
+//! parallel by their own Thomas sweeps straight from the input, joined exactly by a reduced
+//! band system of two unknowns per chunk (no halo, no assumption on how fast the influence
+//! decays).
 
 use super::banded::BandMatrix;
 use rayon::prelude::*;
