@@ -381,6 +381,19 @@ impl TridiagSystem {
 }
 
 impl TridiagSystem {
+    /// The inverse pivots of a Toeplitz system by row (`caller` names the solve that needs
+    /// one).
+    fn toeplitz_inv(&self, caller: &str) -> impl Fn(usize) -> f64 + Sync + '_ {
+        let Tri::Toeplitz {
+            inv_pivot,
+            inv_limit,
+        } = &self.tri
+        else {
+            unreachable!("{caller} on a Toeplitz system only")
+        };
+        move |r| Self::inv(inv_pivot, *inv_limit, r)
+    }
+
     /// Whether T is the Toeplitz tridiag(1, 4, 1) ([`TridiagSystem::solve_scaled_into`]
     /// applies).
     pub fn is_toeplitz(&self) -> bool {
@@ -404,17 +417,10 @@ impl TridiagSystem {
         out: &mut [f64],
         cols: usize,
     ) -> bool {
-        let Tri::Toeplitz {
-            inv_pivot,
-            inv_limit,
-        } = &self.tri
-        else {
-            unreachable!("solve_scaled_into on a Toeplitz system only")
-        };
+        let inv = self.toeplitz_inv("solve_scaled_into");
         let n = self.n;
         debug_assert_eq!(interior.len(), (n - 2) * cols);
         debug_assert_eq!(out.len(), n * cols);
-        let inv = |r: usize| Self::inv(inv_pivot, *inv_limit, r);
         // Row r of b, scaled, into `row`.
         let rhs = |r: usize, row: &mut [f64]| {
             if r == 0 {
@@ -501,15 +507,8 @@ impl TridiagSystem {
         scale: f64,
         outs: &mut [&mut [f64]; B],
     ) -> bool {
-        let Tri::Toeplitz {
-            inv_pivot,
-            inv_limit,
-        } = &self.tri
-        else {
-            unreachable!("solve_rows_into on a Toeplitz system only")
-        };
+        let inv = self.toeplitz_inv("solve_rows_into");
         let n = self.n;
-        let inv = |r: usize| Self::inv(inv_pivot, *inv_limit, r);
         let mut y = firsts;
         for i in 0..B {
             outs[i][0] = y[i];
