@@ -799,8 +799,13 @@ impl Solver1d {
     }
 
     /// Whether the system is open with uniform parameters (the Toeplitz rows (1, 4, 1)/6).
-    pub fn is_toeplitz(&self) -> bool {
+    fn is_toeplitz(&self) -> bool {
         matches!(&self.kind, Kind::Open { sys, .. } if sys.is_toeplitz())
+    }
+
+    /// Whether [`Solver1d::solve_rows`] applies: open systems with a stored factorization.
+    pub fn solves_rows(&self) -> bool {
+        matches!(self.kind, Kind::Open { .. })
     }
 
     /// Whether [`Solver1d::solve_in_place`] applies: open systems whose end rows do not ask
@@ -833,7 +838,7 @@ impl Solver1d {
     }
 
     /// [`Solver1d::solve`] of B rows of one coordinate at once (a grid's rows), for
-    /// [`Solver1d::is_toeplitz`] systems: swept side by side, the same bits as one by one.
+    /// [`Solver1d::solves_rows`] systems: swept side by side, the same bits as one by one.
     /// Errors: as [`Solver1d::solve`].
     pub fn solve_rows<const B: usize>(
         &self,

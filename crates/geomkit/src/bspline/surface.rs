@@ -717,8 +717,8 @@ fn solve_grid_rows(
             .zip(grid.par_chunks(n * dim))
             .try_for_each(|(o, row)| sys.solve(row, dim, o));
     }
-    if dim == 1 && sys.is_toeplitz() {
-        // Heights on uniform parameters: blocks of rows swept side by side where they lie.
+    if dim == 1 && sys.solves_rows() {
+        // Heights: blocks of rows swept side by side where they lie.
         return out
             .par_chunks_mut(ROW_BLOCK * nc)
             .zip(grid.par_chunks(ROW_BLOCK * n))

@@ -492,13 +492,13 @@ impl TridiagSystem {
         finite && self.ends_finite(out, cols)
     }
 
-    /// [`TridiagSystem::solve_scaled_into`] for B right-hand sides of one column each that
-    /// live in separate rows (the rows of a grid), sequentially: the B rows are swept side by
-    /// side (B independent latency chains) without being transposed into one system. Row i
-    /// has the end values `firsts[i]`, `lasts[i]` and the interior `rows[i]` (n - 2 numbers,
-    /// scaled by `scale`), and its solution goes to `outs[i]` (n numbers). The same operations
-    /// as [`TridiagSystem::solve_scaled`] on the transposed rows: the same bits. Returns
-    /// whether every entry of the solutions is finite.
+    /// [`TridiagSystem::solve_scaled`] for B right-hand sides of one column each that live
+    /// in separate rows (the rows of a grid), sequentially: the B rows are swept side by side
+    /// (B independent latency chains) without being transposed into one system. Row i has
+    /// the end values `firsts[i]`, `lasts[i]` and the interior `rows[i]` (n - 2 numbers,
+    /// scaled by `scale`), and its solution goes to `outs[i]` (n numbers). The same
+    /// operations as [`TridiagSystem::solve_scaled`] on the transposed rows: the same bits.
+    /// Returns whether every entry of the solutions is finite.
     pub fn solve_rows_into<const B: usize>(
         &self,
         firsts: [f64; B],
@@ -507,38 +507,25 @@ impl TridiagSystem {
         scale: f64,
         outs: &mut [&mut [f64]; B],
     ) -> bool {
-        let inv = self.toeplitz_inv("solve_rows_into");
-        let n = self.n;
-        let mut y = firsts;
-        for i in 0..B {
-            outs[i][0] = y[i];
-        }
-        for r in 1..n - 1 {
-            let l = inv(r - 1);
-            for i in 0..B {
-                y[i] = scale * rows[i][r - 1] - l * y[i];
-                outs[i][r] = y[i];
+        let finite = match &self.tri {
+            Tri::Toeplitz { .. } => {
+                let inv = self.toeplitz_inv("solve_rows_into");
+                let sweeps = RowSweeps::<_, _, true> {
+                    forward: |r: usize| inv(r - 1),
+                    backward: |r: usize| [inv(r), 1.0],
+                };
+                sweeps.run(self.n, firsts, rows, lasts, scale, outs)
             }
-        }
-        let l = inv(n - 2);
-        for i in 0..B {
-            y[i] = lasts[i] - l * y[i];
-        }
-        let last = inv(n - 1);
-        let mut finite = true;
-        for i in 0..B {
-            y[i] *= last;
-            outs[i][n - 1] = y[i];
-            finite &= y[i].is_finite();
-        }
-        for r in (0..n - 1).rev() {
-            let iv = inv(r);
-            for i in 0..B {
-                y[i] = (outs[i][r] - y[i]) * iv;
-                outs[i][r] = y[i];
-                finite &= y[i].is_finite();
+            Tri::General { factors } => {
+                let sweeps = RowSweeps::<_, _, false> {
+                    forward: |r: usize| factors[r][0],
+                    backward: |r: usize| [factors[r][1], factors[r][2]],
+                };
+                sweeps.run(self.n, firsts, rows, lasts, scale, outs)
             }
-        }
+            Tri::Solved => unreachable!("a solved system has no factors"),
+        };
+        let mut finite = finite;
         for out in outs.iter_mut() {
             self.correct(out, 1);
             finite &= self.ends_finite(out, 1);
@@ -640,6 +627,62 @@ impl TridiagSystem {
         )?;
         sys.correct(out, cols);
         Some(finite && sys.ends_finite(out, cols))
+    }
+}
+
+/// The Thomas sweeps of [`TridiagSystem::solve_rows_into`]: `forward(r)` is row r's
+/// forward multiplier (r >= 1) and `backward(r)` = [1/d_r, u_r] its backward factors,
+/// applied as (y - x_(r+1)) / d_r when `UNIT_UPPER` (Toeplitz rows: u_r d_r = 1), else as
+/// y / d_r - u_r x_(r+1) — the operations of [`TridiagSystem::solve_t`].
+struct RowSweeps<F, G, const UNIT_UPPER: bool> {
+    forward: F,
+    backward: G,
+}
+
+impl<F: Fn(usize) -> f64, G: Fn(usize) -> [f64; 2], const UNIT_UPPER: bool>
+    RowSweeps<F, G, UNIT_UPPER>
+{
+    /// Sweeps the B rows side by side; whether the results before the Woodbury step are
+    /// finite.
+    fn run<const B: usize>(
+        &self,
+        n: usize,
+        firsts: [f64; B],
+        rows: [&[f64]; B],
+        lasts: [f64; B],
+        scale: f64,
+        outs: &mut [&mut [f64]; B],
+    ) -> bool {
+        let mut y = firsts;
+        for i in 0..B {
+            outs[i][0] = y[i];
+        }
+        for r in 1..n - 1 {
+            let m = (self.forward)(r);
+            for i in 0..B {
+                y[i] = scale * rows[i][r - 1] - m * y[i];
+                outs[i][r] = y[i];
+            }
+        }
+        let m = (self.forward)(n - 1);
+        for i in 0..B {
+            outs[i][n - 1] = lasts[i] - m * y[i];
+        }
+        let mut finite = true;
+        let mut x = [0.0; B];
+        for r in (0..n).rev() {
+            let [inv, u] = (self.backward)(r);
+            for i in 0..B {
+                x[i] = if UNIT_UPPER {
+                    (outs[i][r] - x[i]) * inv
+                } else {
+                    outs[i][r] * inv - u * x[i]
+                };
+                outs[i][r] = x[i];
+                finite &= x[i].is_finite();
+            }
+        }
+        finite
     }
 }
 
