@@ -7,7 +7,7 @@
 #
 # Creates bench/.venv (git-ignored) if missing and installs bench/requirements.txt into it
 # (again whenever that file changes), then runs bench/make_reference.py, which writes
-# bezier_reference.json and bspline_scipy.json (deterministic: same versions, same bytes).
+# bezier_reference.json and bspline_scipy.json (deterministic: same versions and CPU, same bytes).
 # The files are committed; the Rust tests (crates/geomkit/tests/reference_*.rs) read them
 # and never run Python. Environment: PYTHON (default python3) creates the venv.
 set -euo pipefail

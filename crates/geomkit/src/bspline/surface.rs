@@ -701,8 +701,9 @@ pub fn interpolate_surface_flat(
 
 /// Solves every row of a row-major grid (rows of `n` points of `dim`) into `out` (rows of
 /// `sys.n_control()` points), in parallel. Open systems solve blocks of [`ROW_BLOCK`] rows
-/// interleaved as one system with ROW_BLOCK·dim right-hand sides: the sweeps' latency
-/// chains then run side by side and vectorize.
+/// at once, so that the sweeps' latency chains run side by side: rows of one coordinate
+/// (heights) where they lie ([`Solver1d::solve_rows`]), rows of points interleaved as one
+/// system with ROW_BLOCK·dim right-hand sides.
 fn solve_grid_rows(
     sys: &Solver1d,
     grid: &[f64],
