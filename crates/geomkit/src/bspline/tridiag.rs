@@ -507,7 +507,7 @@ impl TridiagSystem {
         scale: f64,
         outs: &mut [&mut [f64]; B],
     ) -> bool {
-        let finite = match &self.tri {
+        let mut finite = match &self.tri {
             Tri::Toeplitz { .. } => {
                 let inv = self.toeplitz_inv("solve_rows_into");
                 let sweeps = RowSweeps::<_, _, true> {
@@ -525,7 +525,6 @@ impl TridiagSystem {
             }
             Tri::Solved => unreachable!("a solved system has no factors"),
         };
-        let mut finite = finite;
         for out in outs.iter_mut() {
             self.correct(out, 1);
             finite &= self.ends_finite(out, 1);
