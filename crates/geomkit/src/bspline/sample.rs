@@ -244,6 +244,34 @@ impl BsplineCurve {
             }
             return;
         }
+        if p == 3 {
+            // Non-uniform cubic: the derivatives' control points on the span (de Boor's
+            // differences), evaluated at its left knot k_s, where only the first two of the
+            // quadratic's and the first three of the cubic's basis functions are non-zero.
+            let k = &self.knots()[s - 2..s + 4];
+            let (h_prev, h) = (k[2] - k[1], k[3] - k[2]);
+            let inv_2 = 1.0 / (k[3] - k[1]);
+            let (n0, n2) = (
+                h * h * inv_2 / (k[3] - k[0]),
+                h_prev * h_prev * inv_2 / (k[4] - k[1]),
+            );
+            let n1 = (k[2] - k[0]) * h * inv_2 / (k[3] - k[0])
+                + (k[4] - k[2]) * h_prev * inv_2 / (k[4] - k[1]);
+            let q = |r: usize, c: usize| control[(s - 3 + r) * d + c];
+            for (c, o) in out.chunks_exact_mut(4).enumerate() {
+                let (p0, p1, p2, p3) = (q(0, c), q(1, c), q(2, c), q(3, c));
+                let d0 = 3.0 * (p1 - p0) / (k[3] - k[0]);
+                let d1 = 3.0 * (p2 - p1) / (k[4] - k[1]);
+                let d2 = 3.0 * (p3 - p2) / (k[5] - k[2]);
+                let e0 = 2.0 * (d1 - d0) * inv_2;
+                let e1 = 2.0 * (d2 - d1) / (k[4] - k[2]);
+                o[0] = n0 * p0 + n1 * p1 + n2 * p2;
+                o[1] = (h * d0 + h_prev * d1) * inv_2;
+                o[2] = e0 / 2.0;
+                o[3] = (e1 - e0) / (6.0 * h);
+            }
+            return;
+        }
         let ders = basis_funs_derivs(self.knots(), s, self.knots()[s], p, p);
         let mut factorial = 1.0;
         for (k, row) in ders[..=p].iter().enumerate() {
