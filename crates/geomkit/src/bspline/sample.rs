@@ -486,7 +486,9 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
     let inv_step = curve.uniform_step().map(|h| 1.0 / h);
     let n_c = curve.n_control();
     let mut spans = [0usize; BLOCK];
-    let mut touched = 0.0;
+    // Bits of what the touch phases read, folded by xor: one cycle each, where a sum of
+    // floats would chain four (and convert the table's integers first).
+    let mut touched = 0u64;
     let mut inv_span = loc.lo;
     let mut inverses = cubic_span_inverses(knots, inv_span);
     for (tb, ob) in ts.chunks(BLOCK).zip(out.chunks_mut(BLOCK * D)) {
@@ -501,7 +503,7 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
             None if !loc.table.is_empty() => {
                 for (s, &t) in spans.iter_mut().zip(tb) {
                     *s = loc.bucket(t);
-                    touched += f64::from(loc.table[*s]);
+                    touched ^= u64::from(loc.table[*s]);
                 }
                 for (s, &t) in spans.iter_mut().zip(tb) {
                     *s = loc.span_in_bucket(t, loc.table[*s]);
@@ -517,9 +519,9 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
         }
         // Touch the control points and knots each evaluation reads.
         for &s in spans.iter() {
-            touched += control[(s - 3) * D] + control[(s + 1) * D - 1];
+            touched ^= control[(s - 3) * D].to_bits() ^ control[(s + 1) * D - 1].to_bits();
             if inv_step.is_none() {
-                touched += knots[s - 2] + knots[s + 3];
+                touched ^= knots[s - 2].to_bits() ^ knots[s + 3].to_bits();
             }
         }
         for ((&s, &t), o) in spans.iter().zip(tb).zip(ob.chunks_exact_mut(D)) {
