@@ -717,8 +717,8 @@ def markdown(res, meta, cfg):
               f"({ff['threads']} threads)* | | {fmt_time(ff['seconds'])} | "
               f"{fmt_rate(ff['count'] / ff['seconds'])} | | | | | |")
     w("")
-    w("*vs geomkit direct*: the same output against `eval_many` (span by span de Boor) at "
-      "the same parameters. For `sample_uniform_fd` part of it is that the differences step "
+    w("*vs geomkit direct*: the same output against `eval_into` point by point (span by span "
+      "de Boor) at the same parameters. For `sample_uniform_fd` part of it is that the differences step "
       "by the exact h while the direct evaluation takes the rounded a + k·h (up to ulp(b)/2 "
       "in the parameter, times |c′|), but most of it is the differencing's own error, which "
       "grows with N even at exactly representable parameters (next table).")

@@ -355,6 +355,10 @@ fn batched_evaluation_equals_single_points() {
                         "dim {dim} {param:?} t={t}"
                     );
                 }
+                // The sequential batch runs the same kernels.
+                let mut seq = vec![0.0; ts.len() * dim];
+                fit.curve.eval_many(&ts, &mut seq).unwrap();
+                assert_eq!(seq, got, "dim {dim} {param:?}");
             }
         }
     }
@@ -385,6 +389,9 @@ fn batched_evaluation_on_uneven_knots() {
         for (t, g) in ts.iter().zip(got.chunks_exact(2)) {
             assert_eq!(g, curve.eval(*t).as_slice(), "t={t}");
         }
+        let mut seq = vec![0.0; ts.len() * 2];
+        curve.eval_many(&ts, &mut seq).unwrap();
+        assert_eq!(seq, got);
     }
 }
 

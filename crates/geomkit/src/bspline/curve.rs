@@ -452,6 +452,13 @@ impl ParamCurve for BsplineCurve {
     fn eval_into(&self, t: f64, out: &mut [f64]) {
         self.eval_span_into(self.span(t), t, out);
     }
+
+    /// The batch kernels of [`BsplineCurve::eval_many_par`] on the calling thread (spans
+    /// from the previous point's or a bucket table, blocks of 64): the values of
+    /// [`ParamCurve::eval_into`], bit for bit.
+    fn eval_many(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
+        self.eval_many_seq(ts, out)
+    }
 }
 
 #[cfg(test)]

@@ -297,16 +297,30 @@ impl BsplineCurve {
         let d = self.dim();
         check_eval_args("parameter", ts, ts.len(), d, out)?;
         let locator = Locator::new(self, ts.len());
-        let kernel: fn(&BsplineCurve, &Locator, &[f64], &mut [f64]) = match (self.degree(), d) {
-            (3, 1) => eval_cubic_best::<1>,
-            (3, 2) => eval_cubic_best::<2>,
-            (3, 3) => eval_cubic_best::<3>,
-            _ => eval_general,
-        };
+        let kernel = self.batch_kernel();
         out.par_chunks_mut(4096 * d)
             .zip(ts.par_chunks(4096))
             .for_each(|(o, t)| kernel(self, &locator, t, o));
         Ok(())
+    }
+
+    /// [`BsplineCurve::eval_many_par`] on the calling thread (the curve's
+    /// [`ParamCurve::eval_many`]): the same kernels, the same bits.
+    pub(crate) fn eval_many_seq(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
+        check_eval_args("parameter", ts, ts.len(), self.dim(), out)?;
+        let locator = Locator::new(self, ts.len());
+        (self.batch_kernel())(self, &locator, ts, out);
+        Ok(())
+    }
+
+    /// The batch kernel for the curve's degree and dimension.
+    fn batch_kernel(&self) -> fn(&BsplineCurve, &Locator, &[f64], &mut [f64]) {
+        match (self.degree(), self.dim()) {
+            (3, 1) => eval_cubic_best::<1>,
+            (3, 2) => eval_cubic_best::<2>,
+            (3, 3) => eval_cubic_best::<3>,
+            _ => eval_general,
+        }
     }
 }
 
