@@ -115,6 +115,23 @@ pub(crate) fn cubic_span_inverses(knots: &[f64], s: usize) -> [f64; 6] {
     ]
 }
 
+/// The cubic basis functions on controls i, i+1, i+2 at the knot k_(i+3) (the only ones
+/// non-zero there), in closed form from k_(i+1)..k_(i+5): one step of the Cox–de Boor
+/// recursion from the quadratic values at a knot, every term positive (the middle value is
+/// not 1 minus the others, which would cancel when it is small).
+#[inline(always)]
+pub(crate) fn cubic_basis_at_knot(k: &[f64], i: usize) -> [f64; 3] {
+    let (k1, k2, k3, k4, k5) = (k[i + 1], k[i + 2], k[i + 3], k[i + 4], k[i + 5]);
+    let (before, after) = (k3 - k2, k4 - k3);
+    let p = 1.0 / ((k4 - k1) * (k4 - k2));
+    let q = 1.0 / ((k5 - k2) * (k4 - k2));
+    [
+        after * after * p,
+        (k3 - k1) * after * p + (k5 - k3) * before * q,
+        before * before * q,
+    ]
+}
+
 /// The cubic basis on span s at t (NURBS Book A2.2 unrolled) given the span's
 /// [`cubic_span_inverses`].
 #[inline(always)]

@@ -24,7 +24,7 @@
 //! ```
 
 use super::banded::{BandLu, BandMatrix, CyclicLu};
-use super::curve::{basis_funs, basis_funs_derivs, BsplineCurve};
+use super::curve::{basis_funs, basis_funs_derivs, cubic_basis_at_knot, BsplineCurve};
 use super::tridiag::TridiagSystem;
 use crate::points::flatten_points;
 use crate::{Error, Result};
@@ -979,23 +979,11 @@ fn check_solution(out: &[f64], dim: usize) -> Result<()> {
     }
 }
 
-/// Row r = i + 1 of an open system interpolates at t_i = knots\[i + 3\]: the values there of
-/// the basis functions on controls i, i+1, i+2 (the only ones non-zero at a knot). In closed
-/// form from the knots k_(i+1)..k_(i+5) (one step of the Cox–de Boor recursion from the
-/// quadratic values at a knot), every term positive: the middle value is not 1 minus the
-/// others, which would cancel when it is small.
+/// Row r = i + 1 of an open system interpolates at t_i = knots\[i + 3\]: the basis values
+/// there on controls i, i+1, i+2.
 #[inline(always)]
 fn interp_row(k: &[f64], r: usize) -> [f64; 3] {
-    let i = r - 1;
-    let (k1, k2, k3, k4, k5) = (k[i + 1], k[i + 2], k[i + 3], k[i + 4], k[i + 5]);
-    let (before, after) = (k3 - k2, k4 - k3);
-    let p = 1.0 / ((k4 - k1) * (k4 - k2));
-    let q = 1.0 / ((k5 - k2) * (k4 - k2));
-    [
-        after * after * p,
-        (k3 - k1) * after * p + (k5 - k3) * before * q,
-        before * before * q,
-    ]
+    cubic_basis_at_knot(k, r - 1)
 }
 
 /// Whether parameters are exactly equally spaced (all differences equal, as the integers of

@@ -9,8 +9,8 @@
 //! keeps j below the samples per span.
 
 use super::curve::{
-    basis_funs_cubic_with, basis_funs_derivs, cubic_span_inverses, domain_spans, find_span,
-    uniform_cubic_basis, uniform_span, BsplineCurve,
+    basis_funs_cubic_with, basis_funs_derivs, cubic_basis_at_knot, cubic_span_inverses,
+    domain_spans, find_span, uniform_cubic_basis, uniform_span, BsplineCurve,
 };
 use crate::bezier::ParamCurve;
 use crate::points::check_eval_args;
@@ -245,18 +245,13 @@ impl BsplineCurve {
             return;
         }
         if p == 3 {
-            // Non-uniform cubic: the derivatives' control points on the span (de Boor's
-            // differences), evaluated at its left knot k_s, where only the first two of the
-            // quadratic's and the first three of the cubic's basis functions are non-zero.
+            // Non-uniform cubic: the value from the basis at the span's left knot k_s, the
+            // derivatives from their control points on the span (de Boor's differences)
+            // there, where the quadratic's first two basis functions are the non-zero ones.
             let k = &self.knots()[s - 2..s + 4];
             let (h_prev, h) = (k[2] - k[1], k[3] - k[2]);
             let inv_2 = 1.0 / (k[3] - k[1]);
-            let (n0, n2) = (
-                h * h * inv_2 / (k[3] - k[0]),
-                h_prev * h_prev * inv_2 / (k[4] - k[1]),
-            );
-            let n1 = (k[2] - k[0]) * h * inv_2 / (k[3] - k[0])
-                + (k[4] - k[2]) * h_prev * inv_2 / (k[4] - k[1]);
+            let [n0, n1, n2] = cubic_basis_at_knot(self.knots(), s - 3);
             let q = |r: usize, c: usize| control[(s - 3 + r) * d + c];
             for (c, o) in out.chunks_exact_mut(4).enumerate() {
                 let (p0, p1, p2, p3) = (q(0, c), q(1, c), q(2, c), q(3, c));

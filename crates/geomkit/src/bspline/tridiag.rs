@@ -1076,7 +1076,12 @@ mod tests {
             [a, 1.0 - a - c, c]
         };
         let d4 = vec![-1.0, 4.0, -6.0, 4.0, -1.0];
-        for (n, cols) in [(3 * FUSED_CHUNK + 5, 3usize), (2 * FUSED_CHUNK + 1, 1)] {
+        // Columns 3 and 1 take unrolled sweeps, 5 the general ones.
+        for (n, cols) in [
+            (3 * FUSED_CHUNK + 5, 3usize),
+            (2 * FUSED_CHUNK + 1, 1),
+            (FUSED_CHUNK + 7, 5),
+        ] {
             let sys =
                 TridiagSystem::general(n, uneven, (0, d4.clone()), (n - 5, d4.clone())).unwrap();
             let b: Vec<f64> = (0..n * cols).map(|i| ((i as f64) * 0.37).cos()).collect();
