@@ -78,7 +78,8 @@ impl Tape {
     /// # Errors
     /// [`ExprError::UnknownVariable`] if a root uses a variable not in `vars`,
     /// [`ExprError::DuplicateVariable`], [`ExprError::DivisionByZero`] (division by an exact
-    /// zero), [`ExprError::NonFiniteConstant`].
+    /// zero constant; a folded sub-expression that is 0 divides as `f64`, as in
+    /// [`Graph::eval`]), [`ExprError::NonFiniteConstant`].
     pub fn new(g: &Graph, roots: &[Id], vars: &[&str]) -> Result<Self> {
         for (i, v) in vars.iter().enumerate() {
             if vars[..i].contains(v) {
@@ -191,7 +192,9 @@ impl Tape {
                     for &(b, e) in fs.iter() {
                         match val[pos[&b]] {
                             Val::Imm(x) => {
-                                if x == 0.0 && e < 0 {
+                                // As Graph::eval: an exact-zero constant divisor is an error,
+                                // a folded sub-expression that happens to be 0 follows f64.
+                                if e < 0 && matches!(g.node(b), Node::Const(z) if z.is_zero()) {
                                     return Err(ExprError::DivisionByZero);
                                 }
                                 coef *= x.powi(e);
