@@ -250,9 +250,9 @@ pub(crate) fn uniform_cubic_basis(u: f64, out: &mut [f64]) {
 #[inline]
 pub(crate) fn uniform_span(k0: f64, inv_h: f64, p: usize, n_c: usize, x: f64) -> usize {
     // Clamped to [p, n_c - 1] >= 0 first, truncation is floor (and needs no libm call);
-    // NaN converts to 0.
+    // NaN converts to 0. Through i64: a conversion to unsigned costs twice as much on x86.
     let s = ((x - k0) * inv_h).clamp(p as f64, (n_c - 1) as f64);
-    (s as usize).max(p)
+    (s as i64 as usize).max(p)
 }
 
 /// The spacing h of uniform knots, or `None`. Uniform means within 4 ulps *of h* of

@@ -15,6 +15,7 @@
 mod banded;
 mod curve;
 mod interpolate;
+mod locate;
 mod sample;
 mod surface;
 mod tiles;

@@ -10,8 +10,9 @@
 
 use super::curve::{
     basis_funs_cubic_with, basis_funs_derivs, cubic_basis_at_knot, cubic_span_inverses,
-    domain_spans, find_span, uniform_cubic_basis, uniform_span, BsplineCurve,
+    uniform_cubic_basis, uniform_span, BsplineCurve,
 };
+use super::locate::Locator;
 use crate::bezier::ParamCurve;
 use crate::points::check_eval_args;
 use crate::{Error, Result};
@@ -291,7 +292,7 @@ impl BsplineCurve {
     pub fn eval_many_par(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim();
         check_eval_args("parameter", ts, ts.len(), d, out)?;
-        let locator = Locator::new(self, ts.len());
+        let locator = self.locator(ts.len());
         let kernel = self.batch_kernel();
         out.par_chunks_mut(4096 * d)
             .zip(ts.par_chunks(4096))
@@ -303,9 +304,21 @@ impl BsplineCurve {
     /// [`ParamCurve::eval_many`]): the same kernels, the same bits.
     pub(crate) fn eval_many_seq(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         check_eval_args("parameter", ts, ts.len(), self.dim(), out)?;
-        let locator = Locator::new(self, ts.len());
+        let locator = self.locator(ts.len());
         (self.batch_kernel())(self, &locator, ts, out);
         Ok(())
+    }
+
+    /// The span locator for a batch of `count` parameters.
+    fn locator(&self, count: usize) -> Locator<'_> {
+        let inv_step = self.uniform_step().map(|h| 1.0 / h);
+        Locator::new(
+            self.knots(),
+            self.degree(),
+            self.n_control(),
+            inv_step,
+            count,
+        )
     }
 
     /// The batch kernel for the curve's degree and dimension.
@@ -334,121 +347,6 @@ fn fd_steps<const D: usize>(state: &[f64], out: &mut [f64]) {
             s[1] += s[2];
             s[2] += s[3];
         }
-    }
-}
-
-/// Finds knot spans for batches of parameters.
-///
-/// Non-uniform knots and large batches use a bucket table over the domain: t falls in bucket
-/// b = floor((t - start)·inv_width), which is monotone in t, so every interior knot in an
-/// earlier bucket is <= t and every knot in a later one > t. A bucket stores the span that
-/// count gives and how many knots it holds itself (usually at most one): the span is then
-/// one comparison away, without a branch that unsorted parameters would mispredict, and
-/// equal to [`find_span`]'s.
-struct Locator<'a> {
-    knots: &'a [f64],
-    /// First and last span of the domain.
-    lo: usize,
-    hi: usize,
-    /// Uniform knots: the span by one multiplication (`BsplineCurve::span`).
-    uniform: bool,
-    /// The buckets (empty: no table): base span | knots in the bucket << [`COUNT_SHIFT`]
-    /// (saturated at [`MANY`]).
-    table: Vec<u32>,
-    start: f64,
-    inv_width: f64,
-}
-
-/// Where a bucket's knot count sits in its table entry (spans must fit below).
-const COUNT_SHIFT: u32 = 28;
-/// Saturated knot count: search on from the base span.
-const MANY: u32 = 15;
-
-impl<'a> Locator<'a> {
-    fn new(curve: &'a BsplineCurve, count: usize) -> Self {
-        let knots = curve.knots();
-        let (lo, hi) = domain_spans(knots, curve.degree(), curve.n_control());
-        let mut loc = Locator {
-            knots,
-            lo,
-            hi,
-            uniform: curve.uniform_step().is_some(),
-            table: Vec::new(),
-            start: knots[lo],
-            inv_width: 0.0,
-        };
-        let spans = hi - lo + 1;
-        // Building the table costs O(spans): worth it from batches of spans/8 points on.
-        if loc.uniform || count < 1024 || spans < 16 || 8 * count < spans || hi >= 1 << COUNT_SHIFT
-        {
-            return loc;
-        }
-        // Twice as many buckets as spans (fewer for small batches): most buckets then hold
-        // at most one knot even where the spans are uneven.
-        let buckets = (2 * spans).min(4 * count);
-        let (a, b) = (knots[lo], knots[hi + 1]);
-        loc.inv_width = buckets as f64 / (b - a);
-        loc.table = vec![0; buckets];
-        for j in lo + 1..=hi {
-            let b = loc.bucket(knots[j]);
-            loc.table[b] += 1;
-        }
-        let mut base = lo as u32;
-        for e in &mut loc.table {
-            let here = *e;
-            *e = base | (here.min(MANY) << COUNT_SHIFT);
-            base += here;
-        }
-        loc
-    }
-
-    /// The bucket of t (clamped to the table).
-    #[inline]
-    fn bucket(&self, t: f64) -> usize {
-        // Clamped first, truncation is floor; NaN converts to 0.
-        let b = ((t - self.start) * self.inv_width).clamp(0.0, (self.table.len() - 1) as f64);
-        b as usize
-    }
-
-    /// The span holding t (clamped to the domain) from its bucket's table entry `e`.
-    #[inline]
-    fn span_in_bucket(&self, t: f64, e: u32) -> usize {
-        let k = self.knots;
-        let base = (e & ((1 << COUNT_SHIFT) - 1)) as usize;
-        match e >> COUNT_SHIFT {
-            0 => base,
-            1 => base + usize::from(t >= k[base + 1]),
-            _ => {
-                let mut s = base;
-                while s < self.hi && t >= k[s + 1] {
-                    s += 1;
-                }
-                s
-            }
-        }
-    }
-
-    /// The span holding t (clamped to the domain), trying `hint` first when there is no
-    /// bucket table.
-    #[inline]
-    fn span(&self, curve: &BsplineCurve, t: f64, hint: usize) -> usize {
-        if self.uniform {
-            return curve.span(t);
-        }
-        if !self.table.is_empty() {
-            return self.span_in_bucket(t, self.table[self.bucket(t)]);
-        }
-        if self.holds(hint, t) {
-            return hint;
-        }
-        find_span(self.knots, self.lo, self.hi + 1, t)
-    }
-
-    /// Whether span s holds t (the first and last span extend to ±∞).
-    #[inline]
-    fn holds(&self, s: usize, t: f64) -> bool {
-        let k = self.knots;
-        (s == self.lo || k[s] <= t) && (s == self.hi || t < k[s + 1])
     }
 }
 
@@ -521,7 +419,7 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
             None => {
                 let mut hint = loc.lo;
                 for (s, &t) in spans.iter_mut().zip(tb) {
-                    *s = loc.span(curve, t, hint);
+                    *s = loc.span(t, hint);
                     hint = *s;
                 }
             }
@@ -563,7 +461,7 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
 fn eval_general(curve: &BsplineCurve, loc: &Locator, ts: &[f64], out: &mut [f64]) {
     let mut hint = loc.lo;
     for (&t, o) in ts.iter().zip(out.chunks_exact_mut(curve.dim())) {
-        let s = loc.span(curve, t, hint);
+        let s = loc.span(t, hint);
         hint = s;
         curve.eval_span_into(s, t, o);
     }

@@ -22,6 +22,8 @@ use crate::points::{check_eval_args, check_knots, flatten_grid, unit_normal, val
 use crate::{Error, Result};
 use rayon::prelude::*;
 
+mod batch;
+
 /// A tensor-product B-spline surface S(u, v) = Σ_i Σ_j N_i(u) N_j(v) c_ij of degrees (p, q),
 /// control net c_ij at (i * n_v + j) * dim.
 #[derive(Debug, Clone, PartialEq)]
@@ -155,9 +157,16 @@ impl BsplineSurface {
 
     /// Writes S(u, v) into `out` (length dim).
     pub fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
+        let su = axis_span(&self.knots_u, self.degree.0, self.n_u, self.inv_steps.0, u);
+        let sv = axis_span(&self.knots_v, self.degree.1, self.n_v, self.inv_steps.1, v);
+        self.eval_spans_into(su, sv, u, v, out);
+    }
+
+    /// [`BsplineSurface::eval_into`] on the spans su, sv that hold u and v.
+    fn eval_spans_into(&self, su: usize, sv: usize, u: f64, v: f64, out: &mut [f64]) {
         let (p, q) = self.degree;
-        let (su, bu) = self.basis_u(u);
-        let (sv, bv) = self.basis_v(v);
+        let bu = axis_basis_on(&self.knots_u, p, self.inv_steps.0, su, u);
+        let bv = axis_basis_on(&self.knots_v, q, self.inv_steps.1, sv, v);
         out.iter_mut().for_each(|o| *o = 0.0);
         let d = self.dim;
         for a in 0..=p {
@@ -269,171 +278,6 @@ impl BsplineSurface {
                     }
                 },
             );
-    }
-
-    /// Evaluates at scattered points (us\[k\], vs\[k\]) into `out` (row-major, `dim` per point),
-    /// in parallel; uniform knots locate spans by one division. Large batches on nets larger
-    /// than the caches are first grouped by their span in u (a counting sort), so that the
-    /// points of one span read the same few rows of the net: the net then streams through
-    /// the cache once instead of every point missing it (and the TLB) several times. Each
-    /// point gives the same value either way. Errors: `us` and `vs` of different lengths,
-    /// wrong buffer length, non-finite parameters.
-    ///
-    /// ```
-    /// use geomkit::bspline::{interpolate_heights, EndCondition};
-    /// let z: Vec<f64> = (0..20).map(|k| ((k / 5) * (k % 5)) as f64).collect();
-    /// let s = interpolate_heights(&z, 4, 5, (0.0, 0.0), (1.0, 1.0), &EndCondition::NotAKnot).unwrap();
-    /// let mut out = [0.0; 2];
-    /// s.eval_many_par(&[1.0, 2.5], &[3.0, 0.5], &mut out).unwrap();
-    /// assert!((out[0] - 3.0).abs() < 1e-12 && (out[1] - 1.25).abs() < 1e-12);
-    /// ```
-    pub fn eval_many_par(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
-        let d = self.dim;
-        if us.len() != vs.len() {
-            return Err(Error::BufferSize {
-                expected: us.len(),
-                got: vs.len(),
-            });
-        }
-        check_eval_args("parameter u", us, us.len(), d, out)?;
-        check_eval_args("parameter v", vs, vs.len(), d, out)?;
-        let net_bytes = self.control.len() * std::mem::size_of::<f64>();
-        // Reading ahead every row of the net pays when each span in u has enough points.
-        if us.len() >= GROUPED_MIN_POINTS
-            && us.len() >= 32 * self.n_u
-            && net_bytes >= GROUPED_MIN_NET_BYTES
-            && u32::try_from(us.len()).is_ok()
-        {
-            self.eval_grouped(us, vs, out);
-            return Ok(());
-        }
-        out.par_chunks_mut(4096 * d)
-            .zip(us.par_chunks(4096).zip(vs.par_chunks(4096)))
-            .for_each(|(o, (us, vs))| {
-                for ((o, &u), &v) in o.chunks_exact_mut(d).zip(us).zip(vs) {
-                    self.eval_point(u, v, o);
-                }
-            });
-        Ok(())
-    }
-
-    /// One point of [`BsplineSurface::eval_many_par`]: bicubic height surfaces contract each
-    /// row of four first; the rest is [`BsplineSurface::eval_into`].
-    #[inline]
-    fn eval_point(&self, u: f64, v: f64, o: &mut [f64]) {
-        if (self.degree, self.dim) != ((3, 3), 1) {
-            return self.eval_into(u, v, o);
-        }
-        let (su, bu) = self.basis_u(u);
-        let (sv, bv) = self.basis_v(v);
-        let mut acc = 0.0;
-        for (a, w) in bu[..4].iter().enumerate() {
-            let k = (su - 3 + a) * self.n_v + sv - 3;
-            let r = &self.control[k..k + 4];
-            acc += w * (bv[0] * r[0] + bv[1] * r[1] + bv[2] * r[2] + bv[3] * r[3]);
-        }
-        o[0] = acc;
-    }
-
-    /// [`BsplineSurface::eval_many_par`] for large batches: the points grouped by their span
-    /// in u (a parallel counting sort into a buffer of (u, v) pairs), then evaluated in span
-    /// order in parallel runs, each run reading ahead the net rows its spans need (in order,
-    /// which the hardware prefetches) before evaluating their points; finally every point
-    /// picks its result up from where its pair was sorted to.
-    fn eval_grouped(&self, us: &[f64], vs: &[f64], out: &mut [f64]) {
-        let d = self.dim;
-        let p = self.degree.0;
-        let bands = self.n_u - p;
-        let n = us.len();
-        let chunk = n.div_ceil(4 * rayon::current_num_threads()).max(1);
-        let band = |u: f64| self.basis_u_span(u) - p;
-        // Points per band in each input chunk, then where each chunk's points of each band go.
-        let counts: Vec<Vec<u32>> = us
-            .par_chunks(chunk)
-            .map(|c| {
-                let mut h = vec![0u32; bands];
-                for &u in c {
-                    h[band(u)] += 1;
-                }
-                h
-            })
-            .collect();
-        let mut sorted = vec![[0.0f64; 2]; n];
-        let mut pos = vec![0u32; n];
-        {
-            // Split `sorted` into one slice per (band, chunk), handed to the chunks.
-            let mut per_chunk: Vec<Vec<&mut [[f64; 2]]>> = (0..counts.len())
-                .map(|_| Vec::with_capacity(bands))
-                .collect();
-            let mut starts: Vec<Vec<u32>> = vec![Vec::with_capacity(bands); counts.len()];
-            let mut rest: &mut [[f64; 2]] = &mut sorted;
-            let mut at = 0u32;
-            for b in 0..bands {
-                for (c, h) in counts.iter().enumerate() {
-                    let (here, tail) = std::mem::take(&mut rest).split_at_mut(h[b] as usize);
-                    per_chunk[c].push(here);
-                    starts[c].push(at);
-                    at += h[b];
-                    rest = tail;
-                }
-            }
-            per_chunk
-                .into_par_iter()
-                .zip(starts.into_par_iter())
-                .zip(
-                    us.par_chunks(chunk)
-                        .zip(vs.par_chunks(chunk))
-                        .zip(pos.par_chunks_mut(chunk)),
-                )
-                .for_each(|((mut slices, starts), ((us, vs), pos))| {
-                    let mut used = vec![0usize; bands];
-                    for ((&u, &v), pos) in us.iter().zip(vs).zip(pos) {
-                        let b = band(u);
-                        slices[b][used[b]] = [u, v];
-                        *pos = starts[b] + used[b] as u32;
-                        used[b] += 1;
-                    }
-                });
-        }
-        let mut results = vec![0.0; n * d];
-        let per = n.div_ceil(8 * rayon::current_num_threads()).max(1);
-        sorted
-            .par_chunks(per)
-            .zip(results.par_chunks_mut(per * d))
-            .for_each(|(run, vals)| {
-                let row = self.n_v * d;
-                let mut next_row = 0;
-                let mut touched = 0.0;
-                for (&[u, v], o) in run.iter().zip(vals.chunks_exact_mut(d)) {
-                    // Rows su - p ..= su of the net, read ahead one cache line in eight.
-                    let su = self.basis_u_span(u);
-                    for r in next_row.max(su - p)..=su {
-                        touched += self.control[r * row..(r + 1) * row]
-                            .iter()
-                            .step_by(8)
-                            .sum::<f64>();
-                    }
-                    next_row = next_row.max(su + 1);
-                    self.eval_point(u, v, o);
-                }
-                std::hint::black_box(touched);
-            });
-        out.par_chunks_mut(chunk * d)
-            .zip(pos.par_chunks(chunk))
-            .for_each(|(o, pos)| {
-                for (o, &k) in o.chunks_exact_mut(d).zip(pos) {
-                    let r = &results[k as usize * d..];
-                    for (x, y) in o.iter_mut().zip(r) {
-                        *x = *y;
-                    }
-                }
-            });
-    }
-
-    /// The span in u holding u (as [`BsplineSurface::basis_u`] finds it).
-    #[inline]
-    fn basis_u_span(&self, u: f64) -> usize {
-        axis_span(&self.knots_u, self.degree.0, self.n_u, self.inv_steps.0, u)
     }
 
     /// The unit normal of a surface in R^3 (Su × Sv normalized); `Ok(None)` where it is
@@ -769,12 +613,6 @@ fn solve_grid_rows(
 /// Rows solved together by [`solve_grid_rows`].
 const ROW_BLOCK: usize = 8;
 
-/// Scattered batches from this many points on are grouped by span
-/// ([`BsplineSurface::eval_many_par`]).
-const GROUPED_MIN_POINTS: usize = 1 << 14;
-/// ... on nets of at least this size (smaller ones stay in the caches anyway).
-const GROUPED_MIN_NET_BYTES: usize = 4 << 20;
-
 /// The span holding x and the basis functions on it, along one direction.
 #[inline(always)]
 fn axis_basis(
@@ -784,13 +622,19 @@ fn axis_basis(
     inv_step: Option<f64>,
     x: f64,
 ) -> (usize, [f64; 8]) {
-    let mut b = [0.0; 8];
     let s = axis_span(knots, p, n, inv_step, x);
+    (s, axis_basis_on(knots, p, inv_step, s, x))
+}
+
+/// The basis functions of [`axis_basis`] on span s.
+#[inline(always)]
+fn axis_basis_on(knots: &[f64], p: usize, inv_step: Option<f64>, s: usize, x: f64) -> [f64; 8] {
+    let mut b = [0.0; 8];
     match (inv_step, p) {
         (Some(inv), 3) => uniform_cubic_basis((x - knots[s]) * inv, &mut b[..4]),
         _ => basis_funs(knots, s, x, p, &mut b[..=p]),
     }
-    (s, b)
+    b
 }
 
 /// The span of [`axis_basis`] (one multiplication on uniform cubic knots).

@@ -1,0 +1,470 @@
+//! Scattered evaluation of surfaces in batches ([`BsplineSurface::eval_many_par`]).
+//!
+//! Points go through a kernel in blocks of [`BLOCK`]: first the knot spans of all of them in
+//! u and in v, then the memory every evaluation will read is touched (so that cache misses
+//! overlap instead of queueing one per point), then the basis values of the whole block,
+//! direction by direction, lane by lane (vectorized: the six reciprocals of the cubic
+//! Cox–de Boor recursion on non-uniform knots cost no more than a uniform basis), and last
+//! the contraction with the net. Large batches on nets larger than the caches are first
+//! grouped by blocks of spans in u ([`BsplineSurface::eval_grouped`]), and the net rows a
+//! group needs are then read in order, once.
+
+use super::BsplineSurface;
+use crate::bspline::curve::{basis_funs_cubic_with, cubic_span_inverses, uniform_cubic_basis};
+use crate::bspline::locate::Locator;
+use rayon::prelude::*;
+
+/// Points per kernel block.
+const BLOCK: usize = 64;
+
+/// Scattered points on nets larger than this (a core's L2 cache) touch what they read
+/// before evaluating.
+const PIECES_MIN_NET_BYTES: usize = 512 << 10;
+/// Scattered batches from this many points on are grouped by span.
+const GROUPED_MIN_POINTS: usize = 1 << 14;
+/// ... on nets of at least this size (smaller ones stay in the caches anyway).
+const GROUPED_MIN_NET_BYTES: usize = 4 << 20;
+/// ... and the net rows of one group of spans take about this much: well inside a core's
+/// L2 cache with the points and the tables beside them, so that a group of points reads
+/// only cached rows, and few enough groups that sorting points into them streams.
+const GROUP_BYTES: usize = 256 << 10;
+/// Points sorted together by group, in their own region (16 bytes each).
+const SORT_CHUNK: usize = 1 << 15;
+
+/// The knot spans and cubic basis values of a block of parameters along one direction
+/// (structure of arrays, lane i for the block's point i), kept from block to block of a run
+/// (filling them afresh would cost more than the evaluation).
+struct CubicLanes {
+    x: [f64; BLOCK],
+    span: [usize; BLOCK],
+    basis: [[f64; BLOCK]; 4],
+    /// The knots of each lane's span that its basis reads.
+    window: [[f64; BLOCK]; 6],
+}
+
+impl CubicLanes {
+    fn new() -> Self {
+        CubicLanes {
+            x: [0.0; BLOCK],
+            span: [0; BLOCK],
+            basis: [[0.0; BLOCK]; 4],
+            window: [[0.0; BLOCK]; 6],
+        }
+    }
+
+    /// The spans of the first `n` lanes, bucket table entries read first so that their
+    /// misses overlap; `touched` folds what was read.
+    #[inline(always)]
+    fn locate(&mut self, loc: &Locator, n: usize, touched: &mut u64) {
+        let (xs, spans) = (&self.x[..n], &mut self.span[..n]);
+        if loc.inv_step.is_none() && !loc.table.is_empty() {
+            for (s, &x) in spans.iter_mut().zip(xs) {
+                *s = loc.bucket(x);
+                *touched ^= u64::from(loc.table[*s]);
+            }
+            for (s, &x) in spans.iter_mut().zip(xs) {
+                *s = loc.span_in_bucket(x, loc.table[*s]);
+            }
+        } else {
+            let mut hint = loc.lo;
+            for (s, &x) in spans.iter_mut().zip(xs) {
+                *s = loc.span(x, hint);
+                hint = *s;
+            }
+        }
+    }
+
+    /// The cubic basis values of the first `n` lanes on their spans: the operations of
+    /// [`uniform_cubic_basis`] or [`basis_funs_cubic_with`], so the same bits, lane by lane.
+    #[inline(always)]
+    fn basis(&mut self, loc: &Locator, n: usize) {
+        let k = loc.knots;
+        // Whole blocks vectorize best: the lanes past n repeat lane n - 1.
+        for i in n..BLOCK {
+            self.x[i] = self.x[n - 1];
+            self.span[i] = self.span[n - 1];
+        }
+        match loc.inv_step {
+            Some(inv) => {
+                for (w, &s) in self.window[0].iter_mut().zip(&self.span) {
+                    *w = k[s];
+                }
+                for i in 0..BLOCK {
+                    let mut b = [0.0; 4];
+                    uniform_cubic_basis((self.x[i] - self.window[0][i]) * inv, &mut b);
+                    for (r, v) in b.into_iter().enumerate() {
+                        self.basis[r][i] = v;
+                    }
+                }
+            }
+            None => {
+                for (i, &s) in self.span.iter().enumerate() {
+                    for (r, w) in k[s - 2..s + 4].iter().enumerate() {
+                        self.window[r][i] = *w;
+                    }
+                }
+                for i in 0..BLOCK {
+                    let w: [f64; 6] = std::array::from_fn(|r| self.window[r][i]);
+                    let b = basis_funs_cubic_with(&w, 2, self.x[i], &cubic_span_inverses(&w, 2));
+                    for (r, v) in b.into_iter().enumerate() {
+                        self.basis[r][i] = v;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The knots the basis of span `s` reads (none on uniform knots), folded into `touched`.
+    #[inline(always)]
+    fn touch_knots(loc: &Locator, s: usize, touched: &mut u64) {
+        if loc.inv_step.is_none() {
+            *touched ^= loc.knots[s - 2].to_bits() ^ loc.knots[s + 3].to_bits();
+        }
+    }
+}
+
+/// How a block touches the net before evaluating.
+#[derive(Clone, Copy)]
+enum Touch {
+    /// Not at all (nets that stay in a core's cache).
+    Nothing,
+    /// The four row pieces each point reads (scattered points).
+    Pieces,
+    /// Every row of the net up to the points' last one, from `next`, the first not yet
+    /// touched (points grouped by span in u, rows read in order).
+    Rows { next: usize },
+}
+
+impl BsplineSurface {
+    /// Evaluates at scattered points (us\[k\], vs\[k\]) into `out` (row-major, `dim` per
+    /// point), in parallel, bicubic surfaces of dimension 1 to 3 in vectorized blocks (see
+    /// the module notes); spans are found as [`crate::bspline::BsplineCurve::eval_many_par`]
+    /// finds them: by one multiplication on uniform knots, from a bucket table or a binary
+    /// search otherwise. Large batches on nets larger than the caches are first grouped by
+    /// blocks of spans in u (a counting sort), so that the points of one group read the
+    /// same few rows of the net: the net then streams through the cache once instead of
+    /// every point missing it (and the TLB) several times. Each point gives the same value,
+    /// bit for bit, in any batch and in any order; it differs from
+    /// [`BsplineSurface::eval_into`] only by the rounding of the summation order. Errors:
+    /// `us` and `vs` of different lengths, wrong buffer length, non-finite parameters.
+    ///
+    /// ```
+    /// use geomkit::bspline::{interpolate_heights, EndCondition};
+    /// let z: Vec<f64> = (0..20).map(|k| ((k / 5) * (k % 5)) as f64).collect();
+    /// let s = interpolate_heights(&z, 4, 5, (0.0, 0.0), (1.0, 1.0), &EndCondition::NotAKnot).unwrap();
+    /// let mut out = [0.0; 2];
+    /// s.eval_many_par(&[1.0, 2.5], &[3.0, 0.5], &mut out).unwrap();
+    /// assert!((out[0] - 3.0).abs() < 1e-12 && (out[1] - 1.25).abs() < 1e-12);
+    /// ```
+    pub fn eval_many_par(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> crate::Result<()> {
+        let d = self.dim;
+        if us.len() != vs.len() {
+            return Err(crate::Error::BufferSize {
+                expected: us.len(),
+                got: vs.len(),
+            });
+        }
+        crate::points::check_eval_args("parameter u", us, us.len(), d, out)?;
+        crate::points::check_eval_args("parameter v", vs, vs.len(), d, out)?;
+        let n = us.len();
+        let (lu, lv) = self.locators(n);
+        let net_bytes = std::mem::size_of_val(&self.control[..]);
+        // Reading ahead every row of the net pays when each span in u has enough points.
+        if n >= GROUPED_MIN_POINTS && n >= 32 * self.n_u && net_bytes >= GROUPED_MIN_NET_BYTES {
+            self.eval_grouped(&lu, &lv, us, vs, out);
+            return Ok(());
+        }
+        let touch = if net_bytes > PIECES_MIN_NET_BYTES {
+            Touch::Pieces
+        } else {
+            Touch::Nothing
+        };
+        out.par_chunks_mut(4096 * d)
+            .zip(us.par_chunks(4096).zip(vs.par_chunks(4096)))
+            .for_each(|(o, (us, vs))| {
+                let pts = us.iter().zip(vs).map(|(&u, &v)| [u, v]);
+                let mut touch = touch;
+                self.eval_run(&lu, &lv, pts, o.chunks_exact_mut(d), &mut touch);
+            });
+        Ok(())
+    }
+
+    /// Span locators in u and v for `count` points: the spans of
+    /// [`BsplineSurface::eval_into`] (one multiplication on uniform knots of cubics).
+    fn locators(&self, count: usize) -> (Locator<'_>, Locator<'_>) {
+        let (p, q) = self.degree;
+        let (iu, iv) = self.inv_steps;
+        (
+            Locator::new(&self.knots_u, p, self.n_u, iu.filter(|_| p == 3), count),
+            Locator::new(&self.knots_v, q, self.n_v, iv.filter(|_| q == 3), count),
+        )
+    }
+
+    /// [`BsplineSurface::eval_many_par`] for large batches, in three parallel passes:
+    /// 1. every chunk of [`SORT_CHUNK`] points is sorted by group of spans in u, in place in
+    ///    its own region of a buffer of (u, v) pairs (a counting sort whose writes stay
+    ///    within the chunk's region, so in the caches);
+    /// 2. runs of consecutive groups are evaluated in parallel, each reading its groups'
+    ///    points from every chunk and the net rows they need in order (which the hardware
+    ///    prefetches), and writing their values where the points were sorted to;
+    /// 3. every point picks its value up from its chunk's region.
+    fn eval_grouped(&self, lu: &Locator, lv: &Locator, us: &[f64], vs: &[f64], out: &mut [f64]) {
+        let d = self.dim;
+        let n = us.len();
+        let row_bytes = self.n_v * d * std::mem::size_of::<f64>();
+        // Spans per group: a power of two, found by a shift.
+        let shift = (GROUP_BYTES / row_bytes)
+            .saturating_sub(self.degree.0)
+            .max(1)
+            .ilog2();
+        let groups = ((lu.hi - lu.lo) >> shift) + 1;
+        let group = |u: f64| (lu.span(u, lu.lo) - lu.lo) >> shift;
+        let chunks = n.div_ceil(SORT_CHUNK);
+        // 1. Per chunk: where each group starts (groups + 1 entries), the sorted pairs, and
+        // where each point went.
+        let mut starts = vec![0u32; chunks * (groups + 1)];
+        let mut sorted = vec![[0.0f64; 2]; n];
+        let mut pos = vec![0u32; n];
+        starts
+            .par_chunks_mut(groups + 1)
+            .zip(sorted.par_chunks_mut(SORT_CHUNK))
+            .zip(pos.par_chunks_mut(SORT_CHUNK))
+            .zip(us.par_chunks(SORT_CHUNK).zip(vs.par_chunks(SORT_CHUNK)))
+            .for_each(|(((start, sorted), pos), (us, vs))| {
+                let ids: Vec<u32> = us.iter().map(|&u| group(u) as u32).collect();
+                for &g in &ids {
+                    start[g as usize + 1] += 1;
+                }
+                for g in 0..groups {
+                    start[g + 1] += start[g];
+                }
+                let mut next = start[..groups].to_vec();
+                for (((&g, &u), &v), pos) in ids.iter().zip(us).zip(vs).zip(pos) {
+                    let k = &mut next[g as usize];
+                    sorted[*k as usize] = [u, v];
+                    *pos = *k;
+                    *k += 1;
+                }
+            });
+        // 2. The values, in the layout of `sorted`: one slice per (group, chunk), arranged
+        // by group, then handed out in runs of groups with about equal numbers of points.
+        let mut results = vec![0.0; n * d];
+        let mut per_group: Vec<Vec<&mut [f64]>> =
+            (0..groups).map(|_| Vec::with_capacity(chunks)).collect();
+        for (start, mut rest) in starts
+            .chunks(groups + 1)
+            .zip(results.chunks_mut(SORT_CHUNK * d))
+        {
+            for (g, slices) in per_group.iter_mut().enumerate() {
+                let len = (start[g + 1] - start[g]) as usize * d;
+                let (here, tail) = std::mem::take(&mut rest).split_at_mut(len);
+                slices.push(here);
+                rest = tail;
+            }
+        }
+        let target = n.div_ceil(8 * rayon::current_num_threads()).max(1);
+        let mut runs = Vec::new();
+        let mut first = 0;
+        while !per_group.is_empty() {
+            let mut len = 0;
+            let mut points = 0;
+            while len < per_group.len() && points < target {
+                points += per_group[len].iter().map(|s| s.len()).sum::<usize>() / d;
+                len += 1;
+            }
+            runs.push((first, per_group.drain(..len).collect::<Vec<_>>()));
+            first += len;
+        }
+        let (sorted, starts) = (&sorted, &starts);
+        runs.into_par_iter().for_each(|(first, slices)| {
+            // Group by group: its points from every chunk side by side, evaluated, and
+            // the values put where the points came from.
+            let mut touch = Touch::Rows { next: 0 };
+            let (mut pts, mut vals) = (Vec::new(), Vec::new());
+            for (g, slices) in (first..).zip(slices) {
+                pts.clear();
+                for c in 0..chunks {
+                    let (start, base) = (&starts[c * (groups + 1)..], c * SORT_CHUNK);
+                    pts.extend_from_slice(
+                        &sorted[base + start[g] as usize..base + start[g + 1] as usize],
+                    );
+                }
+                vals.resize(pts.len() * d, 0.0);
+                self.eval_run(
+                    lu,
+                    lv,
+                    pts.iter().copied(),
+                    vals.chunks_exact_mut(d),
+                    &mut touch,
+                );
+                let mut from = &vals[..];
+                for s in slices {
+                    let (here, rest) = from.split_at(s.len());
+                    s.copy_from_slice(here);
+                    from = rest;
+                }
+            }
+        });
+        // 3. Back to the input order.
+        out.par_chunks_mut(SORT_CHUNK * d)
+            .zip(pos.par_chunks(SORT_CHUNK))
+            .zip(results.par_chunks(SORT_CHUNK * d))
+            .for_each(|((out, pos), values)| {
+                for (o, &k) in out.chunks_exact_mut(d).zip(pos) {
+                    let k = k as usize * d;
+                    o.copy_from_slice(&values[k..k + d]);
+                }
+            });
+    }
+
+    /// Evaluates the points `pts` into `outs` (one slice of dim values per point).
+    fn eval_run<'o>(
+        &self,
+        lu: &Locator,
+        lv: &Locator,
+        pts: impl Iterator<Item = [f64; 2]>,
+        outs: impl Iterator<Item = &'o mut [f64]>,
+        touch: &mut Touch,
+    ) {
+        match (self.degree, self.dim) {
+            ((3, 3), 1) => self.eval_run_cubic_best::<1>(lu, lv, pts, outs, touch),
+            ((3, 3), 2) => self.eval_run_cubic_best::<2>(lu, lv, pts, outs, touch),
+            ((3, 3), 3) => self.eval_run_cubic_best::<3>(lu, lv, pts, outs, touch),
+            _ => {
+                let (mut hu, mut hv) = (lu.lo, lv.lo);
+                for ([u, v], o) in pts.zip(outs) {
+                    hu = lu.span(u, hu);
+                    hv = lv.span(v, hv);
+                    self.eval_spans_into(hu, hv, u, v, o);
+                }
+            }
+        }
+    }
+
+    /// [`BsplineSurface::eval_run_cubic`] compiled for the CPU's AVX2 where it has it
+    /// (checked once by `pulp`): the same operations (no fused multiply-adds), so the same
+    /// bits, in wider instructions.
+    fn eval_run_cubic_best<'o, const D: usize>(
+        &self,
+        lu: &Locator,
+        lv: &Locator,
+        pts: impl Iterator<Item = [f64; 2]>,
+        outs: impl Iterator<Item = &'o mut [f64]>,
+        touch: &mut Touch,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            struct Run<'a, 'b, P, O, const D: usize> {
+                s: &'a BsplineSurface,
+                loc: (&'a Locator<'b>, &'a Locator<'b>),
+                pts: P,
+                outs: O,
+                touch: &'a mut Touch,
+            }
+            impl<'o, P, O, const D: usize> pulp::NullaryFnOnce for Run<'_, '_, P, O, D>
+            where
+                P: Iterator<Item = [f64; 2]>,
+                O: Iterator<Item = &'o mut [f64]>,
+            {
+                type Output = ();
+                #[inline(always)]
+                fn call(self) {
+                    let (lu, lv) = self.loc;
+                    self.s
+                        .eval_run_cubic::<D>(lu, lv, self.pts, self.outs, self.touch)
+                }
+            }
+            if let Some(v3) = pulp::x86::V3::try_new() {
+                let run = Run::<_, _, D> {
+                    s: self,
+                    loc: (lu, lv),
+                    pts,
+                    outs,
+                    touch,
+                };
+                return v3.vectorize(run);
+            }
+        }
+        self.eval_run_cubic::<D>(lu, lv, pts, outs, touch)
+    }
+
+    /// The bicubic kernel of [`BsplineSurface::eval_run`] in dimension D, block by block.
+    #[inline(always)]
+    fn eval_run_cubic<'o, const D: usize>(
+        &self,
+        lu: &Locator,
+        lv: &Locator,
+        mut pts: impl Iterator<Item = [f64; 2]>,
+        mut outs: impl Iterator<Item = &'o mut [f64]>,
+        touch: &mut Touch,
+    ) {
+        let (mut bu, mut bv) = (CubicLanes::new(), CubicLanes::new());
+        let row = self.n_v * D;
+        let c = &self.control;
+        let mut touched = 0u64;
+        loop {
+            let mut n = 0;
+            for (i, [u, v]) in pts.by_ref().take(BLOCK).enumerate() {
+                bu.x[i] = u;
+                bv.x[i] = v;
+                n = i + 1;
+            }
+            if n == 0 {
+                break;
+            }
+            bu.locate(lu, n, &mut touched);
+            bv.locate(lv, n, &mut touched);
+            match touch {
+                Touch::Nothing => {}
+                Touch::Pieces => {
+                    for (&su, &sv) in bu.span[..n].iter().zip(&bv.span[..n]) {
+                        for a in 0..4 {
+                            let k = (su - 3 + a) * row + (sv - 3) * D;
+                            touched ^= c[k].to_bits() ^ c[k + 4 * D - 1].to_bits();
+                        }
+                        CubicLanes::touch_knots(lu, su, &mut touched);
+                        CubicLanes::touch_knots(lv, sv, &mut touched);
+                    }
+                }
+                Touch::Rows { next } => {
+                    for &su in &bu.span[..n] {
+                        for r in (*next).max(su - 3)..=su {
+                            for x in c[r * row..(r + 1) * row].iter().step_by(8) {
+                                touched ^= x.to_bits();
+                            }
+                        }
+                        *next = (*next).max(su + 1);
+                    }
+                }
+            }
+            bu.basis(lu, n);
+            bv.basis(lv, n);
+            // Per point: the four row pieces combined with the weights in u (whole pieces
+            // at a time, which vectorizes), then their D-vectors with the weights in v.
+            for (i, o) in outs.by_ref().take(n).enumerate() {
+                let (su, sv) = (bu.span[i], bv.span[i]);
+                let piece = |a: usize| {
+                    let k = (su - 3 + a) * row + (sv - 3) * D;
+                    &c[k..k + 4 * D]
+                };
+                let mut comb = [0.0f64; 12];
+                let comb = &mut comb[..4 * D];
+                for (m, x) in comb.iter_mut().zip(piece(0)) {
+                    *m = bu.basis[0][i] * x;
+                }
+                for a in 1..4 {
+                    for (m, x) in comb.iter_mut().zip(piece(a)) {
+                        *m += bu.basis[a][i] * x;
+                    }
+                }
+                for (j, o) in o.iter_mut().enumerate().take(D) {
+                    *o = bv.basis[0][i] * comb[j]
+                        + bv.basis[1][i] * comb[D + j]
+                        + bv.basis[2][i] * comb[2 * D + j]
+                        + bv.basis[3][i] * comb[3 * D + j];
+                }
+            }
+        }
+        std::hint::black_box(touched);
+    }
+}
