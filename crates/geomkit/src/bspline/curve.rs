@@ -92,10 +92,10 @@ fn basis_funs_any(knots: &[f64], span: usize, t: f64, degree: usize, out: &mut [
 }
 
 /// [`basis_funs`] for degree 3, unrolled, with the six knot differences it divides by
-/// inverted once ([`cubic_span_inverses`]; batched evaluation reuses them while it stays on
-/// one span).
+/// inverted first ([`cubic_span_inverses`]; the batched kernels compute them lane by lane,
+/// which vectorizes).
 #[inline(always)]
-fn basis_funs_cubic(knots: &[f64], s: usize, t: f64) -> [f64; 4] {
+pub(crate) fn basis_funs_cubic(knots: &[f64], s: usize, t: f64) -> [f64; 4] {
     basis_funs_cubic_with(knots, s, t, &cubic_span_inverses(knots, s))
 }
 
@@ -103,7 +103,7 @@ fn basis_funs_cubic(knots: &[f64], s: usize, t: f64) -> [f64; 4] {
 /// 1/(k[s+1]-k[s]), 1/(k[s+1]-k[s-1]), 1/(k[s+2]-k[s]), 1/(k[s+1]-k[s-2]), 1/(k[s+2]-k[s-1]),
 /// 1/(k[s+3]-k[s]).
 #[inline(always)]
-pub(crate) fn cubic_span_inverses(knots: &[f64], s: usize) -> [f64; 6] {
+fn cubic_span_inverses(knots: &[f64], s: usize) -> [f64; 6] {
     let k = &knots[s - 2..s + 4];
     [
         1.0 / (k[3] - k[2]),
@@ -135,7 +135,7 @@ pub(crate) fn cubic_basis_at_knot(k: &[f64], i: usize) -> [f64; 3] {
 /// The cubic basis on span s at t (NURBS Book A2.2 unrolled) given the span's
 /// [`cubic_span_inverses`].
 #[inline(always)]
-pub(crate) fn basis_funs_cubic_with(knots: &[f64], s: usize, t: f64, inv: &[f64; 6]) -> [f64; 4] {
+fn basis_funs_cubic_with(knots: &[f64], s: usize, t: f64, inv: &[f64; 6]) -> [f64; 4] {
     let k = &knots[s - 2..s + 4];
     let (l1, l2, l3) = (t - k[2], t - k[1], t - k[0]);
     let (r1, r2, r3) = (k[3] - t, k[4] - t, k[5] - t);

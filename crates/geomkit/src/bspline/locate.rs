@@ -1,8 +1,17 @@
-//! Knot spans for batches of parameters, shared by the batched curve and surface
-//! evaluations: one multiplication on uniform knots, a bucket table over the domain for
-//! large batches on other knots, a binary search otherwise; always [`find_span`]'s span.
+//! Knot spans and cubic basis values for batches of parameters, shared by the batched curve
+//! and surface evaluations. Spans: one multiplication on uniform knots, a bucket table over
+//! the domain for large batches on other knots, a binary search otherwise; always
+//! [`find_span`]'s span. Basis values: lane by lane over a block of parameters, which
+//! vectorizes (on non-uniform knots the six reciprocals of the cubic Cox–de Boor recursion
+//! then cost about as much as a uniform basis).
 
-use super::curve::{domain_spans, find_span, uniform_span};
+use super::curve::{basis_funs_cubic, domain_spans, find_span, uniform_cubic_basis, uniform_span};
+
+/// Parameters per block of the batched cubic kernels: first the spans of all of them,
+/// touching the memory each will read, then their basis values, then the evaluations.
+/// Unsorted parameters make every access a cache miss; issued together the misses overlap
+/// instead of queueing one per point.
+pub(super) const BLOCK: usize = 64;
 
 /// Finds knot spans for batches of parameters along one direction.
 ///
@@ -134,5 +143,97 @@ impl<'a> Locator<'a> {
     fn holds(&self, s: usize, t: f64) -> bool {
         let k = self.knots;
         (s == self.lo || k[s] <= t) && (s == self.hi || t < k[s + 1])
+    }
+}
+
+/// The knot spans and cubic basis values of a block of parameters along one direction
+/// (structure of arrays, lane i for the block's point i), kept from block to block of a run
+/// (filling them afresh would cost more than the evaluation).
+pub(super) struct CubicLanes {
+    pub(super) x: [f64; BLOCK],
+    pub(super) span: [usize; BLOCK],
+    pub(super) basis: [[f64; BLOCK]; 4],
+    /// The knots of each lane's span that its basis reads.
+    window: [[f64; BLOCK]; 6],
+}
+
+impl CubicLanes {
+    pub(super) fn new() -> Self {
+        CubicLanes {
+            x: [0.0; BLOCK],
+            span: [0; BLOCK],
+            basis: [[0.0; BLOCK]; 4],
+            window: [[0.0; BLOCK]; 6],
+        }
+    }
+
+    /// The spans of the first `n` lanes, bucket table entries read first so that their
+    /// misses overlap; `touched` folds what was read.
+    #[inline(always)]
+    pub(super) fn locate(&mut self, loc: &Locator, n: usize, touched: &mut u64) {
+        let (xs, spans) = (&self.x[..n], &mut self.span[..n]);
+        if loc.inv_step.is_none() && !loc.table.is_empty() {
+            for (s, &x) in spans.iter_mut().zip(xs) {
+                *s = loc.bucket(x);
+                *touched ^= u64::from(loc.table[*s]);
+            }
+            for (s, &x) in spans.iter_mut().zip(xs) {
+                *s = loc.span_in_bucket(x, loc.table[*s]);
+            }
+        } else {
+            let mut hint = loc.lo;
+            for (s, &x) in spans.iter_mut().zip(xs) {
+                *s = loc.span(x, hint);
+                hint = *s;
+            }
+        }
+    }
+
+    /// The cubic basis values of the first `n` lanes on their spans: the operations of
+    /// [`uniform_cubic_basis`] or [`basis_funs_cubic`], so the same bits, lane by lane.
+    #[inline(always)]
+    pub(super) fn basis(&mut self, loc: &Locator, n: usize) {
+        let k = loc.knots;
+        // Whole blocks vectorize best: the lanes past n repeat lane n - 1.
+        for i in n..BLOCK {
+            self.x[i] = self.x[n - 1];
+            self.span[i] = self.span[n - 1];
+        }
+        match loc.inv_step {
+            Some(inv) => {
+                for (w, &s) in self.window[0].iter_mut().zip(&self.span) {
+                    *w = k[s];
+                }
+                for i in 0..BLOCK {
+                    let mut b = [0.0; 4];
+                    uniform_cubic_basis((self.x[i] - self.window[0][i]) * inv, &mut b);
+                    for (r, v) in b.into_iter().enumerate() {
+                        self.basis[r][i] = v;
+                    }
+                }
+            }
+            None => {
+                for (i, &s) in self.span.iter().enumerate() {
+                    for (r, w) in k[s - 2..s + 4].iter().enumerate() {
+                        self.window[r][i] = *w;
+                    }
+                }
+                for i in 0..BLOCK {
+                    let w: [f64; 6] = std::array::from_fn(|r| self.window[r][i]);
+                    let b = basis_funs_cubic(&w, 2, self.x[i]);
+                    for (r, v) in b.into_iter().enumerate() {
+                        self.basis[r][i] = v;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The knots the basis of span `s` reads (none on uniform knots), folded into `touched`.
+    #[inline(always)]
+    pub(super) fn touch_knots(loc: &Locator, s: usize, touched: &mut u64) {
+        if loc.inv_step.is_none() {
+            *touched ^= loc.knots[s - 2].to_bits() ^ loc.knots[s + 3].to_bits();
+        }
     }
 }

@@ -8,11 +8,8 @@
 //! span ([`FdReport::bound`] is that bound at the longest span run). Restarting per span
 //! keeps j below the samples per span.
 
-use super::curve::{
-    basis_funs_cubic_with, basis_funs_derivs, cubic_basis_at_knot, cubic_span_inverses,
-    uniform_cubic_basis, uniform_span, BsplineCurve,
-};
-use super::locate::Locator;
+use super::curve::{basis_funs_derivs, cubic_basis_at_knot, BsplineCurve};
+use super::locate::{CubicLanes, Locator, BLOCK};
 use crate::bezier::ParamCurve;
 use crate::points::check_eval_args;
 use crate::{Error, Result};
@@ -350,11 +347,6 @@ fn fd_steps<const D: usize>(state: &[f64], out: &mut [f64]) {
     }
 }
 
-/// Points a cubic kernel handles per block: first the spans of all of them, touching the
-/// memory each will read, then the evaluations. Unsorted parameters make every access a
-/// cache miss; issued together the misses overlap instead of queueing one per point.
-const BLOCK: usize = 64;
-
 /// [`eval_cubic`] compiled for the CPU's AVX2 where it has it (checked once by `pulp`): the
 /// same operations (no fused multiply-adds), so the same bits, in wider instructions.
 fn eval_cubic_best<const D: usize>(
@@ -385,70 +377,32 @@ fn eval_cubic_best<const D: usize>(
     eval_cubic::<D>(curve, loc, ts, out)
 }
 
-/// [`BsplineCurve::eval_many_par`]'s kernel for cubics in dimension D.
+/// [`BsplineCurve::eval_many_par`]'s kernel for cubics in dimension D, block by block
+/// ([`CubicLanes`]).
 #[inline(always)]
 fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], out: &mut [f64]) {
-    let knots = curve.knots();
     let control = curve.control_flat();
-    let inv_step = curve.uniform_step().map(|h| 1.0 / h);
-    let n_c = curve.n_control();
-    let mut spans = [0usize; BLOCK];
+    let mut lanes = CubicLanes::new();
     // Bits of what the touch phases read, folded by xor: one cycle each, where a sum of
     // floats would chain four (and convert the table's integers first).
     let mut touched = 0u64;
-    let mut inv_span = loc.lo;
-    let mut inverses = cubic_span_inverses(knots, inv_span);
     for (tb, ob) in ts.chunks(BLOCK).zip(out.chunks_mut(BLOCK * D)) {
-        let spans = &mut spans[..tb.len()];
-        // The spans (the table entries first, so that their misses overlap too).
-        match inv_step {
-            Some(inv) => {
-                for (s, &t) in spans.iter_mut().zip(tb) {
-                    *s = uniform_span(knots[0], inv, 3, n_c, t);
-                }
-            }
-            None if !loc.table.is_empty() => {
-                for (s, &t) in spans.iter_mut().zip(tb) {
-                    *s = loc.bucket(t);
-                    touched ^= u64::from(loc.table[*s]);
-                }
-                for (s, &t) in spans.iter_mut().zip(tb) {
-                    *s = loc.span_in_bucket(t, loc.table[*s]);
-                }
-            }
-            None => {
-                let mut hint = loc.lo;
-                for (s, &t) in spans.iter_mut().zip(tb) {
-                    *s = loc.span(t, hint);
-                    hint = *s;
-                }
-            }
-        }
+        let n = tb.len();
+        lanes.x[..n].copy_from_slice(tb);
+        lanes.locate(loc, n, &mut touched);
         // Touch the control points and knots each evaluation reads.
-        for &s in spans.iter() {
+        for &s in &lanes.span[..n] {
             touched ^= control[(s - 3) * D].to_bits() ^ control[(s + 1) * D - 1].to_bits();
-            if inv_step.is_none() {
-                touched ^= knots[s - 2].to_bits() ^ knots[s + 3].to_bits();
-            }
+            CubicLanes::touch_knots(loc, s, &mut touched);
         }
-        for ((&s, &t), o) in spans.iter().zip(tb).zip(ob.chunks_exact_mut(D)) {
-            let mut basis = [0.0f64; 4];
-            match inv_step {
-                Some(inv) => uniform_cubic_basis((t - knots[s]) * inv, &mut basis),
-                None => {
-                    // The knot differences' reciprocals, kept while the span repeats.
-                    if s != inv_span {
-                        inverses = cubic_span_inverses(knots, s);
-                        inv_span = s;
-                    }
-                    basis = basis_funs_cubic_with(knots, s, t, &inverses);
-                }
-            }
+        lanes.basis(loc, n);
+        for (i, o) in ob.chunks_exact_mut(D).enumerate() {
+            let s = lanes.span[i];
             let c = &control[(s - 3) * D..(s + 1) * D];
             let mut acc = [0.0f64; D];
-            for (w, row) in basis.iter().zip(c.chunks_exact(D)) {
+            for (b, row) in lanes.basis.iter().zip(c.chunks_exact(D)) {
                 for (a, x) in acc.iter_mut().zip(row) {
-                    *a += w * x;
+                    *a += b[i] * x;
                 }
             }
             o.copy_from_slice(&acc);

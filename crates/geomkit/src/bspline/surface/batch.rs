@@ -10,12 +10,8 @@
 //! group needs are then read in order, once.
 
 use super::BsplineSurface;
-use crate::bspline::curve::{basis_funs_cubic_with, cubic_span_inverses, uniform_cubic_basis};
-use crate::bspline::locate::Locator;
+use crate::bspline::locate::{CubicLanes, Locator, BLOCK};
 use rayon::prelude::*;
-
-/// Points per kernel block.
-const BLOCK: usize = 64;
 
 /// Scattered points on nets larger than this (a core's L2 cache) touch what they read
 /// before evaluating.
@@ -30,98 +26,6 @@ const GROUPED_MIN_NET_BYTES: usize = 4 << 20;
 const GROUP_BYTES: usize = 256 << 10;
 /// Points sorted together by group, in their own region (16 bytes each).
 const SORT_CHUNK: usize = 1 << 15;
-
-/// The knot spans and cubic basis values of a block of parameters along one direction
-/// (structure of arrays, lane i for the block's point i), kept from block to block of a run
-/// (filling them afresh would cost more than the evaluation).
-struct CubicLanes {
-    x: [f64; BLOCK],
-    span: [usize; BLOCK],
-    basis: [[f64; BLOCK]; 4],
-    /// The knots of each lane's span that its basis reads.
-    window: [[f64; BLOCK]; 6],
-}
-
-impl CubicLanes {
-    fn new() -> Self {
-        CubicLanes {
-            x: [0.0; BLOCK],
-            span: [0; BLOCK],
-            basis: [[0.0; BLOCK]; 4],
-            window: [[0.0; BLOCK]; 6],
-        }
-    }
-
-    /// The spans of the first `n` lanes, bucket table entries read first so that their
-    /// misses overlap; `touched` folds what was read.
-    #[inline(always)]
-    fn locate(&mut self, loc: &Locator, n: usize, touched: &mut u64) {
-        let (xs, spans) = (&self.x[..n], &mut self.span[..n]);
-        if loc.inv_step.is_none() && !loc.table.is_empty() {
-            for (s, &x) in spans.iter_mut().zip(xs) {
-                *s = loc.bucket(x);
-                *touched ^= u64::from(loc.table[*s]);
-            }
-            for (s, &x) in spans.iter_mut().zip(xs) {
-                *s = loc.span_in_bucket(x, loc.table[*s]);
-            }
-        } else {
-            let mut hint = loc.lo;
-            for (s, &x) in spans.iter_mut().zip(xs) {
-                *s = loc.span(x, hint);
-                hint = *s;
-            }
-        }
-    }
-
-    /// The cubic basis values of the first `n` lanes on their spans: the operations of
-    /// [`uniform_cubic_basis`] or [`basis_funs_cubic_with`], so the same bits, lane by lane.
-    #[inline(always)]
-    fn basis(&mut self, loc: &Locator, n: usize) {
-        let k = loc.knots;
-        // Whole blocks vectorize best: the lanes past n repeat lane n - 1.
-        for i in n..BLOCK {
-            self.x[i] = self.x[n - 1];
-            self.span[i] = self.span[n - 1];
-        }
-        match loc.inv_step {
-            Some(inv) => {
-                for (w, &s) in self.window[0].iter_mut().zip(&self.span) {
-                    *w = k[s];
-                }
-                for i in 0..BLOCK {
-                    let mut b = [0.0; 4];
-                    uniform_cubic_basis((self.x[i] - self.window[0][i]) * inv, &mut b);
-                    for (r, v) in b.into_iter().enumerate() {
-                        self.basis[r][i] = v;
-                    }
-                }
-            }
-            None => {
-                for (i, &s) in self.span.iter().enumerate() {
-                    for (r, w) in k[s - 2..s + 4].iter().enumerate() {
-                        self.window[r][i] = *w;
-                    }
-                }
-                for i in 0..BLOCK {
-                    let w: [f64; 6] = std::array::from_fn(|r| self.window[r][i]);
-                    let b = basis_funs_cubic_with(&w, 2, self.x[i], &cubic_span_inverses(&w, 2));
-                    for (r, v) in b.into_iter().enumerate() {
-                        self.basis[r][i] = v;
-                    }
-                }
-            }
-        }
-    }
-
-    /// The knots the basis of span `s` reads (none on uniform knots), folded into `touched`.
-    #[inline(always)]
-    fn touch_knots(loc: &Locator, s: usize, touched: &mut u64) {
-        if loc.inv_step.is_none() {
-            *touched ^= loc.knots[s - 2].to_bits() ^ loc.knots[s + 3].to_bits();
-        }
-    }
-}
 
 /// How a block touches the net before evaluating.
 #[derive(Clone, Copy)]
