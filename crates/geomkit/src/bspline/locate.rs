@@ -167,15 +167,28 @@ impl CubicLanes {
         }
     }
 
-    /// The spans of the first `n` lanes, bucket table entries read first so that their
-    /// misses overlap; `touched` folds what was read.
+    /// The spans of the first `n` lanes, in rounds whose memory reads do not depend on
+    /// each other, so that their cache misses overlap: the bucket table entries first,
+    /// then (from each entry's base span) the knot the span depends on and, through
+    /// `near`, what the evaluation on the base span will read; `touched` folds what was
+    /// read.
     #[inline(always)]
-    pub(super) fn locate(&mut self, loc: &Locator, n: usize, touched: &mut u64) {
+    pub(super) fn locate(
+        &mut self,
+        loc: &Locator,
+        n: usize,
+        touched: &mut u64,
+        near: impl Fn(usize) -> u64,
+    ) {
         let (xs, spans) = (&self.x[..n], &mut self.span[..n]);
         if loc.inv_step.is_none() && !loc.table.is_empty() {
             for (s, &x) in spans.iter_mut().zip(xs) {
                 *s = loc.bucket(x);
                 *touched ^= u64::from(loc.table[*s]);
+            }
+            for &b in spans.iter() {
+                let base = (loc.table[b] & ((1 << COUNT_SHIFT) - 1)) as usize;
+                *touched ^= loc.knots[base + 1].to_bits() ^ near(base);
             }
             for (s, &x) in spans.iter_mut().zip(xs) {
                 *s = loc.span_in_bucket(x, loc.table[*s]);

@@ -389,7 +389,9 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
     for (tb, ob) in ts.chunks(BLOCK).zip(out.chunks_mut(BLOCK * D)) {
         let n = tb.len();
         lanes.x[..n].copy_from_slice(tb);
-        lanes.locate(loc, n, &mut touched);
+        // The span is the table's base span or the next one: their first control point.
+        let near = |s: usize| control[(s - 3) * D].to_bits();
+        lanes.locate(loc, n, &mut touched, near);
         // Touch the control points and knots each evaluation reads.
         for &s in &lanes.span[..n] {
             touched ^= control[(s - 3) * D].to_bits() ^ control[(s + 1) * D - 1].to_bits();

@@ -316,8 +316,8 @@ impl BsplineSurface {
             if n == 0 {
                 break;
             }
-            bu.locate(lu, n, &mut touched);
-            bv.locate(lv, n, &mut touched);
+            bu.locate(lu, n, &mut touched, |_| 0);
+            bv.locate(lv, n, &mut touched, |_| 0);
             match touch {
                 Touch::Nothing => {}
                 Touch::Pieces => {
