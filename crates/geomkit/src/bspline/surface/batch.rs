@@ -7,7 +7,7 @@
 //! Cox–de Boor recursion on non-uniform knots cost no more than a uniform basis), and last
 //! the contraction with the net. Large batches on nets larger than the caches are first
 //! grouped by blocks of spans in u ([`BsplineSurface::eval_grouped`]), and the net rows a
-//! group needs are then read in order, once.
+//! group needs are then read in order, once, the next ones prefetched while it evaluates.
 
 use super::BsplineSurface;
 use crate::bspline::locate::{CubicLanes, Locator, BLOCK};
