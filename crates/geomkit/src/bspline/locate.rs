@@ -13,6 +13,19 @@ use super::curve::{basis_funs_cubic, domain_spans, find_span, uniform_cubic_basi
 /// instead of queueing one per point.
 pub(super) const BLOCK: usize = 64;
 
+/// Runs `kernel` compiled for the CPU's AVX2 where it has it (checked once by `pulp`), else
+/// as it is. The batched kernels use no fused multiply-adds, so they give the same bits
+/// either way, in wider instructions. To be compiled for AVX2, the kernel and the closure
+/// that calls it must be `#[inline(always)]` (`with_avx2(#[inline(always)] || kernel(..))`).
+#[inline(always)]
+pub(super) fn with_avx2(kernel: impl FnOnce()) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(v3) = pulp::x86::V3::try_new() {
+        return v3.vectorize(kernel);
+    }
+    kernel()
+}
+
 /// Finds knot spans for batches of parameters along one direction.
 ///
 /// Non-uniform knots and large batches use a bucket table over the domain: t falls in bucket

@@ -9,7 +9,7 @@
 //! keeps j below the samples per span.
 
 use super::curve::{basis_funs_derivs, cubic_basis_at_knot, BsplineCurve};
-use super::locate::{CubicLanes, Locator, BLOCK};
+use super::locate::{with_avx2, CubicLanes, Locator, BLOCK};
 use crate::bezier::ParamCurve;
 use crate::points::check_eval_args;
 use crate::{Error, Result};
@@ -347,34 +347,17 @@ fn fd_steps<const D: usize>(state: &[f64], out: &mut [f64]) {
     }
 }
 
-/// [`eval_cubic`] compiled for the CPU's AVX2 where it has it (checked once by `pulp`): the
-/// same operations (no fused multiply-adds), so the same bits, in wider instructions.
+/// [`eval_cubic`], compiled for AVX2 where the CPU has it.
 fn eval_cubic_best<const D: usize>(
     curve: &BsplineCurve,
     loc: &Locator,
     ts: &[f64],
     out: &mut [f64],
 ) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        struct Run<'a, 'b, const D: usize>(
-            &'a BsplineCurve,
-            &'a Locator<'b>,
-            &'a [f64],
-            &'a mut [f64],
-        );
-        impl<const D: usize> pulp::NullaryFnOnce for Run<'_, '_, D> {
-            type Output = ();
-            #[inline(always)]
-            fn call(self) {
-                eval_cubic::<D>(self.0, self.1, self.2, self.3)
-            }
-        }
-        if let Some(v3) = pulp::x86::V3::try_new() {
-            return v3.vectorize(Run::<D>(curve, loc, ts, out));
-        }
-    }
-    eval_cubic::<D>(curve, loc, ts, out)
+    with_avx2(
+        #[inline(always)]
+        || eval_cubic::<D>(curve, loc, ts, out),
+    )
 }
 
 /// [`BsplineCurve::eval_many_par`]'s kernel for cubics in dimension D, block by block

@@ -10,7 +10,7 @@
 //! group needs are then read in order, once, the next ones prefetched while it evaluates.
 
 use super::BsplineSurface;
-use crate::bspline::locate::{CubicLanes, Locator, BLOCK};
+use crate::bspline::locate::{with_avx2, CubicLanes, Locator, BLOCK};
 use rayon::prelude::*;
 
 /// Scattered points on nets larger than this (a core's L2 cache) touch what they read
@@ -238,9 +238,18 @@ impl BsplineSurface {
         touch: &mut Touch,
     ) {
         match (self.degree, self.dim) {
-            ((3, 3), 1) => self.eval_run_cubic_best::<1>(lu, lv, pts, outs, touch),
-            ((3, 3), 2) => self.eval_run_cubic_best::<2>(lu, lv, pts, outs, touch),
-            ((3, 3), 3) => self.eval_run_cubic_best::<3>(lu, lv, pts, outs, touch),
+            ((3, 3), 1) => with_avx2(
+                #[inline(always)]
+                || self.eval_run_cubic::<1>(lu, lv, pts, outs, touch),
+            ),
+            ((3, 3), 2) => with_avx2(
+                #[inline(always)]
+                || self.eval_run_cubic::<2>(lu, lv, pts, outs, touch),
+            ),
+            ((3, 3), 3) => with_avx2(
+                #[inline(always)]
+                || self.eval_run_cubic::<3>(lu, lv, pts, outs, touch),
+            ),
             _ => {
                 let (mut hu, mut hv) = (lu.lo, lv.lo);
                 for ([u, v], o) in pts.zip(outs) {
@@ -252,54 +261,8 @@ impl BsplineSurface {
         }
     }
 
-    /// [`BsplineSurface::eval_run_cubic`] compiled for the CPU's AVX2 where it has it
-    /// (checked once by `pulp`): the same operations (no fused multiply-adds), so the same
-    /// bits, in wider instructions.
-    fn eval_run_cubic_best<'o, const D: usize>(
-        &self,
-        lu: &Locator,
-        lv: &Locator,
-        pts: impl Iterator<Item = [f64; 2]>,
-        outs: impl Iterator<Item = &'o mut [f64]>,
-        touch: &mut Touch,
-    ) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            struct Run<'a, 'b, P, O, const D: usize> {
-                s: &'a BsplineSurface,
-                loc: (&'a Locator<'b>, &'a Locator<'b>),
-                pts: P,
-                outs: O,
-                touch: &'a mut Touch,
-            }
-            impl<'o, P, O, const D: usize> pulp::NullaryFnOnce for Run<'_, '_, P, O, D>
-            where
-                P: Iterator<Item = [f64; 2]>,
-                O: Iterator<Item = &'o mut [f64]>,
-            {
-                type Output = ();
-                #[inline(always)]
-                fn call(self) {
-                    let (lu, lv) = self.loc;
-                    self.s
-                        .eval_run_cubic::<D>(lu, lv, self.pts, self.outs, self.touch)
-                }
-            }
-            if let Some(v3) = pulp::x86::V3::try_new() {
-                let run = Run::<_, _, D> {
-                    s: self,
-                    loc: (lu, lv),
-                    pts,
-                    outs,
-                    touch,
-                };
-                return v3.vectorize(run);
-            }
-        }
-        self.eval_run_cubic::<D>(lu, lv, pts, outs, touch)
-    }
-
-    /// The bicubic kernel of [`BsplineSurface::eval_run`] in dimension D, block by block.
+    /// The bicubic kernel of [`BsplineSurface::eval_run`] in dimension D, block by block
+    /// (compiled for AVX2 through [`with_avx2`]).
     #[inline(always)]
     fn eval_run_cubic<'o, const D: usize>(
         &self,
