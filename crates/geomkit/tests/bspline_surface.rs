@@ -402,15 +402,12 @@ fn grouped_scattered_evaluation_equals_small_batches() {
         assert!(all == small, "dim {d}");
         // And the small batches are the surface (within rounding of the summation order;
         // past the domain's ends the cubic pieces are extrapolated, and rounding grows with
-        // the cube of the distance in spans).
-        let (nu, nv) = s.net_size();
-        let spans_out = |x: f64, (a, b): (f64, f64), spans: usize| {
-            (a - x).max(x - b).max(0.0) / ((b - a) / spans as f64)
-        };
+        // the cube of the distance in end spans, [`past_end`]).
+        let (ku, kv) = s.knots();
         for k in (0..n).step_by(997) {
             let want = s.eval(us[k], vs[k]);
-            let out = spans_out(us[k], (u0, u1), nu - 3).max(spans_out(vs[k], (v0, v1), nv - 3));
-            let tol = 1e-13 * (1.0 + out).powi(3);
+            let tol =
+                1e-13 * (1.0 + past_end(us[k], ku)).powi(3) * (1.0 + past_end(vs[k], kv)).powi(3);
             for (g, w) in all[k * d..(k + 1) * d].iter().zip(&want) {
                 assert!((g - w).abs() <= tol * (1.0 + w.abs()), "{g} vs {w}");
             }
