@@ -52,6 +52,8 @@ pub(super) struct Locator<'a> {
 
 /// Where a bucket's knot count sits in its table entry (spans must fit below).
 const COUNT_SHIFT: u32 = 28;
+/// Spans below this have indices that convert from f64 through i32, which vectorizes.
+const LANE_INDEX_MAX: usize = i32::MAX as usize;
 /// Saturated knot count: search on from the base span.
 const MANY: u32 = 15;
 
@@ -194,7 +196,14 @@ impl CubicLanes {
         near: impl Fn(usize) -> u64,
     ) {
         let (xs, spans) = (&self.x[..n], &mut self.span[..n]);
-        if loc.inv_step.is_none() && !loc.table.is_empty() {
+        if let Some(inv) = loc.inv_step.filter(|_| loc.hi < LANE_INDEX_MAX) {
+            // `uniform_span` lane by lane, in a loop that vectorizes: max/min send NaN to
+            // the first span as its clamp does, and the index fits an i32.
+            let (k0, lo, hi) = (loc.knots[0], loc.lo as f64, loc.hi as f64);
+            for (s, &x) in spans.iter_mut().zip(xs) {
+                *s = ((x - k0) * inv).max(lo).min(hi) as i32 as usize;
+            }
+        } else if loc.inv_step.is_none() && !loc.table.is_empty() {
             for (s, &x) in spans.iter_mut().zip(xs) {
                 *s = loc.bucket(x);
                 *touched ^= u64::from(loc.table[*s]);

@@ -2,7 +2,7 @@
 //! spec/bspline-interpolation.md (Hoang Thai Ho).
 //!
 //! - [`BsplineCurve`]: B-splines of any degree on any knots; uniform knots evaluate by the
-//!   paper's matrix form (1) with the span found by one division.
+//!   paper's matrix form (1) with the span found by one multiplication.
 //! - [`interpolate_curve`]: the paper's method (repeated end points) and natural, clamped,
 //!   not-a-knot and periodic end conditions; uniform, chord-length and centripetal
 //!   parameters; banded O(N) solves.
