@@ -384,14 +384,20 @@ fn batched_evaluation_on_uneven_knots() {
         let mut ts: Vec<f64> = (0..count).map(|_| 0.6 * rng.uniform() + 0.5).collect();
         ts.extend(knots.iter().copied());
         ts.extend([-1.0, 2.0, 1e-7, 0.5 - 1e-17]);
-        let mut got = vec![0.0; ts.len() * 2];
-        curve.eval_many_par(&ts, &mut got).unwrap();
-        for (t, g) in ts.iter().zip(got.chunks_exact(2)) {
-            assert_eq!(g, curve.eval(*t).as_slice(), "t={t}");
+        // Unsorted, then sorted (the kernel's path without touch rounds).
+        for sorted in [false, true] {
+            if sorted {
+                ts.sort_by(f64::total_cmp);
+            }
+            let mut got = vec![0.0; ts.len() * 2];
+            curve.eval_many_par(&ts, &mut got).unwrap();
+            for (t, g) in ts.iter().zip(got.chunks_exact(2)) {
+                assert_eq!(g, curve.eval(*t).as_slice(), "t={t} sorted={sorted}");
+            }
+            let mut seq = vec![0.0; ts.len() * 2];
+            curve.eval_many(&ts, &mut seq).unwrap();
+            assert_eq!(seq, got);
         }
-        let mut seq = vec![0.0; ts.len() * 2];
-        curve.eval_many(&ts, &mut seq).unwrap();
-        assert_eq!(seq, got);
     }
 }
 

@@ -186,12 +186,14 @@ impl CubicLanes {
     /// each other, so that their cache misses overlap: the bucket table entries first,
     /// then (from each entry's base span) the knot the span depends on and, through
     /// `near`, what the evaluation on the base span will read; `touched` folds what was
-    /// read.
+    /// read. Without `touch` (sorted parameters, whose reads are the previous lane's or
+    /// next to them) the table entry gives the span at once.
     #[inline(always)]
     pub(super) fn locate(
         &mut self,
         loc: &Locator,
         n: usize,
+        touch: bool,
         touched: &mut u64,
         near: impl Fn(usize) -> u64,
     ) {
@@ -202,6 +204,10 @@ impl CubicLanes {
             let (k0, lo, hi) = (loc.knots[0], loc.lo as f64, loc.hi as f64);
             for (s, &x) in spans.iter_mut().zip(xs) {
                 *s = ((x - k0) * inv).max(lo).min(hi) as i32 as usize;
+            }
+        } else if loc.inv_step.is_none() && !loc.table.is_empty() && !touch {
+            for (s, &x) in spans.iter_mut().zip(xs) {
+                *s = loc.span_in_bucket(x, loc.table[loc.bucket(x)]);
             }
         } else if loc.inv_step.is_none() && !loc.table.is_empty() {
             for (s, &x) in spans.iter_mut().zip(xs) {
@@ -222,6 +228,12 @@ impl CubicLanes {
                 hint = *s;
             }
         }
+    }
+
+    /// Whether the first `n` lanes' parameters are sorted (non-decreasing).
+    #[inline(always)]
+    pub(super) fn sorted(&self, n: usize) -> bool {
+        self.x[..n].windows(2).all(|w| w[0] <= w[1])
     }
 
     /// The cubic basis values of the first `n` lanes on their spans: the operations of

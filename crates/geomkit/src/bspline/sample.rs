@@ -374,11 +374,16 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
         lanes.x[..n].copy_from_slice(tb);
         // The span is the table's base span or the next one: their first control point.
         let near = |s: usize| control[(s - 3) * D].to_bits();
-        lanes.locate(loc, n, &mut touched, near);
+        // Sorted parameters read what the previous point read or what follows it: nothing
+        // to touch ahead.
+        let touch = !lanes.sorted(n);
+        lanes.locate(loc, n, touch, &mut touched, near);
         // Touch the control points and knots each evaluation reads.
-        for &s in &lanes.span[..n] {
-            touched ^= control[(s - 3) * D].to_bits() ^ control[(s + 1) * D - 1].to_bits();
-            CubicLanes::touch_knots(loc, s, &mut touched);
+        if touch {
+            for &s in &lanes.span[..n] {
+                touched ^= control[(s - 3) * D].to_bits() ^ control[(s + 1) * D - 1].to_bits();
+                CubicLanes::touch_knots(loc, s, &mut touched);
+            }
         }
         lanes.basis(loc, n);
         for (i, o) in ob.chunks_exact_mut(D).enumerate() {

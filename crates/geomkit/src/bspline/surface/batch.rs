@@ -289,8 +289,8 @@ impl BsplineSurface {
             if n == 0 {
                 break;
             }
-            bu.locate(lu, n, &mut touched, |_| 0);
-            bv.locate(lv, n, &mut touched, |_| 0);
+            bu.locate(lu, n, true, &mut touched, |_| 0);
+            bv.locate(lv, n, true, &mut touched, |_| 0);
             match touch {
                 Touch::Nothing => {}
                 Touch::Pieces => {
