@@ -565,9 +565,9 @@ def markdown(res, meta, cfg):
     w("")
     w(f"- {meta['cpu']}, {meta['cores']} cores, {meta['mem']} RAM, **shared and noisy** (other "
       "builds ran on it; times move by up to ±30 %, ratios below ~1.5× are noise).")
-    w(f"- {meta['rustc']}; geomkit at `{meta['git']}` (`-dirty`: uncommitted changes in the "
-      "tree), `cargo build --release -p geomkit-bench` (opt-level 3, no LTO, rayon on "
-      f"{meta['cores']} threads).")
+    dirty = " (`-dirty`: uncommitted changes in the tree)" if meta["git"].endswith("-dirty") else ""
+    w(f"- {meta['rustc']}; geomkit at `{meta['git']}`{dirty}, `cargo build --release -p "
+      f"geomkit-bench` (opt-level 3, no LTO, rayon on {meta['cores']} threads).")
     w(f"- Python {meta['python']}; SciPy {meta['scipy']}, numpy {meta['numpy']} "
       f"(BLAS/LAPACK: {meta['blas']}).")
     w("")
