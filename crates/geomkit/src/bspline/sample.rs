@@ -283,9 +283,10 @@ impl BsplineCurve {
     /// Evaluates at arbitrary parameters (sorted or not) into `out`; for uniform knots the
     /// span is found by one multiplication (by the reciprocal of the spacing), otherwise
     /// from a bucket table over the domain (built for large batches) or a binary search,
-    /// after trying the previous point's span (sorted parameters cost O(1) each). In parallel over blocks; cubics of dimension 1 to 3 take a
-    /// specialized kernel. Same values, bit for bit, as [`ParamCurve::eval_into`]. Errors:
-    /// wrong buffer length, non-finite parameters.
+    /// after trying the previous point's span (sorted parameters cost O(1) each). In
+    /// parallel over blocks; cubics of dimension 1 to 3 take a specialized kernel. Same
+    /// values, bit for bit, as [`ParamCurve::eval_into`]. Errors: wrong buffer length,
+    /// non-finite parameters.
     pub fn eval_many_par(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim();
         check_eval_args("parameter", ts, ts.len(), d, out)?;
