@@ -26,6 +26,33 @@ pub(super) fn with_avx2(kernel: impl FnOnce()) {
     kernel()
 }
 
+/// Brings the cache line of a value closer ahead of its use: a prefetch request, which does
+/// not wait for the line (x86-64), else a read of the value folded into `touched`.
+#[derive(Clone, Copy)]
+pub(super) struct Prefetcher {
+    #[cfg(target_arch = "x86_64")]
+    sse: Option<pulp::core_arch::x86::Sse>,
+}
+
+impl Prefetcher {
+    pub(super) fn new() -> Self {
+        Prefetcher {
+            #[cfg(target_arch = "x86_64")]
+            sse: pulp::core_arch::x86::Sse::try_new(),
+        }
+    }
+
+    #[inline(always)]
+    pub(super) fn touch(self, x: &f64, touched: &mut u64) {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(sse) = self.sse {
+            let line = std::ptr::from_ref(x).cast();
+            return sse._mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(line);
+        }
+        *touched ^= x.to_bits();
+    }
+}
+
 /// Finds knot spans for batches of parameters along one direction.
 ///
 /// Non-uniform knots and large batches use a bucket table over the domain: t falls in bucket

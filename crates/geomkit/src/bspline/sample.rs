@@ -9,7 +9,7 @@
 //! keeps j below the samples per span.
 
 use super::curve::{basis_funs_derivs, cubic_basis_at_knot, BsplineCurve};
-use super::locate::{with_avx2, CubicLanes, Locator, BLOCK};
+use super::locate::{with_avx2, CubicLanes, Locator, Prefetcher, BLOCK};
 use crate::bezier::ParamCurve;
 use crate::points::check_eval_args;
 use crate::{Error, Result};
@@ -367,6 +367,7 @@ fn eval_cubic_best<const D: usize>(
 fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], out: &mut [f64]) {
     let control = curve.control_flat();
     let mut lanes = CubicLanes::new();
+    let fetch = Prefetcher::new();
     // Bits of what the touch phases read, folded by xor: one cycle each, where a sum of
     // floats would chain four (and convert the table's integers first).
     let mut touched = 0u64;
@@ -379,11 +380,16 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
         // to touch ahead.
         let touch = !lanes.sorted(n);
         lanes.locate(loc, n, touch, &mut touched, near);
-        // Touch the control points and knots each evaluation reads.
+        // Request the control points and knots each evaluation reads (the knots of the
+        // basis: none on uniform knots).
         if touch {
             for &s in &lanes.span[..n] {
-                touched ^= control[(s - 3) * D].to_bits() ^ control[(s + 1) * D - 1].to_bits();
-                CubicLanes::touch_knots(loc, s, &mut touched);
+                fetch.touch(&control[(s - 3) * D], &mut touched);
+                fetch.touch(&control[(s + 1) * D - 1], &mut touched);
+                if loc.inv_step.is_none() {
+                    fetch.touch(&loc.knots[s - 2], &mut touched);
+                    fetch.touch(&loc.knots[s + 3], &mut touched);
+                }
             }
         }
         lanes.basis(loc, n);
