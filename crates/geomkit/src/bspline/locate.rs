@@ -214,7 +214,7 @@ impl CubicLanes {
     /// then (from each entry's base span) the knot the span depends on and, through
     /// `near`, what the evaluation on the base span will read; `touched` folds what was
     /// read. Without `touch` (sorted parameters, whose reads are the previous lane's or
-    /// next to them) the table entry gives the span at once.
+    /// next to them; knots that stay in the caches) the table entry gives the span at once.
     #[inline(always)]
     pub(super) fn locate(
         &mut self,

@@ -289,8 +289,10 @@ impl BsplineSurface {
             if n == 0 {
                 break;
             }
-            bu.locate(lu, n, true, &mut touched, |_| 0);
-            bv.locate(lv, n, true, &mut touched, |_| 0);
+            // The knots and span tables of a net's directions are small enough to stay in
+            // the caches: no rounds that touch them ahead.
+            bu.locate(lu, n, false, &mut touched, |_| 0);
+            bv.locate(lv, n, false, &mut touched, |_| 0);
             match touch {
                 Touch::Nothing => {}
                 Touch::Pieces => {
