@@ -237,6 +237,7 @@ impl CubicLanes {
                 *s = loc.span_in_bucket(x, loc.table[loc.bucket(x)]);
             }
         } else if loc.inv_step.is_none() && !loc.table.is_empty() {
+            // In rounds of independent reads.
             for (s, &x) in spans.iter_mut().zip(xs) {
                 *s = loc.bucket(x);
                 *touched ^= u64::from(loc.table[*s]);
@@ -303,11 +304,13 @@ impl CubicLanes {
         }
     }
 
-    /// The knots the basis of span `s` reads (none on uniform knots), folded into `touched`.
+    /// Requests through `fetch` the knots the basis of span `s` reads (none on uniform
+    /// knots).
     #[inline(always)]
-    pub(super) fn touch_knots(loc: &Locator, s: usize, touched: &mut u64) {
+    pub(super) fn touch_knots(loc: &Locator, s: usize, fetch: Prefetcher, touched: &mut u64) {
         if loc.inv_step.is_none() {
-            *touched ^= loc.knots[s - 2].to_bits() ^ loc.knots[s + 3].to_bits();
+            fetch.touch(&loc.knots[s - 2], touched);
+            fetch.touch(&loc.knots[s + 3], touched);
         }
     }
 }

@@ -380,16 +380,12 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
         // to touch ahead.
         let touch = !lanes.sorted(n);
         lanes.locate(loc, n, touch, &mut touched, near);
-        // Request the control points and knots each evaluation reads (the knots of the
-        // basis: none on uniform knots).
+        // Request the control points and knots each evaluation reads.
         if touch {
             for &s in &lanes.span[..n] {
                 fetch.touch(&control[(s - 3) * D], &mut touched);
                 fetch.touch(&control[(s + 1) * D - 1], &mut touched);
-                if loc.inv_step.is_none() {
-                    fetch.touch(&loc.knots[s - 2], &mut touched);
-                    fetch.touch(&loc.knots[s + 3], &mut touched);
-                }
+                CubicLanes::touch_knots(loc, s, fetch, &mut touched);
             }
         }
         lanes.basis(loc, n);

@@ -10,7 +10,7 @@
 //! group needs are then read in order, once, the next ones prefetched while it evaluates.
 
 use super::BsplineSurface;
-use crate::bspline::locate::{with_avx2, CubicLanes, Locator, BLOCK};
+use crate::bspline::locate::{with_avx2, CubicLanes, Locator, Prefetcher, BLOCK};
 use rayon::prelude::*;
 
 /// Scattered points on nets larger than this (a core's L2 cache) touch what they read
@@ -278,6 +278,7 @@ impl BsplineSurface {
         let mut touched = 0u64;
         #[cfg(target_arch = "x86_64")]
         let sse = pulp::core_arch::x86::Sse::try_new();
+        let fetch = Prefetcher::new();
         let mut ahead = 0;
         loop {
             let mut n = 0;
@@ -301,8 +302,8 @@ impl BsplineSurface {
                             let k = (su - 3 + a) * row + (sv - 3) * D;
                             touched ^= c[k].to_bits() ^ c[k + 4 * D - 1].to_bits();
                         }
-                        CubicLanes::touch_knots(lu, su, &mut touched);
-                        CubicLanes::touch_knots(lv, sv, &mut touched);
+                        CubicLanes::touch_knots(lu, su, fetch, &mut touched);
+                        CubicLanes::touch_knots(lv, sv, fetch, &mut touched);
                     }
                 }
                 Touch::Rows { next } => {
