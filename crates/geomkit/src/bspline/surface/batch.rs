@@ -33,6 +33,16 @@ const ROWS_AHEAD: usize = 6;
 /// arithmetic instead of stalling it in bursts.
 const LINES_PER_POINT: usize = 5;
 
+/// One chunk of points of [`BsplineSurface::eval_grouped`], sorted by group of spans in u.
+struct SortedChunk {
+    /// Where each group starts in `pairs` (one entry more than there are groups).
+    start: Vec<u32>,
+    /// The points (u, v), group by group.
+    pairs: Vec<[f64; 2]>,
+    /// Where each of the chunk's points went in `pairs`.
+    pos: Vec<u32>,
+}
+
 /// How a block touches the net before evaluating.
 #[derive(Clone, Copy)]
 enum Touch {
@@ -112,9 +122,10 @@ impl BsplineSurface {
     }
 
     /// [`BsplineSurface::eval_many_par`] for large batches, in three parallel passes:
-    /// 1. every chunk of [`SORT_CHUNK`] points is sorted by group of spans in u, in place in
-    ///    its own region of a buffer of (u, v) pairs (a counting sort whose writes stay
-    ///    within the chunk's region, so in the caches);
+    /// 1. every chunk of [`SORT_CHUNK`] points is sorted by group of spans in u into a
+    ///    [`SortedChunk`] (a counting sort whose writes stay within the chunk's buffers,
+    ///    allocated and zeroed by the thread that then fills them, so in its cache: sorting
+    ///    into regions of one buffer zeroed ahead made every scattered write miss);
     /// 2. runs of consecutive groups are evaluated in parallel, each reading its groups'
     ///    points from every chunk and the net rows they need in order (which the hardware
     ///    prefetches), and writing their values where the points were sorted to;
@@ -131,18 +142,13 @@ impl BsplineSurface {
         let groups = ((lu.hi - lu.lo) >> shift) + 1;
         let group = |u: f64| (lu.span(u, lu.lo) - lu.lo) >> shift;
         let chunks = n.div_ceil(SORT_CHUNK);
-        // 1. Per chunk: where each group starts (groups + 1 entries), the sorted pairs, and
-        // where each point went.
-        let mut starts = vec![0u32; chunks * (groups + 1)];
-        let mut sorted = vec![[0.0f64; 2]; n];
-        let mut pos = vec![0u32; n];
-        starts
-            .par_chunks_mut(groups + 1)
-            .zip(sorted.par_chunks_mut(SORT_CHUNK))
-            .zip(pos.par_chunks_mut(SORT_CHUNK))
-            .zip(us.par_chunks(SORT_CHUNK).zip(vs.par_chunks(SORT_CHUNK)))
-            .for_each(|(((start, sorted), pos), (us, vs))| {
+        // 1. Chunk by chunk.
+        let sorted: Vec<SortedChunk> = us
+            .par_chunks(SORT_CHUNK)
+            .zip(vs.par_chunks(SORT_CHUNK))
+            .map(|(us, vs)| {
                 let ids: Vec<u32> = us.iter().map(|&u| group(u) as u32).collect();
+                let mut start = vec![0u32; groups + 1];
                 for &g in &ids {
                     start[g as usize + 1] += 1;
                 }
@@ -150,24 +156,28 @@ impl BsplineSurface {
                     start[g + 1] += start[g];
                 }
                 let mut next = start[..groups].to_vec();
-                for (((&g, &u), &v), pos) in ids.iter().zip(us).zip(vs).zip(pos) {
-                    let k = &mut next[g as usize];
-                    sorted[*k as usize] = [u, v];
-                    *pos = *k;
-                    *k += 1;
-                }
-            });
+                let mut pairs = vec![[0.0f64; 2]; us.len()];
+                let pos = ids
+                    .iter()
+                    .zip(us.iter().zip(vs))
+                    .map(|(&g, (&u, &v))| {
+                        let k = &mut next[g as usize];
+                        pairs[*k as usize] = [u, v];
+                        *k += 1;
+                        *k - 1
+                    })
+                    .collect();
+                SortedChunk { start, pairs, pos }
+            })
+            .collect();
         // 2. The values, in the layout of `sorted`: one slice per (group, chunk), arranged
         // by group, then handed out in runs of groups with about equal numbers of points.
         let mut results = vec![0.0; n * d];
         let mut per_group: Vec<Vec<&mut [f64]>> =
             (0..groups).map(|_| Vec::with_capacity(chunks)).collect();
-        for (start, mut rest) in starts
-            .chunks(groups + 1)
-            .zip(results.chunks_mut(SORT_CHUNK * d))
-        {
+        for (chunk, mut rest) in sorted.iter().zip(results.chunks_mut(SORT_CHUNK * d)) {
             for (g, slices) in per_group.iter_mut().enumerate() {
-                let len = (start[g + 1] - start[g]) as usize * d;
+                let len = (chunk.start[g + 1] - chunk.start[g]) as usize * d;
                 let (here, tail) = std::mem::take(&mut rest).split_at_mut(len);
                 slices.push(here);
                 rest = tail;
@@ -186,7 +196,7 @@ impl BsplineSurface {
             runs.push((first, per_group.drain(..len).collect::<Vec<_>>()));
             first += len;
         }
-        let (sorted, starts) = (&sorted, &starts);
+        let sorted = &sorted;
         runs.into_par_iter().for_each(|(first, slices)| {
             // Group by group: its points from every chunk side by side, evaluated, and
             // the values put where the points came from.
@@ -194,11 +204,9 @@ impl BsplineSurface {
             let (mut pts, mut vals) = (Vec::new(), Vec::new());
             for (g, slices) in (first..).zip(slices) {
                 pts.clear();
-                for c in 0..chunks {
-                    let (start, base) = (&starts[c * (groups + 1)..], c * SORT_CHUNK);
-                    pts.extend_from_slice(
-                        &sorted[base + start[g] as usize..base + start[g + 1] as usize],
-                    );
+                for chunk in sorted {
+                    let (a, b) = (chunk.start[g] as usize, chunk.start[g + 1] as usize);
+                    pts.extend_from_slice(&chunk.pairs[a..b]);
                 }
                 vals.resize(pts.len() * d, 0.0);
                 self.eval_run(
@@ -218,10 +226,10 @@ impl BsplineSurface {
         });
         // 3. Back to the input order.
         out.par_chunks_mut(SORT_CHUNK * d)
-            .zip(pos.par_chunks(SORT_CHUNK))
+            .zip(sorted.par_iter())
             .zip(results.par_chunks(SORT_CHUNK * d))
-            .for_each(|((out, pos), values)| {
-                for (o, &k) in out.chunks_exact_mut(d).zip(pos) {
+            .for_each(|((out, chunk), values)| {
+                for (o, &k) in out.chunks_exact_mut(d).zip(&chunk.pos) {
                     let k = k as usize * d;
                     o.copy_from_slice(&values[k..k + d]);
                 }
