@@ -374,6 +374,8 @@ def measure(cfg, rust_bin, log):
                  dict(kind="par", params="uniform", count=mu),
                  dict(kind="par", params="sorted", count=mr, param_seed=SEED_PARAMS),
                  dict(kind="par", params="unsorted", count=mr, param_seed=SEED_PARAMS),
+                 dict(kind="pp", params="sorted", count=mr, param_seed=SEED_PARAMS),
+                 dict(kind="pp", params="unsorted", count=mr, param_seed=SEED_PARAMS),
                  dict(kind="seq", params="sorted", count=mr, param_seed=SEED_PARAMS)]
         gk = run_rust(rust_bin, dict(op="curve_eval", variant=v, n=n, seed=SEED_CURVE,
                                      check=cfg["check"], kinds=kinds, **knobs), log,
@@ -682,7 +684,8 @@ def markdown(res, meta, cfg):
       "ratio (pts/s) | agreement | vs geomkit direct |")
     w("|---|---|---|---:|---:|---:|---:|---:|---:|---:|")
     kind_label = dict(fd="`sample_uniform_fd`", par="`eval_many_par`",
-                      seq="`eval_many` (sequential)")
+                      seq="`eval_many` (sequential)",
+                      pp="`to_piecewise` once, then its `eval_many_par`")
     for row in res["curve_eval"]:
         gk, sp = row["geomkit"], row["scipy"]
         by_params = {k["params"]: k for k in sp["kinds"]}
@@ -706,8 +709,9 @@ def markdown(res, meta, cfg):
                      f"{fmt_rate(rate(k))} ({r:.3g}× SciPy)",
                      f"≥ {GOALS['uniform_eval'] / 1e6:g} M pts/s",
                      rate(k) >= GOALS["uniform_eval"])
-            if k["kind"] == "par" and k["params"] != "uniform":
-                goal(f"arbitrary evaluation, {k['params']}, {row['variant']} knots",
+            if k["kind"] in ("par", "pp") and k["params"] != "uniform":
+                form = "piecewise form, " if k["kind"] == "pp" else ""
+                goal(f"arbitrary evaluation, {form}{k['params']}, {row['variant']} knots",
                      f"{fmt_rate(rate(k))} ({r:.3g}× SciPy)",
                      f"≥ {GOALS['arbitrary_eval'] / 1e6:g} M pts/s",
                      rate(k) >= GOALS["arbitrary_eval"])
@@ -717,8 +721,14 @@ def markdown(res, meta, cfg):
               f"({ff['threads']} threads)* | | {fmt_time(ff['seconds'])} | "
               f"{fmt_rate(ff['count'] / ff['seconds'])} | | | | | |")
     w("")
+    for row in res["curve_eval"]:
+        pb = row["geomkit"].get("piecewise_build")
+        if pb:
+            w(f"- `to_piecewise` on {row['variant']} knots ({fmt_n(row['n'])} points): "
+              f"{fmt_time(pb['median_s'])} (once per curve; not in the rows above)")
+    w("")
     w("*vs geomkit direct*: the same output against `eval_into` point by point (span by span "
-      "de Boor) at the same parameters. For `sample_uniform_fd` part of it is that the differences step "
+      "de Boor) at the same parameters (the piecewise form: its own arithmetic, a few ulps). For `sample_uniform_fd` part of it is that the differences step "
       "by the exact h while the direct evaluation takes the rounded a + k·h (up to ulp(b)/2 "
       "in the parameter, times |c′|), but most of it is the differencing's own error, which "
       "grows with N even at exactly representable parameters (next table).")

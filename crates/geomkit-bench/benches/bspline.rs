@@ -53,7 +53,8 @@ fn curve_build(c: &mut Criterion) {
 }
 
 /// Evaluation of a 10^4-point curve at 10^5 parameters: forward differences on uniform
-/// samples; `eval_many_par` on sorted and unsorted random parameters; the sequential
+/// samples; `eval_many_par` on sorted and unsorted random parameters, and that of the
+/// piecewise polynomial form (`to_piecewise`, also timed); the sequential
 /// `eval_many` (sorted) for reference. Uniform knots (span by division) and chord-length
 /// knots (binary search).
 fn curve_eval(c: &mut Criterion) {
@@ -73,15 +74,31 @@ fn curve_eval(c: &mut Criterion) {
         let unsorted = random_params(m, a, b, 7);
         let mut sorted = unsorted.clone();
         sorted.sort_by(f64::total_cmp);
-        for (kind, ts) in [("par_sorted_1e5", &sorted), ("par_unsorted_1e5", &unsorted)] {
+        let pp = crv.to_piecewise().unwrap();
+        for (kind, ts) in [
+            ("par_sorted_1e5", &sorted),
+            ("par_unsorted_1e5", &unsorted),
+            ("pp_sorted_1e5", &sorted),
+            ("pp_unsorted_1e5", &unsorted),
+        ] {
             g.bench_function(BenchmarkId::new(format!("{name}_knots"), kind), |bch| {
                 bch.iter(|| {
-                    black_box(&crv)
-                        .eval_many_par(black_box(ts), &mut out)
-                        .unwrap()
+                    if kind.starts_with("pp") {
+                        black_box(&pp).eval_many_par(black_box(ts), &mut out)
+                    } else {
+                        black_box(&crv).eval_many_par(black_box(ts), &mut out)
+                    }
+                    .unwrap()
                 })
             });
         }
+        // Per piece, then back to per parameter.
+        g.throughput(Throughput::Elements(pp.n_pieces() as u64));
+        g.bench_function(
+            BenchmarkId::new(format!("{name}_knots"), "to_piecewise"),
+            |bch| bch.iter(|| black_box(&crv).to_piecewise().unwrap()),
+        );
+        g.throughput(Throughput::Elements(m as u64));
         g.bench_function(
             BenchmarkId::new(format!("{name}_knots"), "seq_sorted_1e5"),
             |bch| {

@@ -27,9 +27,10 @@
 //!   with SciPy), and the times of a few sub-steps.
 //! - `{"op": "curve_eval", "variant": "uniform" | "chord", "n": N, "check": K, "kinds": [..]}`:
 //!   builds the curve as `curve_build` does, then times each kind
-//!   `{"kind": "fd" | "par" | "seq", "params": "uniform" | "sorted" | "unsorted", "count": M,
-//!   "param_seed": s}`: `fd` = `sample_uniform_fd(M)` (uniform only), `par` =
-//!   `eval_many_par`, `seq` = `ParamCurve::eval_many`; parameters = `linspace` over the
+//!   `{"kind": "fd" | "par" | "seq" | "pp", "params": "uniform" | "sorted" | "unsorted",
+//!   "count": M, "param_seed": s}`: `fd` = `sample_uniform_fd(M)` (uniform only), `par` =
+//!   `eval_many_par`, `seq` = `ParamCurve::eval_many`, `pp` = `PiecewiseCurve::eval_many_par`
+//!   of `to_piecewise()` (built once, untimed; its time is `piecewise_build`); parameters = `linspace` over the
 //!   domain, or [`random_params`] over the domain (sorted or as generated). Reports the
 //!   values at K of the M parameters (every M/K-th).
 //! - `{"op": "surface", "variant": "heights" | "heights_at", "rows": R, "cols": C,
@@ -457,6 +458,10 @@ fn curve_eval(case: &Case, timing: Timing) -> Value {
     let scale = max_abs(&points);
     let (a, b) = curve.domain();
     warm_pool();
+    let (pp, pp_times) = match time_it(|| curve.to_piecewise(), timing) {
+        (Ok(pp), t) => (pp, t),
+        (Err(e), _) => return json!({"ok": false, "error": e.to_string()}),
+    };
     let mut results = Vec::new();
     for k in &case.kinds {
         let m = k.count;
@@ -480,6 +485,7 @@ fn curve_eval(case: &Case, timing: Timing) -> Value {
             }
             "par" => time_it(|| curve.eval_many_par(&ts, &mut out), timing),
             "seq" => time_it(|| curve.eval_many(&ts, &mut out), timing),
+            "pp" => time_it(|| pp.eval_many_par(&ts, &mut out), timing),
             other => {
                 results.push(json!({"ok": false, "error": format!("kind {other:?} with params {:?}", k.params)}));
                 continue;
@@ -530,6 +536,7 @@ fn curve_eval(case: &Case, timing: Timing) -> Value {
         "uniform_knots": curve.is_uniform(),
         "domain": [a, b],
         "max_abs_p": scale,
+        "piecewise_build": pp_times.json(pp.n_pieces()),
         "kinds": results,
     })
 }

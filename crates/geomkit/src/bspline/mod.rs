@@ -6,6 +6,8 @@
 //! - [`interpolate_curve`]: the paper's method (repeated end points) and natural, clamped,
 //!   not-a-knot and periodic end conditions; uniform, chord-length and centripetal
 //!   parameters; banded O(N) solves.
+//! - [`PiecewiseCurve`]: a curve of degree <= 3 as one cubic polynomial per span, for fast
+//!   evaluation of large batches at arbitrary parameters.
 //! - [`BsplineSurface`], [`interpolate_surface`], [`interpolate_heights`]: bicubic surfaces
 //!   through M×N grids, separable solves (rows, then columns) in parallel.
 //! - [`interpolate_curve_tiled`], [`CurveTiler`]: tiles with halos, equal to the global solve
@@ -16,6 +18,7 @@ mod banded;
 mod curve;
 mod interpolate;
 mod locate;
+mod piecewise;
 mod sample;
 mod surface;
 mod tiles;
@@ -27,6 +30,7 @@ pub use interpolate::{
     parameters, CurveInterpolation, CurveInterpolator, EndCondition, InterpolationOptions,
     Parametrization,
 };
+pub use piecewise::PiecewiseCurve;
 pub use sample::FdReport;
 pub use surface::{
     interpolate_heights, interpolate_heights_at, interpolate_surface, interpolate_surface_flat,

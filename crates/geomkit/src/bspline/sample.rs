@@ -227,7 +227,7 @@ impl BsplineCurve {
     /// `out[4c + k]` is the coefficient of (t - t_s)^k of coordinate c. Uniform cubics take
     /// them from the matrix form (1); other knots from the derivatives at t_s (exact knot,
     /// no parameter rounding).
-    fn span_taylor(&self, s: usize, out: &mut [f64]) {
+    pub(super) fn span_taylor(&self, s: usize, out: &mut [f64]) {
         let (d, p) = (self.dim(), self.degree());
         let control = self.control_flat();
         out.iter_mut().for_each(|o| *o = 0.0);
