@@ -150,23 +150,22 @@ fn lower_degrees_and_uniform_knots() {
     for degree in [1usize, 2, 3] {
         for uniform in [true, false] {
             let n_c = 500;
-            let mut knots: Vec<f64> = vec![0.0; degree + 1];
-            let mut t = 0.0;
-            for _ in 0..n_c - degree - 1 {
-                t += if uniform {
-                    1.0
-                } else {
-                    0.05 + rng.uniform().abs()
-                };
-                knots.push(t);
-            }
-            knots.extend(vec![t + 1.0; degree + 1]);
-            if uniform {
-                // A uniform knot vector throughout (no repeated end knots).
-                knots = (0..n_c + degree + 1)
+            let knots: Vec<f64> = if uniform {
+                // Uniform throughout (no repeated end knots).
+                (0..n_c + degree + 1)
                     .map(|k| k as f64 * 0.25 - 3.0)
-                    .collect();
-            }
+                    .collect()
+            } else {
+                // Clamped ends, uneven steps between.
+                let mut t = 0.0;
+                let mut k = vec![0.0; degree + 1];
+                for _ in 0..n_c - degree - 1 {
+                    t += 0.05 + rng.uniform().abs();
+                    k.push(t);
+                }
+                k.extend(vec![t + 1.0; degree + 1]);
+                k
+            };
             let control: Vec<f64> = (0..3 * n_c).map(|_| 10.0 * rng.uniform()).collect();
             let curve = BsplineCurve::from_flat(degree, knots, 3, control).unwrap();
             assert_eq!(curve.is_uniform(), uniform);

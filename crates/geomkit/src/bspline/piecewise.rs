@@ -53,7 +53,7 @@ enum Spans {
 /// the domain as the B-spline's do.
 ///
 /// This is the form for large batches at arbitrary parameters: each point reads one bucket
-/// of a span table (none on uniform knots) and one record of at most two cache lines, where
+/// of a span table (none on uniform knots) and one record (two cache lines up to 3-D), where
 /// the B-spline form reads the table, six knots and four control points and computes the
 /// basis (six reciprocals on non-uniform knots). It costs 16 numbers per span in 3-D (the
 /// B-spline curve: 4), plus two 16-byte table buckets per span on non-uniform knots.
@@ -84,19 +84,22 @@ enum Spans {
 pub struct PiecewiseCurve {
     dim: usize,
     degree: usize,
-    /// Lines per record.
-    stride: usize,
     /// Per span: t_s, t_(s+1), then c_0..c_3 (each `dim` coordinates), zero-padded to whole
     /// lines.
     records: Vec<Line>,
     /// Index of the last piece.
     last: usize,
     spans: Spans,
-    domain: (f64, f64),
 }
 
 /// Offset of the coefficients in a record.
 const COEFFS: usize = 2;
+
+/// Cache lines per record of a curve in dimension `d` (two up to 3-D).
+#[inline(always)]
+const fn record_lines(d: usize) -> usize {
+    (COEFFS + 4 * d).div_ceil(8)
+}
 
 impl BsplineCurve {
     /// The curve as piecewise cubic polynomials ([`PiecewiseCurve`]), for fast evaluation
@@ -124,7 +127,7 @@ impl PiecewiseCurve {
                 reason: "the piecewise polynomial form holds at most 2^32 - 1 knot spans",
             });
         }
-        let stride = (COEFFS + 4 * d).div_ceil(8);
+        let stride = record_lines(d);
         let mut records = vec![Line::default(); (hi - lo + 1) * stride];
         records.par_chunks_mut(stride).enumerate().for_each_init(
             || vec![0.0; 4 * d],
@@ -146,7 +149,6 @@ impl PiecewiseCurve {
                 }
             },
         );
-        let domain = curve.domain();
         let spans = match curve.uniform_step() {
             Some(h) => Spans::Uniform {
                 start: knots[lo],
@@ -157,11 +159,9 @@ impl PiecewiseCurve {
         Ok(PiecewiseCurve {
             dim: d,
             degree: p,
-            stride,
             last: hi - lo,
             records,
             spans,
-            domain,
         })
     }
 
@@ -172,7 +172,7 @@ impl PiecewiseCurve {
 
     /// Parameter domain (that of the B-spline).
     pub fn domain(&self) -> (f64, f64) {
-        self.domain
+        (self.piece(0).0, self.piece(self.last).1)
     }
 
     /// Number of polynomial pieces (the B-spline's knot spans over its domain, zero-width
@@ -194,7 +194,8 @@ impl PiecewiseCurve {
 
     #[inline(always)]
     fn record(&self, i: usize) -> &[f64] {
-        bytemuck::cast_slice(&self.records[i * self.stride..(i + 1) * self.stride])
+        let stride = record_lines(self.dim);
+        bytemuck::cast_slice(&self.records[i * stride..(i + 1) * stride])
     }
 
     /// The piece holding t (the first or last for t outside the domain).
@@ -244,13 +245,15 @@ impl PiecewiseCurve {
     /// Derivative `k` (0 to 3; higher ones are zero) at t into `out` (`dim` entries), from
     /// the piece holding t. Panics if `out` is shorter than `dim`.
     pub fn eval_derivative(&self, t: f64, k: usize, out: &mut [f64]) {
+        if k == 0 {
+            return self.eval_into(t, out);
+        }
         let d = self.dim;
         let rec = self.record(self.piece_of(t));
         let x = t - rec[0];
         let c = |m: usize, j: usize| rec[COEFFS + m * d + j];
         for (j, o) in out[..d].iter_mut().enumerate() {
             *o = match k {
-                0 => ((c(3, j) * x + c(2, j)) * x + c(1, j)) * x + c(0, j),
                 1 => (3.0 * c(3, j) * x + 2.0 * c(2, j)) * x + c(1, j),
                 2 => 6.0 * c(3, j) * x + 2.0 * c(2, j),
                 3 => 6.0 * c(3, j),
@@ -287,11 +290,7 @@ impl PiecewiseCurve {
     #[inline(always)]
     fn eval_blocks<const D: usize>(&self, ts: &[f64], out: &mut [f64]) {
         let d = if D == 0 { self.dim } else { D };
-        let width = 8 * if D == 0 {
-            self.stride
-        } else {
-            (COEFFS + 4 * D).div_ceil(8)
-        };
+        let width = 8 * record_lines(d);
         let numbers: &[f64] = bytemuck::cast_slice(&self.records);
         let fetch = Prefetcher::new();
         let mut touched = 0u64;
