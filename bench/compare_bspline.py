@@ -590,7 +590,7 @@ def markdown(res, meta, cfg):
     w("- **Peak memory** of a build: `/proc/self/clear_refs` ← 5 resets the peak RSS after "
       "the input exists; *peak extra* = VmHWM after the first build − VmRSS before it (the "
       "result is still alive, so this includes it). *output* = bytes of the result "
-      "(geomkit: knots + control points + parameters; SciPy: `t` + `c`; surfaces: both knot "
+      "(geomkit: knots + control points, the parameters being the inner knots; SciPy: `t` + `c`; surfaces: both knot "
       "vectors + coefficients). *temporaries* = peak extra − output.")
     w("- **Residual**: max |s(x_i) − p_i| over **all** data points / max |p| (surfaces: all "
       "n² nodes). **Agreement**: max |geomkit − SciPy| / max |p| at check parameters "

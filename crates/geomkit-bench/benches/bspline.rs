@@ -24,7 +24,7 @@ fn options(p: Parametrization) -> InterpolationOptions {
 fn curve(n: usize, p: Parametrization) -> BsplineCurve {
     interpolate_curve_flat(3, &helix_points(n, 1), &options(p))
         .expect("distinct points")
-        .curve
+        .into_curve()
 }
 
 /// Curve interpolation through N 3-D points, not-a-knot: uniform parameters (Toeplitz fast

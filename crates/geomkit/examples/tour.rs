@@ -50,7 +50,7 @@ pub fn main() -> geomkit::Result<()> {
         .with_end(EndCondition::Periodic)
         .with_parametrization(Parametrization::Centripetal);
     let fit = interpolate_curve(&isoline, &options)?;
-    let through = fit.curve.eval(fit.parameters[5]); // == isoline[5] within 1e-15
+    let through = fit.curve().eval(fit.parameters()[5]); // == isoline[5] within 1e-15
 
     // 3. The paper's cube as one formula, printed for Mathematica, and meshed watertight.
     let cube = bodies::cube()?;

@@ -205,21 +205,64 @@ pub(crate) fn norm(v: &[f64]) -> f64 {
 /// sum neither overflowed nor came near underflow (then it is as accurate as the scaled
 /// form, and much faster), else scaled like [`norm`].
 pub(crate) fn distance(a: &[f64], b: &[f64]) -> f64 {
-    // Above 2^-900 a square lost to underflow (< 2^-1022) changes the sum by < 2^-122 of
-    // itself.
-    const SAFE: f64 = f64::from_bits((1023 - 900) << 52);
-    // Fixed sizes unrolled (the same additions in the same order).
-    fn sum_sq<const N: usize>(a: &[f64], b: &[f64]) -> f64 {
-        let (a, b): (&[f64; N], &[f64; N]) = (a.try_into().unwrap(), b.try_into().unwrap());
-        (0..N).fold(0.0, |s, k| s + (a[k] - b[k]) * (a[k] - b[k]))
-    }
     let s = match a.len().min(b.len()) {
-        2 => sum_sq::<2>(&a[..2], &b[..2]),
-        3 => sum_sq::<3>(&a[..3], &b[..3]),
+        2 => sum_sq::<2>(a[..2].try_into().unwrap(), b[..2].try_into().unwrap()),
+        3 => sum_sq::<3>(a[..3].try_into().unwrap(), b[..3].try_into().unwrap()),
         _ => a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum(),
     };
-    if s.is_finite() && s >= SAFE {
+    if s.is_finite() && s >= SAFE_SUM_SQ {
         return s.sqrt();
+    }
+    scaled_distance(a, b)
+}
+
+/// [`distance`] from each point of `points` (`dim` coordinates each) to the next, into
+/// `out` (one fewer than the points): the same values, points of 2 and 3 coordinates in a
+/// loop without bounds checks.
+pub(crate) fn distances_into(points: &[f64], dim: usize, out: &mut [f64]) {
+    fn fixed<const N: usize>(points: &[f64], out: &mut [f64]) {
+        let pairs = points.chunks_exact(N).zip(points[N..].chunks_exact(N));
+        for (o, (a, b)) in out.iter_mut().zip(pairs) {
+            let (a, b): (&[f64; N], &[f64; N]) = (a.try_into().unwrap(), b.try_into().unwrap());
+            let s = sum_sq(a, b);
+            *o = if s.is_finite() && s >= SAFE_SUM_SQ {
+                s.sqrt()
+            } else {
+                scaled_distance(a, b)
+            };
+        }
+    }
+    debug_assert_eq!(out.len() + 1, points.len() / dim);
+    match dim {
+        2 => fixed::<2>(points, out),
+        3 => fixed::<3>(points, out),
+        _ => {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = distance(
+                    &points[i * dim..(i + 1) * dim],
+                    &points[(i + 1) * dim..(i + 2) * dim],
+                );
+            }
+        }
+    }
+}
+
+/// Above 2^-900 a square lost to underflow (< 2^-1022) changes a sum of squares by < 2^-122
+/// of itself.
+const SAFE_SUM_SQ: f64 = f64::from_bits((1023 - 900) << 52);
+
+/// Sum of squared differences of fixed size, unrolled (the same additions in the same order).
+#[inline(always)]
+fn sum_sq<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
+    (0..N).fold(0.0, |s, k| s + (a[k] - b[k]) * (a[k] - b[k]))
+}
+
+/// [`distance`] scaled by the largest coordinate difference (sums of squares that overflow
+/// or come near underflow); NaN if a difference is (`f64::max` would drop it).
+#[cold]
+fn scaled_distance(a: &[f64], b: &[f64]) -> f64 {
+    if a.iter().zip(b).any(|(x, y)| (x - y).is_nan()) {
+        return f64::NAN;
     }
     let m = a
         .iter()
@@ -248,6 +291,9 @@ mod tests {
         assert!((tiny - 5e-310).abs() <= 1e-323, "{tiny:e}");
         assert_eq!(distance(&[1.0], &[1.0]), 0.0);
         assert!(distance(&[f64::NAN, 0.0], &[0.0, 1.0]).is_nan());
+        // One coordinate: the NaN must not be lost as the largest difference.
+        assert!(distance(&[f64::NAN], &[0.0]).is_nan());
+        assert!(distance(&[f64::INFINITY], &[f64::INFINITY]).is_nan());
     }
 
     #[test]

@@ -67,13 +67,6 @@ pub(crate) fn first_index(len: usize, pred: impl Fn(usize) -> bool + Sync) -> Op
         .find_map_first(|k| (k * CHUNK..((k + 1) * CHUNK).min(len)).find(|&i| pred(i)))
 }
 
-/// `src.to_vec()` through [`par_copy`].
-pub(crate) fn par_to_vec(src: &[f64]) -> Vec<f64> {
-    let mut v = vec![0.0; src.len()];
-    par_copy(src, &mut v);
-    v
-}
-
 /// Index of the first non-finite number. Large inputs are first scanned in parallel by a
 /// vectorizable test (0·x is NaN exactly for infinities and NaN, ±0 otherwise).
 pub(crate) fn first_non_finite(data: &[f64]) -> Option<usize> {

@@ -6,7 +6,8 @@ use common::Rng;
 use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
     interpolate_curve, interpolate_curve_at, interpolate_curve_flat, paper_dense_inner_points,
-    BsplineCurve, CurveInterpolator, EndCondition, InterpolationOptions, Parametrization,
+    parameters, BsplineCurve, CurveInterpolator, EndCondition, InterpolationOptions,
+    Parametrization,
 };
 use geomkit::Error;
 
@@ -41,9 +42,9 @@ fn residual(points: &[Vec<f64>], fit: &geomkit::bspline::CurveInterpolation) -> 
     let scale = points.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
     points
         .iter()
-        .zip(&fit.parameters)
+        .zip(fit.parameters())
         .map(|(p, &t)| {
-            let q = fit.curve.eval(t);
+            let q = fit.curve().eval(t);
             p.iter()
                 .zip(&q)
                 .map(|(a, b)| (a - b).abs())
@@ -81,8 +82,8 @@ fn passes_through_every_point_for_every_end_and_parametrization() {
             .with_parametrization(Parametrization::Uniform);
         let fit = interpolate_curve(&pts, &opts).unwrap();
         assert!(residual(&pts, &fit) <= 1e-14);
-        assert_eq!(fit.curve.n_control(), n + 4);
-        assert!(fit.curve.is_uniform());
+        assert_eq!(fit.curve().n_control(), n + 4);
+        assert!(fit.curve().is_uniform());
     }
 }
 
@@ -98,9 +99,9 @@ fn end_conditions_hold() {
     for param in [Parametrization::Uniform, Parametrization::ChordLength] {
         let o = InterpolationOptions::default().with_parametrization(param);
         let natural = interpolate_curve(&pts, &o.clone().with_end(EndCondition::Natural)).unwrap();
-        let (a, b) = natural.curve.domain();
+        let (a, b) = natural.curve().domain();
         for t in [a, b] {
-            assert!(derivative_at(&natural.curve, t, 2)
+            assert!(derivative_at(natural.curve(), t, 2)
                 .iter()
                 .all(|v| v.abs() < 1e-12));
         }
@@ -109,16 +110,16 @@ fn end_conditions_hold() {
             end: Some(vec![0.0, -1.0, 2.0]),
         };
         let clamped = interpolate_curve(&pts, &o.clone().with_end(tangents)).unwrap();
-        let d0 = derivative_at(&clamped.curve, a, 1);
-        let d1 = derivative_at(&clamped.curve, clamped.curve.domain().1, 1);
+        let d0 = derivative_at(clamped.curve(), a, 1);
+        let d1 = derivative_at(clamped.curve(), clamped.curve().domain().1, 1);
         assert!((d0[0] - 1.0).abs() < 1e-12 && (d0[1] - 0.5).abs() < 1e-12 && d0[2].abs() < 1e-12);
         assert!(d1[0].abs() < 1e-12 && (d1[1] + 1.0).abs() < 1e-12 && (d1[2] - 2.0).abs() < 1e-12);
         // Not-a-knot: third derivative continuous across the second and next-to-last knots.
         let nak = interpolate_curve(&pts, &o.clone().with_end(EndCondition::NotAKnot)).unwrap();
-        for &t in [nak.parameters[1], nak.parameters[7]].iter() {
+        for &t in [nak.parameters()[1], nak.parameters()[7]].iter() {
             let h = 1e-7 * (b - a);
-            let l = derivative_at(&nak.curve, t - h, 3);
-            let r = derivative_at(&nak.curve, t + h, 3);
+            let l = derivative_at(nak.curve(), t - h, 3);
+            let r = derivative_at(nak.curve(), t + h, 3);
             for k in 0..3 {
                 assert!(
                     (l[k] - r[k]).abs() < 1e-9 * (1.0 + l[k].abs()),
@@ -147,13 +148,13 @@ fn periodic_curve_is_c2_across_the_seam() {
             &InterpolationOptions::default().with_end(EndCondition::Periodic),
         )
         .unwrap();
-        assert_eq!(fit.parameters.len(), 12);
-        let (a, b) = fit.curve.domain();
+        assert_eq!(fit.parameters().len(), 12);
+        let (a, b) = fit.curve().domain();
         for k in 0..3 {
             let mut s = [0.0; 2];
             let mut e = [0.0; 2];
-            fit.curve.eval_derivative(a, k, &mut s);
-            fit.curve.eval_derivative(b, k, &mut e);
+            fit.curve().eval_derivative(a, k, &mut s);
+            fit.curve().eval_derivative(b, k, &mut e);
             for c in 0..2 {
                 assert!(
                     (s[c] - e[c]).abs() < 1e-12 * (1.0 + s[c].abs()),
@@ -187,7 +188,7 @@ fn paper_four_point_system_and_dense_route_agree() {
         let pts = wiggly(n, 3, n as u64);
         let fit = interpolate_curve(&pts, &opts).unwrap();
         let dense = paper_dense_inner_points(&pts).unwrap();
-        let banded = fit.curve.control_points();
+        let banded = fit.curve().control_points();
         for (d, b) in dense.iter().zip(&banded[3..]) {
             for c in 0..3 {
                 assert!((d[c] - b[c]).abs() < 1e-13, "n={n}");
@@ -283,12 +284,12 @@ fn tiles_equal_the_global_solve() {
                 &TileOptions::default().with_tile_size(4096),
             )
             .unwrap();
-            assert_eq!(global.curve.knots(), tiled.curve.knots());
+            assert_eq!(global.curve().knots(), tiled.curve().knots());
             let err = global
-                .curve
+                .curve()
                 .control_flat()
                 .iter()
-                .zip(tiled.curve.control_flat())
+                .zip(tiled.curve().control_flat())
                 .map(|(a, b)| (a - b).abs())
                 .fold(0.0, f64::max);
             assert!(
@@ -337,27 +338,27 @@ fn batched_evaluation_equals_single_points() {
                 &InterpolationOptions::default().with_parametrization(param),
             )
             .unwrap();
-            let (a, b) = fit.curve.domain();
+            let (a, b) = fit.curve().domain();
             let mut ts: Vec<f64> = (0..5000)
                 .map(|_| (a + b) / 2.0 + (b - a + 2.0) / 2.0 * rng.uniform())
                 .collect();
-            ts.extend(fit.curve.knots().iter().copied());
+            ts.extend(fit.curve().knots().iter().copied());
             for sorted in [false, true] {
                 if sorted {
                     ts.sort_by(f64::total_cmp);
                 }
                 let mut got = vec![0.0; ts.len() * dim];
-                fit.curve.eval_many_par(&ts, &mut got).unwrap();
+                fit.curve().eval_many_par(&ts, &mut got).unwrap();
                 for (t, g) in ts.iter().zip(got.chunks_exact(dim)) {
                     assert_eq!(
                         g,
-                        fit.curve.eval(*t).as_slice(),
+                        fit.curve().eval(*t).as_slice(),
                         "dim {dim} {param:?} t={t}"
                     );
                 }
                 // The sequential batch runs the same kernels.
                 let mut seq = vec![0.0; ts.len() * dim];
-                fit.curve.eval_many(&ts, &mut seq).unwrap();
+                fit.curve().eval_many(&ts, &mut seq).unwrap();
                 assert_eq!(seq, got, "dim {dim} {param:?}");
             }
         }
@@ -415,9 +416,9 @@ fn forward_differences_far_from_the_origin() {
         .collect();
     let opts = InterpolationOptions::default().with_parametrization(Parametrization::Uniform);
     let fit = interpolate_curve_flat(3, &flat, &opts).unwrap();
-    assert_eq!(fit.curve.domain(), (0.0, (n - 1) as f64));
+    assert_eq!(fit.curve().domain(), (0.0, (n - 1) as f64));
     let ts: Vec<f64> = (0..8 * (n - 1) + 1).map(|k| k as f64 / 8.0).collect();
-    fd_against_direct(&fit.curve, &ts);
+    fd_against_direct(fit.curve(), &ts);
 }
 
 /// Samples `ts.len()` uniform parameters by forward differences and checks them against
@@ -453,17 +454,17 @@ fn forward_differences_stay_within_their_bound() {
         )
         .unwrap();
         for count in [2usize, 7, 1000, 200_001] {
-            let (a, b) = fit.curve.domain();
+            let (a, b) = fit.curve().domain();
             let ts: Vec<f64> = (0..count)
                 .map(|k| a + k as f64 * (b - a) / (count - 1) as f64)
                 .collect();
-            let (bound, scale) = fd_against_direct(&fit.curve, &ts);
+            let (bound, scale) = fd_against_direct(fit.curve(), &ts);
             assert!(bound < 1e-9 * scale, "{param:?} {count}: bound {bound:e}");
         }
     }
     let fit = interpolate_curve(&pts, &InterpolationOptions::default()).unwrap();
-    assert!(fit.curve.sample_uniform_fd(1, &mut [0.0; 3]).is_err());
-    assert!(fit.curve.sample_uniform_fd(3, &mut [0.0; 3]).is_err());
+    assert!(fit.curve().sample_uniform_fd(1, &mut [0.0; 3]).is_err());
+    assert!(fit.curve().sample_uniform_fd(3, &mut [0.0; 3]).is_err());
 }
 
 /// Derivative end rows scale like 1/h^k: with tiny chord steps they must not make the
@@ -489,8 +490,8 @@ fn tiny_parameter_steps_are_fine() {
         let fit = geomkit::bspline::interpolate_curve_flat(2, &pts, &opts)
             .unwrap_or_else(|e| panic!("{end:?}: {e}"));
         let scale = pts.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        for (i, &t) in fit.parameters.iter().enumerate().step_by(97) {
-            let q = fit.curve.eval(t);
+        for (i, &t) in fit.parameters().iter().enumerate().step_by(97) {
+            let q = fit.curve().eval(t);
             assert!(
                 (q[0] - pts[2 * i]).abs() <= 1e-13 * scale
                     && (q[1] - pts[2 * i + 1]).abs() <= 1e-13 * scale
@@ -527,11 +528,11 @@ fn reusable_interpolator_matches_one_shot_interpolation() {
                     .with_end(end.clone())
                     .with_parametrization(Parametrization::Uniform);
                 let once = interpolate_curve_flat(2, &pts, &options).unwrap();
-                assert_eq!(solver.knots(), once.curve.knots(), "{end:?}");
-                assert_eq!(solver.parameters(), &once.parameters[..], "{end:?}");
+                assert_eq!(solver.knots(), once.curve().knots(), "{end:?}");
+                assert_eq!(solver.parameters(), once.parameters(), "{end:?}");
                 let err = control
                     .iter()
-                    .zip(once.curve.control_flat())
+                    .zip(once.curve().control_flat())
                     .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
                 assert!(err <= 1e-14 * 3.0, "n={n} {end:?}: {err:e}");
                 // And it interpolates.
@@ -555,7 +556,7 @@ fn reusable_interpolator_matches_one_shot_interpolation() {
     let once = interpolate_curve_at(1, &y, &t, &EndCondition::NotAKnot).unwrap();
     let err = control
         .iter()
-        .zip(once.curve.control_flat())
+        .zip(once.curve().control_flat())
         .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     assert!(err < 1e-14, "{err:e}");
     // Bad input.
@@ -610,7 +611,7 @@ fn large_uneven_curves_interpolate_every_point() {
         let fit = interpolate_curve_at(2, &pts, &t, end).unwrap();
         let mut worst = 0.0f64;
         for i in 0..n {
-            let p = fit.curve.eval(t[i]);
+            let p = fit.curve().eval(t[i]);
             worst = worst.max((p[0] - pts[2 * i]).abs().max((p[1] - pts[2 * i + 1]).abs()));
         }
         assert!(worst <= 1e-14 * 3.0, "{end:?}: {worst:e}");
@@ -618,13 +619,13 @@ fn large_uneven_curves_interpolate_every_point() {
         let solver = CurveInterpolator::at(&t, end).unwrap();
         let mut control = vec![0.0; solver.n_control() * 2];
         solver.solve_into(&pts, 2, &mut control).unwrap();
-        assert_eq!(control, fit.curve.control_flat());
+        assert_eq!(control, fit.curve().control_flat());
     }
     // A small system (factored, sequential) on the first 2000 points agrees with the large
     // one where the ends' influence has died out.
     let small = interpolate_curve_at(2, &pts[..4000], &t[..2000], &EndCondition::Natural).unwrap();
     let large = interpolate_curve_at(2, &pts, &t, &EndCondition::Natural).unwrap();
-    let (a, b) = (small.curve.control_flat(), large.curve.control_flat());
+    let (a, b) = (small.curve().control_flat(), large.curve().control_flat());
     let err = (0..2000).fold(0.0f64, |m, k| m.max((a[k] - b[k]).abs()));
     assert!(err <= 1e-14 * 3.0, "{err:e}");
     let mut bad = pts.clone();
@@ -667,7 +668,7 @@ proptest::proptest! {
         let par = interpolate_curve_at(3, &pts, &t, &end).unwrap();
         let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
         let seq = one.install(|| interpolate_curve_at(3, &pts, &t, &end)).unwrap();
-        let (a, b) = (par.curve.control_flat(), seq.curve.control_flat());
+        let (a, b) = (par.curve().control_flat(), seq.curve().control_flat());
         let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if spread <= 1.5 {
             let err = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
@@ -675,7 +676,7 @@ proptest::proptest! {
         }
         let mut worst = 0.0f64;
         for i in 0..n {
-            let p = par.curve.eval(t[i]);
+            let p = par.curve().eval(t[i]);
             for c in 0..3 {
                 worst = worst.max((p[c] - pts[3 * i + c]).abs());
             }
@@ -684,5 +685,74 @@ proptest::proptest! {
             worst <= 16.0 * f64::EPSILON * scale.max(1.0),
             "residual {worst:e}, control {scale:e}"
         );
+    }
+}
+
+/// The distance of the library's parametrizations written out plainly: the root of the sum
+/// of squares, or scaled by the largest difference when that sum overflowed or nearly
+/// underflowed.
+fn plain_distance(a: &[f64], b: &[f64]) -> f64 {
+    let s = a.iter().zip(b).fold(0.0, |s, (x, y)| s + (x - y) * (x - y));
+    if s.is_finite() && s >= 2f64.powi(-900) {
+        return s.sqrt();
+    }
+    let m = a
+        .iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let r = a
+        .iter()
+        .zip(b)
+        .fold(0.0, |s, (x, y)| s + ((x - y) / m) * ((x - y) / m));
+    m * r.sqrt()
+}
+
+#[test]
+fn parameters_are_running_sums_bit_for_bit() {
+    // Several chunks of the parallel pass, dimensions with and without their own loop, and
+    // stretches whose sums of squares overflow (1e160) or nearly underflow (1e-170).
+    let n = 40_000;
+    for dim in [1, 2, 3, 5] {
+        let mut pts: Vec<f64> = wiggly(n, dim, 7 + dim as u64).concat();
+        for v in &mut pts[1000 * dim..1010 * dim] {
+            *v *= 1e160;
+        }
+        for (k, v) in pts[30_000 * dim..30_010 * dim].iter_mut().enumerate() {
+            *v = (1 + k) as f64 * 1e-170;
+        }
+        for kind in [Parametrization::ChordLength, Parametrization::Centripetal] {
+            for closed in [false, true] {
+                let t = parameters(&pts, dim, kind, closed).unwrap();
+                assert_eq!(t.len(), n + usize::from(closed));
+                let mut want = vec![0.0];
+                for i in 1..t.len() {
+                    let j = if i == n { 0 } else { i };
+                    let d =
+                        plain_distance(&pts[(i - 1) * dim..i * dim], &pts[j * dim..(j + 1) * dim]);
+                    let step = if kind == Parametrization::Centripetal {
+                        d.sqrt()
+                    } else {
+                        d
+                    };
+                    want.push(want[i - 1] + step);
+                }
+                assert_eq!(t, want, "dim {dim}, {kind:?}, closed {closed}");
+            }
+        }
+        // Errors name the first offending point, wherever its chunk.
+        let mut dup = pts.clone();
+        for k in [35_000, 20_000] {
+            let (a, b) = dup.split_at_mut(k * dim);
+            b[..dim].copy_from_slice(&a[(k - 1) * dim..]);
+        }
+        let err = parameters(&dup, dim, Parametrization::ChordLength, false).unwrap_err();
+        assert_eq!(err, Error::RepeatedPoint { index: 19_999 }, "dim {dim}");
+        let mut bad = pts.clone();
+        bad[25_000 * dim] = f64::INFINITY;
+        bad[33_000 * dim] = f64::NAN;
+        match parameters(&bad, dim, Parametrization::Centripetal, true) {
+            Err(Error::NonFinite { index, .. }) => assert_eq!(index, 25_000, "dim {dim}"),
+            other => panic!("{other:?}"),
+        }
     }
 }

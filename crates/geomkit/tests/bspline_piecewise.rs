@@ -81,7 +81,7 @@ fn agrees_with_the_bspline_for_every_end_parametrization_and_dimension() {
                 let opts = InterpolationOptions::default()
                     .with_parametrization(param)
                     .with_end(end.clone());
-                let curve = interpolate_curve(&pts, &opts).unwrap().curve;
+                let curve = interpolate_curve(&pts, &opts).unwrap().into_curve();
                 let pp = curve.to_piecewise().unwrap();
                 assert_eq!(pp.dim(), dim);
                 assert_eq!(pp.domain(), curve.domain());
@@ -206,7 +206,7 @@ fn pieces_and_derivatives() {
         })
         .collect();
     let opts = InterpolationOptions::default().with_parametrization(Parametrization::ChordLength);
-    let curve = interpolate_curve(&pts, &opts).unwrap().curve;
+    let curve = interpolate_curve(&pts, &opts).unwrap().into_curve();
     let pp = curve.to_piecewise().unwrap();
     let s = scale(&curve);
     for i in 0..pp.n_pieces() {

@@ -228,7 +228,9 @@ fn curves_of_every_type() {
     )
     .unwrap();
     let pts: Vec<Vec<f64>> = (0..7).map(|i| vec![i as f64, (i as f64).sin()]).collect();
-    let b = interpolate_curve(&pts, &Default::default()).unwrap().curve;
+    let b = interpolate_curve(&pts, &Default::default())
+        .unwrap()
+        .into_curve();
     let pe = PointEquation::new(
         Nodes::new(vec![0.0, 0.5, 1.0]).unwrap(),
         vec![vec![0., 0.], vec![1., 1.], vec![2., 0.]],

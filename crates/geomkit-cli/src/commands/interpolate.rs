@@ -271,12 +271,12 @@ fn curve(args: CurveArgs) -> Result<()> {
         (None, None) => interpolate_curve_flat(dim, &table.data, &options)
             .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text)),
     }?;
-    let curve = &fit.curve;
+    let curve = fit.curve();
     let dest = Destination::from_option(args.output.as_deref());
     match output {
         CurveOutput::Json => {
             progress.busy("writing");
-            dest.write_with(|w| write_bspline_curve_json(w, curve, Some(&fit.parameters)))
+            dest.write_with(|w| write_bspline_curve_json(w, curve, Some(fit.parameters())))
         }
         CurveOutput::Samples(format) => {
             progress.busy("sampling");
@@ -311,7 +311,8 @@ fn curve(args: CurveArgs) -> Result<()> {
                 param_name(param),
                 curve.n_control()
             );
-            let fig = bspline_curve_figure(&title, &subtitle, curve, &table.data, &fit.parameters)?;
+            let fig =
+                bspline_curve_figure(&title, &subtitle, curve, &table.data, fit.parameters())?;
             dest.write(fig.render().as_bytes())
         }
     }

@@ -177,7 +177,7 @@ fn trajectory(ctx: &Context) -> Result<Report> {
         .with_end(EndCondition::Repeat)
         .with_parametrization(Parametrization::Uniform);
     let fit = interpolate_curve(&points, &options)?;
-    let curve = &fit.curve;
+    let curve = fit.curve();
     let control = curve.control_flat();
     let dense = paper_dense_inner_points(&points)?;
     let inner = &control[3 * 2..(n + 1) * 2];
@@ -197,7 +197,7 @@ fn trajectory(ctx: &Context) -> Result<Report> {
         "repeated end points (p0 = p1 = p2 = k0), uniform parameters",
         curve,
         &k,
-        &fit.parameters,
+        fit.parameters(),
     )?;
     r.picture(
         ctx,
@@ -208,7 +208,7 @@ fn trajectory(ctx: &Context) -> Result<Report> {
     r.file(
         ctx,
         "traj6.json",
-        bspline_curve_json(curve, Some(&fit.parameters)).as_bytes(),
+        bspline_curve_json(curve, Some(fit.parameters())).as_bytes(),
         "bspline_curve",
     )?;
     let csv: String = std::iter::once("x,y\n".to_string())
@@ -223,7 +223,7 @@ fn trajectory(ctx: &Context) -> Result<Report> {
 
     r.check(Check::at_most(
         "residual at the 6 reference points (relative to max|k|)",
-        curve_residual(curve, &k, &fit.parameters)?,
+        curve_residual(curve, &k, fit.parameters())?,
         1e-14,
     ));
     let dense_flat = flat(&dense);
@@ -255,8 +255,10 @@ fn trajectory(ctx: &Context) -> Result<Report> {
         let t0 = Instant::now();
         let dense = paper_dense_inner_points(&pts)?;
         let t_dense = ms(t0);
-        let diff = max_diff(&banded.curve.control_flat()[6..(m + 1) * 2], &flat(&dense))
-            / max_abs(&flat(&pts));
+        let diff = max_diff(
+            &banded.curve().control_flat()[6..(m + 1) * 2],
+            &flat(&dense),
+        ) / max_abs(&flat(&pts));
         worst = worst.max(diff);
         let _ = writeln!(
             cost,
@@ -280,7 +282,7 @@ fn trajectory(ctx: &Context) -> Result<Report> {
             vec![
                 format!("{i}"),
                 fmt_point(&k[i * 2..i * 2 + 2]),
-                format!("{}", fit.parameters[i]),
+                format!("{}", fit.parameters()[i]),
                 p,
             ]
         })
@@ -457,7 +459,7 @@ fn isoline(ctx: &Context) -> Result<Report> {
         .with_end(EndCondition::Periodic)
         .with_parametrization(Parametrization::ChordLength);
     let fit = interpolate_curve(&points, &options)?;
-    let curve = &fit.curve;
+    let curve = fit.curve();
     let (a, b) = curve.domain();
 
     // Distance of the spline to the true level set: |f - c| / |∇f| at dense samples.
@@ -488,7 +490,7 @@ fn isoline(ctx: &Context) -> Result<Report> {
         "periodic ends, chord-length parameters",
         curve,
         &k,
-        &fit.parameters,
+        fit.parameters(),
     )?;
     let truth: Vec<[f64; 2]> = (0..=720)
         .map(|i| iso_point(std::f64::consts::TAU * i as f64 / 720.0))
@@ -505,13 +507,13 @@ fn isoline(ctx: &Context) -> Result<Report> {
     r.file(
         ctx,
         "isoline.json",
-        bspline_curve_json(curve, Some(&fit.parameters)).as_bytes(),
+        bspline_curve_json(curve, Some(fit.parameters())).as_bytes(),
         "bspline_curve",
     )?;
 
     r.check(Check::at_most(
         "residual at the 20 contour points (relative)",
-        curve_residual(curve, &k, &fit.parameters)?,
+        curve_residual(curve, &k, fit.parameters())?,
         1e-14,
     ));
     for (order, what) in [
@@ -713,7 +715,7 @@ fn parametrizations(ctx: &Context) -> Result<Report> {
             .with_end(EndCondition::Natural)
             .with_parametrization(kind);
         let fit = interpolate_curve(&points, &options)?;
-        let line = curve_on_page(Projection::Plane, &fit.curve);
+        let line = curve_on_page(Projection::Plane, fit.curve());
         let loops = self_intersections(&line);
         // Overshoot: how far the curve strays outside the bounding box of its points.
         let (x0, x1, y0, y1) = UNEVEN.iter().fold(
@@ -744,7 +746,7 @@ fn parametrizations(ctx: &Context) -> Result<Report> {
         fig.legend(stroke, None, format!("{name}: {loops} self-intersections"));
         r.check(Check::at_most(
             format!("{name}: residual at the 7 points (relative)"),
-            curve_residual(&fit.curve, &k, &fit.parameters)?,
+            curve_residual(fit.curve(), &k, fit.parameters())?,
             1e-14,
         ));
         let want = if kind == Parametrization::Uniform {
@@ -765,7 +767,7 @@ fn parametrizations(ctx: &Context) -> Result<Report> {
         r.file(
             ctx,
             &format!("param_{}.json", name.split(' ').next().unwrap_or(name)),
-            bspline_curve_json(&fit.curve, Some(&fit.parameters)).as_bytes(),
+            bspline_curve_json(fit.curve(), Some(fit.parameters())).as_bytes(),
             name,
         )?;
     }
@@ -825,7 +827,7 @@ fn tiles(ctx: &Context) -> Result<Report> {
     };
     // The paper's numbering p_0..p_(N-1): the repeated-ends solution without its extra copies.
     let global_repeat = interpolate_curve_flat(2, &points, &uniform(EndCondition::Repeat))?;
-    let paper_global = &global_repeat.curve.control_flat()[2 * 2..(n + 2) * 2];
+    let paper_global = &global_repeat.curve().control_flat()[2 * 2..(n + 2) * 2];
     let nak = uniform(EndCondition::NotAKnot);
     let global = interpolate_curve_flat(2, &points, &nak)?;
     let fragment = 256;
@@ -848,7 +850,8 @@ fn tiles(ctx: &Context) -> Result<Report> {
                 .with_tile_size(fragment)
                 .with_halo(o / 2),
         )?;
-        let ours_err = max_diff(tiled.curve.control_flat(), global.curve.control_flat()) / spacing;
+        let ours_err =
+            max_diff(tiled.curve().control_flat(), global.curve().control_flat()) / spacing;
         paper_last = paper_err;
         paper_series.push([o as f64, paper_err.max(1e-17).log10()]);
         ours_series.push([o as f64, ours_err.max(1e-17).log10()]);
@@ -872,7 +875,7 @@ fn tiles(ctx: &Context) -> Result<Report> {
         &nak,
         &TileOptions::default().with_tile_size(fragment),
     )?;
-    let default_err = max_diff(tiled.curve.control_flat(), global.curve.control_flat());
+    let default_err = max_diff(tiled.curve().control_flat(), global.curve().control_flat());
 
     // Timing at a larger size: global O(N) solve against parallel tiles.
     let big_n = 500_000;
@@ -885,8 +888,8 @@ fn tiles(ctx: &Context) -> Result<Report> {
     let big_tiled = interpolate_curve_tiled(2, &big, &chord, &TileOptions::default())?;
     let t_tiled = ms(t0);
     let big_err = max_diff(
-        big_tiled.curve.control_flat(),
-        big_global.curve.control_flat(),
+        big_tiled.curve().control_flat(),
+        big_global.curve().control_flat(),
     );
 
     let mut r = Report::new(format!(
@@ -961,14 +964,14 @@ fn forward_differences(ctx: &Context) -> Result<Report> {
     let count = 1_000_000;
     let t0 = Instant::now();
     let mut fd = vec![0.0; count * 2];
-    let report = fit.curve.sample_uniform_fd(count, &mut fd)?;
+    let report = fit.curve().sample_uniform_fd(count, &mut fd)?;
     let t_fd = ms(t0);
-    let (a, b) = fit.curve.domain();
+    let (a, b) = fit.curve().domain();
     let step = (b - a) / (count - 1) as f64;
     let ts: Vec<f64> = (0..count).map(|k| a + k as f64 * step).collect();
     let mut direct = vec![0.0; count * 2];
     let t0 = Instant::now();
-    fit.curve.eval_many_par(&ts, &mut direct)?;
+    fit.curve().eval_many_par(&ts, &mut direct)?;
     let t_direct = ms(t0);
     let drift = max_diff(&fd, &direct);
     let mut r = Report::new(format!(
@@ -1040,7 +1043,7 @@ fn arbitrary_parameters(_ctx: &Context) -> Result<Report> {
     let n = 100_000;
     let points = long_path(n, 7);
     let opts = InterpolationOptions::default().with_parametrization(Parametrization::ChordLength);
-    let curve = interpolate_curve_flat(2, &points, &opts)?.curve;
+    let curve = interpolate_curve_flat(2, &points, &opts)?.into_curve();
     let t0 = Instant::now();
     let pp = curve.to_piecewise()?;
     let t_build = ms(t0);

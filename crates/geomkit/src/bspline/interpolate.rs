@@ -17,8 +17,8 @@
 //! let pts = vec![vec![0., 0.], vec![1., 2.], vec![3., 3.], vec![4., 0.], vec![6., 1.]];
 //! let opts = InterpolationOptions::default().with_end(EndCondition::Natural);
 //! let fit = interpolate_curve(&pts, &opts).unwrap();
-//! for (p, t) in pts.iter().zip(&fit.parameters) {
-//!     let q = fit.curve.eval(*t);
+//! for (p, t) in pts.iter().zip(fit.parameters()) {
+//!     let q = fit.curve().eval(*t);
 //!     assert!((q[0] - p[0]).abs() < 1e-14 && (q[1] - p[1]).abs() < 1e-14);
 //! }
 //! ```
@@ -104,12 +104,53 @@ impl InterpolationOptions {
 }
 
 /// An interpolating curve and the parameters at which it passes through each reference point.
+/// The parameters are not stored twice: except for the paper's repeated ends they are the
+/// curve's inner knots, knots\[3..3 + N\] (as for SciPy's `make_interp_spline`, whose x are
+/// its knots), which for 10^7 points in 3-D saves 80 of 400 MB.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CurveInterpolation {
+    curve: BsplineCurve,
+    params: Params,
+}
+
+/// Where the parameters of a [`CurveInterpolation`] are.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Params {
+    /// The curve's knots in this range.
+    Knots(std::ops::Range<usize>),
+    /// Their own values.
+    Own(Vec<f64>),
+}
+
+impl CurveInterpolation {
+    /// `params` in the knots of `curve` must be in range (the constructors of this module
+    /// and `tiles.rs` build both).
+    pub(crate) fn new(curve: BsplineCurve, params: Params) -> Self {
+        debug_assert!(match &params {
+            Params::Knots(r) => r.end <= curve.knots().len(),
+            Params::Own(_) => true,
+        });
+        CurveInterpolation { curve, params }
+    }
+
     /// The cubic B-spline.
-    pub curve: BsplineCurve,
-    /// parameters\[i\]: the curve passes through reference point i there.
-    pub parameters: Vec<f64>,
+    pub fn curve(&self) -> &BsplineCurve {
+        &self.curve
+    }
+
+    /// parameters()\[i\]: the curve passes through reference point i there (N values; for
+    /// periodic curves without the closing one).
+    pub fn parameters(&self) -> &[f64] {
+        match &self.params {
+            Params::Knots(r) => &self.curve.knots()[r.clone()],
+            Params::Own(t) => t,
+        }
+    }
+
+    /// The curve, the parameters dropped.
+    pub fn into_curve(self) -> BsplineCurve {
+        self.curve
+    }
 }
 
 /// Interpolates reference points (each a vector of the same dimension >= 1). Errors: too few
@@ -142,13 +183,14 @@ pub fn interpolate_curve_flat(
         n -= 1;
     }
     let points = &points[..n * dim];
-    let t = parameters(
+    let knots = knots_around_parameters(
         points,
         dim,
         options.parametrization,
         options.end == EndCondition::Periodic,
+        0.0,
     )?;
-    Solver1d::new_single(t, &options.end, options.parametrization)?
+    Solver1d::new_single(knots, &options.end, options.parametrization)?
         .interpolate(points, dim, validated)
 }
 
@@ -165,7 +207,7 @@ pub fn interpolate_curve_flat(
 /// let x = [0.0, 0.5, 2.0, 2.5, 4.0];
 /// let y = [1.0, 3.0, 2.0, 0.0, 1.0];
 /// let fit = interpolate_curve_at(1, &y, &x, &EndCondition::NotAKnot).unwrap();
-/// assert!((fit.curve.eval(2.0)[0] - 2.0).abs() < 1e-15);
+/// assert!((fit.curve().eval(2.0)[0] - 2.0).abs() < 1e-15);
 /// ```
 pub fn interpolate_curve_at(
     dim: usize,
@@ -187,11 +229,7 @@ pub fn interpolate_curve_at(
     }
     check_parameters(parameters, if closed { n + 1 } else { n })?;
     let points = &points[..n * dim];
-    let solver = Solver1d::new_single(
-        crate::points::par_to_vec(parameters),
-        end,
-        Parametrization::ChordLength,
-    )?;
+    let solver = Solver1d::new_single(knots_around(parameters), end, Parametrization::ChordLength)?;
     solver.interpolate(points, dim, false)
 }
 
@@ -264,7 +302,7 @@ impl CurveInterpolator {
         };
         let t: Vec<f64> = (0..count).map(|i| i as f64).collect();
         Ok(CurveInterpolator {
-            solver: Solver1d::new(t, end, Parametrization::Uniform)?,
+            solver: Solver1d::new(knots_around(&t), end, Parametrization::Uniform)?,
             n,
         })
     }
@@ -287,9 +325,13 @@ impl CurveInterpolator {
         // Large systems solve fastest in parallel chunks from their rows (a factorization
         // would be swept sequentially).
         let once = n >= PARALLEL_SOLVE;
-        let t = crate::points::par_to_vec(parameters);
         Ok(CurveInterpolator {
-            solver: Solver1d::build(t, end, Parametrization::ChordLength, once)?,
+            solver: Solver1d::build(
+                knots_around(parameters),
+                end,
+                Parametrization::ChordLength,
+                once,
+            )?,
             n,
         })
     }
@@ -311,7 +353,7 @@ impl CurveInterpolator {
 
     /// The parameter of each point.
     pub fn parameters(&self) -> &[f64] {
-        &self.solver.parameters
+        self.solver.parameters()
     }
 
     /// Writes the control points (`n_control() × dim`, row-major) of the cubic through
@@ -342,69 +384,110 @@ pub fn parameters(
     kind: Parametrization,
     closed: bool,
 ) -> Result<Vec<f64>> {
-    parameters_from(points, dim, kind, closed, 0.0)
+    let mut t = vec![0.0; points.len() / dim + usize::from(closed)];
+    fill_parameters(points, dim, kind, closed, 0.0, &mut t)?;
+    Ok(t)
 }
 
-/// [`parameters`] starting at `t0` instead of 0: a stretch of points gets exactly (bit for
-/// bit) the values the whole sequence gets when `t0` is its parameter there.
-pub(crate) fn parameters_from(
+/// The knot vector of an interpolating curve with its parameters in place: the values of
+/// [`parameters`] (starting at `t0`) at 3.., and three slots at each end that the solver
+/// fills with the end knots. The parameters are never stored apart from the knots.
+pub(crate) fn knots_around_parameters(
     points: &[f64],
     dim: usize,
     kind: Parametrization,
     closed: bool,
     t0: f64,
 ) -> Result<Vec<f64>> {
+    let count = points.len() / dim + usize::from(closed);
+    let mut knots = vec![0.0; count + 6];
+    fill_parameters(points, dim, kind, closed, t0, &mut knots[3..count + 3])?;
+    Ok(knots)
+}
+
+/// [`knots_around_parameters`] for given parameters `t`.
+pub(crate) fn knots_around(t: &[f64]) -> Vec<f64> {
+    let mut knots = vec![0.0; t.len() + 6];
+    crate::points::par_copy(t, &mut knots[3..t.len() + 3]);
+    knots
+}
+
+/// Writes [`parameters`] starting at `t0` instead of 0 into `t`: a stretch of points gets
+/// exactly (bit for bit) the values the whole sequence gets when `t0` is its parameter there.
+fn fill_parameters(
+    points: &[f64],
+    dim: usize,
+    kind: Parametrization,
+    closed: bool,
+    t0: f64,
+    t: &mut [f64],
+) -> Result<()> {
     let n = points.len() / dim;
-    let count = if closed { n + 1 } else { n };
+    let count = t.len();
+    debug_assert_eq!(count, if closed { n + 1 } else { n });
     if kind == Parametrization::Uniform && t0.fract() == 0.0 && t0.abs() + (count as f64) < 2e15 {
         // Integers: t0 + i is exactly the running sum, and fills in parallel.
-        let mut t = Vec::with_capacity(count);
-        (0..count)
-            .into_par_iter()
-            .map(|i| t0 + i as f64)
-            .collect_into_vec(&mut t);
-        return Ok(t);
+        t.par_iter_mut()
+            .enumerate()
+            .for_each(|(i, v)| *v = t0 + i as f64);
+        return Ok(());
     }
     // The steps in parallel, then their running sum (the same additions in the same order
-    // as a sequential loop: bit for bit).
-    let step = |i: usize| -> f64 {
-        match kind {
-            Parametrization::Uniform => 1.0,
-            Parametrization::ChordLength | Parametrization::Centripetal => {
-                let j = if i == n { 0 } else { i };
-                let d = crate::numeric::distance(
-                    &points[(i - 1) * dim..i * dim],
-                    &points[j * dim..(j + 1) * dim],
-                );
-                if kind == Parametrization::Centripetal {
-                    d.sqrt()
+    // as a sequential loop: bit for bit). Step i > 0 is the distance from point i - 1 to
+    // point i (point N closes a closed curve at point 0); each chunk also reports its first
+    // zero step (a point equal to the one before).
+    const CHUNK: usize = 1 << 14;
+    let repeated = t
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .filter_map(|(k, part)| {
+            let first = k * CHUNK;
+            let (lo, hi) = (first.max(1), (first + part.len()).min(n));
+            let inner = &mut part[lo - first..hi.max(lo) - first];
+            match kind {
+                Parametrization::Uniform => inner.fill(1.0),
+                _ if lo < hi => {
+                    crate::numeric::distances_into(&points[(lo - 1) * dim..hi * dim], dim, inner)
+                }
+                _ => {}
+            }
+            if first == 0 {
+                part[0] = t0;
+            }
+            if first + part.len() == n + 1 {
+                let d = crate::numeric::distance(&points[(n - 1) * dim..n * dim], &points[..dim]);
+                part[n - first] = if kind == Parametrization::Uniform {
+                    1.0
                 } else {
                     d
+                };
+            }
+            if kind == Parametrization::Centripetal {
+                for v in &mut part[usize::from(first == 0)..] {
+                    *v = v.sqrt();
                 }
             }
-        }
-    };
-    let mut t = vec![0.0; count];
-    const CHUNK: usize = 1 << 14;
-    t.par_chunks_mut(CHUNK).enumerate().for_each(|(k, part)| {
-        for (j, v) in part.iter_mut().enumerate() {
-            let i = k * CHUNK + j;
-            *v = if i == 0 { t0 } else { step(i) };
-        }
-    });
-    if let Some(i) = crate::points::first_index(count - 1, |i| t[i + 1] == 0.0) {
-        return Err(Error::RepeatedPoint { index: i });
+            let zero = part.iter().enumerate().skip(usize::from(first == 0));
+            zero.filter(|(_, v)| **v == 0.0)
+                .map(|(j, _)| first + j - 1)
+                .next()
+        })
+        .min();
+    if let Some(index) = repeated {
+        return Err(Error::RepeatedPoint { index });
     }
     for i in 1..count {
         t[i] += t[i - 1];
     }
-    if let Some(index) = crate::points::first_non_finite(&t) {
+    // The steps are >= 0 or NaN, so the sums only grow and a non-finite one stays so: the
+    // last sum is finite exactly when all are.
+    if t.last().is_some_and(|x| !x.is_finite()) {
         return Err(Error::NonFinite {
             what: "parameter of reference point",
-            index,
+            index: crate::points::first_non_finite(t).unwrap_or(count - 1),
         });
     }
-    Ok(t)
+    Ok(())
 }
 
 /// What the end rows of an open system ask for.
@@ -454,25 +537,39 @@ pub(crate) struct Solver1d {
     /// Knots of the resulting cubic B-spline.
     pub knots: Vec<f64>,
     /// Parameters of the reference points.
-    pub parameters: Vec<f64>,
+    params: Params,
     kind: Kind,
 }
 
 impl Solver1d {
-    /// Builds and factors the system for parameters `t` (N values; N+1 for periodic, the
-    /// last closing the curve).
-    pub fn new(t: Vec<f64>, end: &EndCondition, param: Parametrization) -> Result<Self> {
-        Self::build(t, end, param, false)
+    /// Builds and factors the system for the parameters t in `knots` (from
+    /// [`knots_around_parameters`] or [`knots_around`]: N values, N+1 for periodic curves
+    /// the last closing the curve, at 3.., with three slots at each end for the end knots).
+    pub fn new(knots: Vec<f64>, end: &EndCondition, param: Parametrization) -> Result<Self> {
+        Self::build(knots, end, param, false)
+    }
+
+    /// Parameters of the reference points.
+    pub fn parameters(&self) -> &[f64] {
+        match &self.params {
+            Params::Knots(r) => &self.knots[r.clone()],
+            Params::Own(t) => t,
+        }
     }
 
     fn build(
-        t: Vec<f64>,
+        knots: Vec<f64>,
         end: &EndCondition,
         param: Parametrization,
         single: bool,
     ) -> Result<Self> {
         let closed = *end == EndCondition::Periodic;
-        let n = if closed { t.len() - 1 } else { t.len() };
+        let count = knots.len().saturating_sub(6);
+        let n = if closed {
+            count.saturating_sub(1)
+        } else {
+            count
+        };
         let min = if closed { 3 } else { 2 };
         if n < min {
             return Err(Error::TooFewPoints {
@@ -491,15 +588,15 @@ impl Solver1d {
                 }
                 Self::repeat(n)
             }
-            EndCondition::Periodic => Self::periodic(t),
-            _ => Self::open(t, end, end, single),
+            EndCondition::Periodic => Self::periodic(knots),
+            _ => Self::open(knots, end, end, single),
         }
     }
 
     /// [`Solver1d::new`] for a system solved once ([`Solver1d::interpolate`]): non-uniform
     /// open systems then factor during the solve, keeping N numbers instead of 3N.
-    pub fn new_single(t: Vec<f64>, end: &EndCondition, param: Parametrization) -> Result<Self> {
-        Self::build(t, end, param, true)
+    pub fn new_single(knots: Vec<f64>, end: &EndCondition, param: Parametrization) -> Result<Self> {
+        Self::build(knots, end, param, true)
     }
 
     /// Solves for `points` (N × dim) and moves the knots and parameters into the result
@@ -512,10 +609,10 @@ impl Solver1d {
     ) -> Result<CurveInterpolation> {
         let mut control = vec![0.0; self.n_control() * dim];
         self.solve_checked(points, dim, &mut control, validated)?;
-        Ok(CurveInterpolation {
-            curve: BsplineCurve::from_trusted(3, self.knots, dim, control),
-            parameters: self.parameters,
-        })
+        Ok(CurveInterpolation::new(
+            BsplineCurve::from_trusted(3, self.knots, dim, control),
+            self.params,
+        ))
     }
 
     /// Number of control points of the result.
@@ -545,18 +642,19 @@ impl Solver1d {
         parameters[n - 1] = n as f64 + 1.0;
         Ok(Solver1d {
             knots: (0..n + 8).map(|k| k as f64 - 3.0).collect(),
-            parameters,
+            params: Params::Own(parameters),
             kind: Kind::Repeat { lu },
         })
     }
 
-    fn periodic(mut t: Vec<f64>) -> Result<Self> {
-        let n = t.len() - 1;
-        let period = t[n] - t[0];
-        let mut knots = Vec::with_capacity(n + 7);
-        knots.extend((1..=3).rev().map(|k| t[n - k] - period));
-        knots.extend_from_slice(&t);
-        knots.extend((1..=3).map(|k| t[k] + period));
+    fn periodic(mut knots: Vec<f64>) -> Result<Self> {
+        let n = knots.len() - 7;
+        let period = knots[n + 3] - knots[3];
+        for k in 1..=3 {
+            knots[3 - k] = knots[n + 3 - k] - period;
+            knots[n + 3 + k] = knots[3 + k] + period;
+        }
+        let t = &knots[3..n + 4];
         let (mut lower, mut diag, mut upper) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let mut basis = [0.0; 4];
         for i in 0..n {
@@ -570,33 +668,36 @@ impl Solver1d {
             kind: Kind::Periodic {
                 lu: CyclicLu::new(&lower, &diag, &upper)?,
             },
-            parameters: {
-                t.truncate(n);
-                t
-            },
+            params: Params::Knots(3..n + 3),
         })
     }
 
     /// An open system with (possibly different) conditions at its two ends.
-    pub(crate) fn new_mixed(t: Vec<f64>, start: &EndCondition, end: &EndCondition) -> Result<Self> {
-        if t.len() < 2 {
+    pub(crate) fn new_mixed(
+        knots: Vec<f64>,
+        start: &EndCondition,
+        end: &EndCondition,
+    ) -> Result<Self> {
+        let n = knots.len().saturating_sub(6);
+        if n < 2 {
             return Err(Error::TooFewPoints {
                 what: "reference points",
-                got: t.len(),
+                got: n,
                 min: 2,
             });
         }
-        Self::open(t, start, end, true)
+        Self::open(knots, start, end, true)
     }
 
     fn open(
-        t: Vec<f64>,
+        mut knots: Vec<f64>,
         start_cond: &EndCondition,
         end_cond: &EndCondition,
         single: bool,
     ) -> Result<Self> {
-        let n = t.len();
-        let knots = open_knots(&t);
+        let n = knots.len() - 6;
+        fill_open_ends(&mut knots);
+        let t = &knots[3..n + 3];
         let nc = n + 2;
         let deriv = |span: usize, at: f64, k: usize| -> Vec<f64> {
             basis_funs_derivs(&knots, span, at, 3, k)[k][..4].to_vec()
@@ -676,14 +777,14 @@ impl Solver1d {
         let start = equilibrate(row_for(start_cond, true)?);
         let finish = equilibrate(row_for(end_cond, false)?);
         let end_rows = || ((start.0, start.1.clone()), (finish.0, finish.1.clone()));
-        let (sys, interp_scale) = match is_uniform(&t) {
+        let (sys, interp_scale) = match is_uniform(t) {
             true => (TridiagSystem::toeplitz(nc, end_rows().0, end_rows().1), 6.0),
             false => (None, 1.0),
         };
         if sys.is_none() && single {
             return Ok(Solver1d {
                 knots,
-                parameters: t,
+                params: Params::Knots(3..n + 3),
                 kind: Kind::OpenOnce {
                     rows: [(start.0, start.1), (finish.0, finish.1)],
                     start: start.2,
@@ -706,7 +807,7 @@ impl Solver1d {
         })?;
         Ok(Solver1d {
             knots,
-            parameters: t,
+            params: Params::Knots(3..n + 3),
             kind: Kind::Open {
                 sys,
                 start: start.2,
@@ -757,12 +858,16 @@ impl Solver1d {
                     .map(|c| points[e * dim + c] + f * (points[e * dim + c] - points[nb * dim + c]))
                     .collect()
             }
-            EndRhs::Estimated if at_start => bessel_tangent(points, dim, &self.parameters),
+            EndRhs::Estimated if at_start => bessel_tangent(points, dim, self.parameters()),
             EndRhs::Estimated => {
                 // The last three points and parameters, reversed (t negated).
                 let k = n.min(3);
                 let rev_pts = reversed(&points[(n - k) * dim..], dim);
-                let rev_t: Vec<f64> = self.parameters[n - k..n].iter().rev().map(|v| -v).collect();
+                let rev_t: Vec<f64> = self.parameters()[n - k..n]
+                    .iter()
+                    .rev()
+                    .map(|v| -v)
+                    .collect();
                 bessel_tangent(&rev_pts, dim, &rev_t)
                     .iter()
                     .map(|v| -v)
@@ -825,7 +930,7 @@ impl Solver1d {
         else {
             unreachable!("solve_in_place on an open system only")
         };
-        let n = self.parameters.len();
+        let n = self.parameters().len();
         debug_assert_eq!(buf.len(), (n + 2) * dim);
         let ends = self.open_ends(&buf[dim..(n + 1) * dim], dim)?;
         buf[..dim].copy_from_slice(&ends[0]);
@@ -1000,15 +1105,20 @@ fn is_uniform(t: &[f64]) -> bool {
 /// Knots for an open curve: t_0..t_(N-1) with three more beyond each end, spaced like the
 /// first / last interval (uniform parameters give uniform knots).
 pub(crate) fn open_knots(t: &[f64]) -> Vec<f64> {
-    let n = t.len();
-    let (h0, h1) = (t[1] - t[0], t[n - 1] - t[n - 2]);
-    let mut knots = vec![0.0; n + 6];
-    for k in 1..=3 {
-        knots[3 - k] = t[0] - k as f64 * h0;
-        knots[n + 2 + k] = t[n - 1] + k as f64 * h1;
-    }
-    crate::points::par_copy(t, &mut knots[3..n + 3]);
+    let mut knots = knots_around(t);
+    fill_open_ends(&mut knots);
     knots
+}
+
+/// Fills the three end knots at each end of [`knots_around`]'s vector for an open curve, as
+/// [`open_knots`].
+pub(crate) fn fill_open_ends(knots: &mut [f64]) {
+    let n = knots.len() - 6;
+    let (h0, h1) = (knots[4] - knots[3], knots[n + 2] - knots[n + 1]);
+    for k in 1..=3 {
+        knots[3 - k] = knots[3] - k as f64 * h0;
+        knots[n + 2 + k] = knots[n + 2] + k as f64 * h1;
+    }
 }
 
 /// Derivative at t[0] of the parabola through the first three points (or the chord for two).

@@ -69,7 +69,7 @@ enum Spans {
 ///
 /// let points = vec![vec![0.0, 0.0], vec![1.0, 2.0], vec![3.0, 2.5], vec![4.0, 0.0]];
 /// let opts = InterpolationOptions::default().with_parametrization(Parametrization::ChordLength);
-/// let curve = interpolate_curve(&points, &opts)?.curve;
+/// let curve = interpolate_curve(&points, &opts)?.into_curve();
 /// let pp = curve.to_piecewise()?;
 /// let ts = [0.3, 4.2, 1.7];
 /// let mut out = vec![0.0; 6];

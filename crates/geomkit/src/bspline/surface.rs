@@ -17,7 +17,7 @@ use super::curve::{
     basis_funs, basis_funs_derivs, detect_uniform_step, find_span, uniform_cubic_basis,
     uniform_span,
 };
-use super::interpolate::{EndCondition, Parametrization, Solver1d};
+use super::interpolate::{knots_around, EndCondition, Parametrization, Solver1d};
 use crate::points::{check_eval_args, check_knots, flatten_grid, unit_normal, validate_points};
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -538,8 +538,8 @@ pub fn interpolate_surface_flat(
         p,
         options.end_v == EndCondition::Periodic,
     )?;
-    let sys_u = Solver1d::new(tu, &options.end_u, p)?;
-    let sys_v = Solver1d::new(tv, &options.end_v, p)?;
+    let sys_u = Solver1d::new(knots_around(&tu), &options.end_u, p)?;
+    let sys_v = Solver1d::new(knots_around(&tv), &options.end_v, p)?;
     separable(&grid, m, n, dim, &sys_u, &sys_v)
 }
 
@@ -680,8 +680,8 @@ pub(crate) fn separable(
             dim,
             control,
         ),
-        params_u: sys_u.parameters.clone(),
-        params_v: sys_v.parameters.clone(),
+        params_u: sys_u.parameters().to_vec(),
+        params_v: sys_v.parameters().to_vec(),
     })
 }
 
@@ -778,7 +778,7 @@ pub fn interpolate_heights_at(
         }
     }
     let p = Parametrization::ChordLength;
-    let sys_u = Solver1d::new(xs.to_vec(), end, p)?;
-    let sys_v = Solver1d::new(ys.to_vec(), end, p)?;
+    let sys_u = Solver1d::new(knots_around(xs), end, p)?;
+    let sys_v = Solver1d::new(knots_around(ys), end, p)?;
     Ok(separable(z, xs.len(), ys.len(), 1, &sys_u, &sys_v)?.surface)
 }

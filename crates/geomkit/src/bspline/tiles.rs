@@ -15,14 +15,15 @@
 //! let opts = InterpolationOptions::default();
 //! let global = interpolate_curve_flat(2, &pts, &opts).unwrap();
 //! let tiled = interpolate_curve_tiled(2, &pts, &opts, &TileOptions::default().with_tile_size(700)).unwrap();
-//! let err = global.curve.control_flat().iter().zip(tiled.curve.control_flat())
+//! let err = global.curve().control_flat().iter().zip(tiled.curve().control_flat())
 //!     .map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
 //! assert!(err < 1e-13);
 //! ```
 
 use super::curve::BsplineCurve;
 use super::interpolate::{
-    parameters, parameters_from, CurveInterpolation, EndCondition, InterpolationOptions, Solver1d,
+    knots_around, knots_around_parameters, CurveInterpolation, EndCondition, InterpolationOptions,
+    Params, Solver1d,
 };
 use crate::points::validate_points;
 use crate::{Error, Result};
@@ -141,13 +142,15 @@ impl CurveTiler {
             }
         };
         let (start_end, finish_end) = (end(lo == 0), end(hi == self.n));
-        let t = parameters_from(points, d, self.options.parametrization, false, t_start)?;
-        let fit = Solver1d::new_mixed(t, &start_end, &finish_end)?.interpolate(points, d, true)?;
-        debug_assert_eq!(fit.curve.n_control(), local_n + 2);
+        let knots =
+            knots_around_parameters(points, d, self.options.parametrization, false, t_start)?;
+        let fit =
+            Solver1d::new_mixed(knots, &start_end, &finish_end)?.interpolate(points, d, true)?;
+        debug_assert_eq!(fit.curve().n_control(), local_n + 2);
         let (w0, w1) = (plan.write.start - lo, plan.write.end - lo);
         Ok(TileSolution {
-            control: fit.curve.control_flat()[w0 * d..w1 * d].to_vec(),
-            parameters: fit.parameters,
+            control: fit.curve().control_flat()[w0 * d..w1 * d].to_vec(),
+            parameters: fit.parameters().to_vec(),
         })
     }
 }
@@ -234,7 +237,7 @@ pub fn interpolate_surface_tiled(
             } else {
                 &natural
             };
-            let sys_u = Solver1d::new_mixed(tu[ru.clone()].to_vec(), end_u0, end_u1)?;
+            let sys_u = Solver1d::new_mixed(knots_around(&tu[ru.clone()]), end_u0, end_u1)?;
             for pv in &plan_v {
                 let rv = &pv.read;
                 let end_v0 = if rv.start == 0 {
@@ -247,7 +250,7 @@ pub fn interpolate_surface_tiled(
                 } else {
                     &natural
                 };
-                let sys_v = Solver1d::new_mixed(tv[rv.clone()].to_vec(), end_v0, end_v1)?;
+                let sys_v = Solver1d::new_mixed(knots_around(&tv[rv.clone()]), end_v0, end_v1)?;
                 let (m, n) = (ru.len(), rv.len());
                 let mut block = Vec::with_capacity(m * n * dim);
                 for i in ru.clone() {
@@ -296,7 +299,7 @@ pub fn interpolate_curve_tiled(
     let n = points.len() / dim;
     let tiler = CurveTiler::new(n, dim, options, tiles)?;
     let plan = tiler.plan();
-    let t = parameters(points, dim, options.parametrization, false)?;
+    let mut knots = knots_around_parameters(points, dim, options.parametrization, false, 0.0)?;
     // Each tile writes its range of the control points straight into the result (the
     // ranges follow one another): no copy of the whole curve, only a few tiles of scratch.
     let mut control = vec![0.0; (n + 2) * dim];
@@ -311,16 +314,16 @@ pub fn interpolate_curve_tiled(
         .zip(ranges.into_par_iter())
         .try_for_each(|(p, out)| {
             let pts = &points[p.read.start * dim..p.read.end * dim];
-            out.copy_from_slice(&tiler.solve(p, pts, t[p.read.start])?.control);
+            out.copy_from_slice(&tiler.solve(p, pts, knots[3 + p.read.start])?.control);
             Ok::<(), Error>(())
         })?;
-    let knots = super::interpolate::open_knots(&t);
+    super::interpolate::fill_open_ends(&mut knots);
     // The tiles' solves checked their control points (finite); the knots are the global
     // curve's.
-    Ok(CurveInterpolation {
-        curve: BsplineCurve::from_trusted(3, knots, dim, control),
-        parameters: t,
-    })
+    Ok(CurveInterpolation::new(
+        BsplineCurve::from_trusted(3, knots, dim, control),
+        Params::Knots(3..n + 3),
+    ))
 }
 
 /// The paper's fragments (§5): fragments of `fragment` points overlapping by `overlap`, each
@@ -378,7 +381,11 @@ pub fn paper_fragments_averaged(
 pub(crate) fn paper_inner(points: &[f64], dim: usize) -> Result<Vec<f64>> {
     let n = points.len() / dim;
     let t: Vec<f64> = (0..n).map(|i| i as f64).collect();
-    let system = Solver1d::new(t, &EndCondition::Repeat, super::Parametrization::Uniform)?;
+    let system = Solver1d::new(
+        knots_around(&t),
+        &EndCondition::Repeat,
+        super::Parametrization::Uniform,
+    )?;
     let mut out = vec![0.0; system.n_control() * dim];
     system.solve(points, dim, &mut out)?;
     Ok(out[3 * dim..(n + 1) * dim].to_vec())
