@@ -124,7 +124,33 @@ impl CurveTiler {
     /// then sees exactly the global parameters and reproduces the global solve.
     pub fn solve(&self, plan: &TilePlan, points: &[f64], t_start: f64) -> Result<TileSolution> {
         let d = self.dim;
-        validate_points("reference points", d, points)?;
+        let mut control = Vec::new();
+        let solver = self.solve_tile(plan, points, t_start, false, &mut control)?;
+        let (w0, w1) = (
+            plan.write.start - plan.read.start,
+            plan.write.end - plan.read.start,
+        );
+        Ok(TileSolution {
+            control: control[w0 * d..w1 * d].to_vec(),
+            parameters: solver.parameters().to_vec(),
+        })
+    }
+
+    /// [`CurveTiler::solve`] into `control` (resized to all N + 2 control points of the
+    /// tile, so that a caller can reuse it from tile to tile), with the points already
+    /// checked if `validated`; returns the tile's system (its knots and parameters).
+    fn solve_tile(
+        &self,
+        plan: &TilePlan,
+        points: &[f64],
+        t_start: f64,
+        validated: bool,
+        control: &mut Vec<f64>,
+    ) -> Result<Solver1d> {
+        let d = self.dim;
+        if !validated {
+            validate_points("reference points", d, points)?;
+        }
         let (lo, hi) = (plan.read.start, plan.read.end);
         if points.len() != (hi - lo) * d {
             return Err(Error::BufferSize {
@@ -144,14 +170,12 @@ impl CurveTiler {
         let (start_end, finish_end) = (end(lo == 0), end(hi == self.n));
         let knots =
             knots_around_parameters(points, d, self.options.parametrization, false, t_start)?;
-        let fit =
-            Solver1d::new_mixed(knots, &start_end, &finish_end)?.interpolate(points, d, true)?;
-        debug_assert_eq!(fit.curve().n_control(), local_n + 2);
-        let (w0, w1) = (plan.write.start - lo, plan.write.end - lo);
-        Ok(TileSolution {
-            control: fit.curve().control_flat()[w0 * d..w1 * d].to_vec(),
-            parameters: fit.parameters().to_vec(),
-        })
+        let solver = Solver1d::new_mixed(knots, &start_end, &finish_end)?;
+        debug_assert_eq!(solver.n_control(), local_n + 2);
+        control.clear();
+        control.resize(solver.n_control() * d, 0.0);
+        solver.solve_checked(points, d, control, true)?;
+        Ok(solver)
     }
 }
 
@@ -310,11 +334,14 @@ pub fn interpolate_curve_tiled(
         ranges.push(here);
         rest = tail;
     }
+    // One scratch buffer of a tile's control points per worker, reused.
     plan.par_iter()
         .zip(ranges.into_par_iter())
-        .try_for_each(|(p, out)| {
+        .try_for_each_init(Vec::new, |control, (p, out)| {
             let pts = &points[p.read.start * dim..p.read.end * dim];
-            out.copy_from_slice(&tiler.solve(p, pts, knots[3 + p.read.start])?.control);
+            tiler.solve_tile(p, pts, knots[3 + p.read.start], true, control)?;
+            let w0 = p.write.start - p.read.start;
+            out.copy_from_slice(&control[w0 * dim..w0 * dim + out.len()]);
             Ok::<(), Error>(())
         })?;
     super::interpolate::fill_open_ends(&mut knots);
