@@ -227,10 +227,14 @@ impl CubicLanes {
         let (xs, spans) = (&self.x[..n], &mut self.span[..n]);
         if let Some(inv) = loc.inv_step.filter(|_| loc.hi < LANE_INDEX_MAX) {
             // `uniform_span` lane by lane, in a loop that vectorizes: max/min send NaN to
-            // the first span as its clamp does, and the index fits an i32.
+            // the first span as its clamp does, and the floor of the clamped value, an
+            // integer below 2^31, is read from the low bits of its sum with 2^52 (an `as`
+            // conversion saturates, which compiles to one scalar conversion per lane).
+            const TWO_52: f64 = 4_503_599_627_370_496.0;
             let (k0, lo, hi) = (loc.knots[0], loc.lo as f64, loc.hi as f64);
             for (s, &x) in spans.iter_mut().zip(xs) {
-                *s = ((x - k0) * inv).max(lo).min(hi) as i32 as usize;
+                let f = ((x - k0) * inv).max(lo).min(hi).floor();
+                *s = ((f + TWO_52).to_bits() - TWO_52.to_bits()) as usize;
             }
         } else if loc.inv_step.is_none() && !loc.table.is_empty() && !touch {
             for (s, &x) in spans.iter_mut().zip(xs) {
