@@ -235,8 +235,8 @@ pub fn parse_any_model(text: &str) -> Result<AnyModel> {
     match ty {
         "bezier_curve" => parse_curve(obj).map(AnyModel::Bezier),
         "bezier_surface" => parse_surface(obj).map(AnyModel::Bezier),
-        "bspline_curve" => parse_bspline_curve(obj),
-        "bspline_surface" => parse_bspline_surface(obj),
+        "bspline_curve" => parse_bspline_curve(obj).map(AnyModel::BsplineCurve),
+        "bspline_surface" => parse_bspline_surface(obj).map(AnyModel::BsplineSurface),
         other => bail!(
             "unknown type {}: expected {TYPES}",
             Value::String(other.to_string())
@@ -284,7 +284,8 @@ fn optional_list(obj: &Map<String, Value>, name: &str) -> Result<Option<Vec<f64>
     }
 }
 
-fn parse_bspline_curve(obj: &Map<String, Value>) -> Result<AnyModel> {
+/// A `"bspline_curve"` object (the output of `geomkit interpolate curve -o fit.json`).
+pub fn parse_bspline_curve(obj: &Map<String, Value>) -> Result<BsplineCurveModel> {
     const TY: &str = "bspline_curve";
     check_fields(
         obj,
@@ -299,13 +300,14 @@ fn parse_bspline_curve(obj: &Map<String, Value>) -> Result<AnyModel> {
     }
     check_same_dim(&points, |k| format!("control_points[{k}]"))?;
     let parameters = optional_list(obj, "parameters")?;
-    Ok(AnyModel::BsplineCurve(BsplineCurveModel {
+    Ok(BsplineCurveModel {
         curve: BsplineCurve::new(degree, knots, points)?,
         parameters,
-    }))
+    })
 }
 
-fn parse_bspline_surface(obj: &Map<String, Value>) -> Result<AnyModel> {
+/// A `"bspline_surface"` object (the output of `geomkit interpolate surface -o fit.json`).
+pub fn parse_bspline_surface(obj: &Map<String, Value>) -> Result<BsplineSurfaceModel> {
     const TY: &str = "bspline_surface";
     check_fields(
         obj,
@@ -338,10 +340,10 @@ fn parse_bspline_surface(obj: &Map<String, Value>) -> Result<AnyModel> {
         (None, None) => None,
         _ => bail!("give both \"parameters_u\" and \"parameters_v\" or neither"),
     };
-    Ok(AnyModel::BsplineSurface(BsplineSurfaceModel {
+    Ok(BsplineSurfaceModel {
         surface: BsplineSurface::from_flat(degrees, knots_u, knots_v, rows, cols, dim, flat)?,
         parameters,
-    }))
+    })
 }
 
 fn check_fields(obj: &Map<String, Value>, ty: &str, allowed: &[&str]) -> Result<()> {

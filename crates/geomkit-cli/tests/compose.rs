@@ -463,6 +463,111 @@ fn piecewise_functions_polygons_and_curves() {
         ),
         (r#"{"type":"polyline","points":[[0,0]]}"#, "polyline points"),
         (r#"{"type":"spline"}"#, "\"type\" must be"),
+        (
+            r#"{"type":"bspline_curve","degree":1,"knots":[0,0,1,1,2,2],"control_points":[[0,0],[1,0],[1,1],[2,1]]}"#,
+            "repeated degree + 1 times",
+        ),
     ];
     assert_bad_inputs(d, "piecewise", "bad.svg", &bad);
+}
+
+/// An interpolated curve (method 2) saved as a model, then written as one formula.
+#[test]
+fn interpolated_curve_as_one_formula() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "pts.csv", "0,0\n1,2\n3,3\n4,0\n6,1\n");
+    ok(d, &["interpolate", "curve", "pts.csv", "-o", "fit.json"]);
+    let out = ok(d, &["compose", "piecewise", "fit.json", "--report-json"]);
+    let r: Value = serde_json::from_str(&text(&out.stdout)).unwrap();
+    assert_eq!(r["continuous"], Value::Bool(true));
+    let fit: Value =
+        serde_json::from_str(&fs::read_to_string(d.join("fit.json")).unwrap()).unwrap();
+    let breaks: Vec<f64> = r["jumps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| j["at"].as_f64().unwrap())
+        .collect();
+    let params: Vec<f64> = fit["parameters"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert_eq!(
+        breaks,
+        params[1..params.len() - 1],
+        "breakpoints = inner parameters"
+    );
+    ok(
+        d,
+        &["compose", "piecewise", "fit.json", "-o", "fit.formula.json"],
+    );
+    let v: Value =
+        serde_json::from_str(&fs::read_to_string(d.join("fit.formula.json")).unwrap()).unwrap();
+    assert_eq!(v["variables"], serde_json::json!(["t"]));
+    let out = ok(
+        d,
+        &[
+            "compose",
+            "piecewise",
+            "fit.json",
+            "--format",
+            "mathematica",
+        ],
+    );
+    let m = text(&out.stdout);
+    assert!(m.starts_with("x[t_] := ") && m.contains("y[t_] := "), "{m}");
+}
+
+/// An interpolated height surface (method 2) saved as a model, written as one formula, and
+/// the formula file evaluated back at the grid nodes.
+#[test]
+fn interpolated_surface_as_one_formula() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let heights = [
+        [0.0, 1.0, 2.0, 1.0],
+        [1.0, 2.0, 3.0, 2.0],
+        [0.0, 1.0, 1.0, 0.0],
+    ];
+    let csv: String = heights
+        .iter()
+        .map(|r| r.map(|z| z.to_string()).join(",") + "\n")
+        .collect();
+    write(d, "h.csv", &csv);
+    ok(
+        d,
+        &[
+            "interpolate",
+            "surface",
+            "h.csv",
+            "--heights",
+            "--dx",
+            "0.5",
+            "--dy",
+            "1",
+            "-o",
+            "fit.json",
+        ],
+    );
+    let out = ok(d, &["compose", "patches", "fit.json", "--report-json"]);
+    let r: Value = serde_json::from_str(&text(&out.stdout)).unwrap();
+    assert_eq!(r["continuous"], Value::Bool(true));
+    let out = ok(d, &["compose", "patches", "fit.json", "--format", "maple"]);
+    assert!(text(&out.stdout).starts_with("z := (x, y) -> "));
+    ok(d, &["compose", "patches", "fit.json", "-o", "f.json"]);
+    let nodes: String = (0..3)
+        .flat_map(|i| (0..4).map(move |j| format!("{},{}\n", 0.5 * i as f64, j)))
+        .collect();
+    write(d, "at.csv", &nodes);
+    let out = ok(d, &["eval", "f.json", "--at", "at.csv"]);
+    let lines: Vec<String> = text(&out.stdout).lines().map(String::from).collect();
+    assert_eq!(lines[0], "x,y,z");
+    for (k, line) in lines[1..].iter().enumerate() {
+        let z: f64 = line.rsplit(',').next().unwrap().parse().unwrap();
+        let want = heights[k / 4][k % 4];
+        assert!((z - want).abs() <= 1e-14, "node {k}: {z} vs {want}");
+    }
 }

@@ -345,3 +345,81 @@ proptest! {
         }
     }
 }
+
+/// B-spline curves as one formula (`Piecewise::from_bspline`): interpolated cubics (open,
+/// periodic, chord-length knots) and random splines of degrees 1, 2 and 5 with repeated
+/// knots (empty spans skipped): the structural evaluator, the literal formula and the
+/// printed formula equal the curve on its domain; interpolating cubics are continuous.
+#[test]
+fn bspline_curves_as_one_formula() {
+    use geomkit::bezier::ParamCurve;
+    use geomkit::bspline::{
+        interpolate_curve, BsplineCurve, EndCondition, InterpolationOptions, Parametrization,
+    };
+    use geomkit::compose::Piecewise;
+    use geomkit::expr::Format;
+    let mut rng = Rng(99);
+    let mut curves: Vec<(String, BsplineCurve)> = Vec::new();
+    for dim in [1usize, 2, 3] {
+        let pts: Vec<Vec<f64>> = (0..9)
+            .map(|i| {
+                (0..dim)
+                    .map(|c| (i * (c + 2)) as f64 * 0.3 + rng.uniform())
+                    .collect()
+            })
+            .collect();
+        for (end, param) in [
+            (EndCondition::NotAKnot, Parametrization::Uniform),
+            (EndCondition::Natural, Parametrization::ChordLength),
+            (EndCondition::Periodic, Parametrization::Centripetal),
+        ] {
+            let o = InterpolationOptions::default()
+                .with_end(end.clone())
+                .with_parametrization(param);
+            let fit = interpolate_curve(&pts, &o).unwrap();
+            let f = Piecewise::from_bspline(fit.curve()).unwrap();
+            assert!(f.continuity().is_continuous(), "dim {dim} {end:?}");
+            let n = fit.parameters().len();
+            assert_eq!(f.knots()[..n], fit.parameters()[..], "dim {dim} {end:?}");
+            curves.push((format!("interpolated dim {dim} {end:?}"), fit.into_curve()));
+        }
+    }
+    for p in [1usize, 2, 3, 5] {
+        let n = p + 7;
+        let mut inner: Vec<f64> = (0..n - p - 2).map(|_| 1.0 + 1.9 * rng.uniform()).collect();
+        inner.push(inner[0]); // a repeated knot: an empty span
+        inner.sort_by(f64::total_cmp);
+        let mut knots = vec![-1.0; p + 1];
+        knots.extend(&inner);
+        knots.extend(vec![3.0; p + 1]);
+        let control: Vec<Vec<f64>> = (0..n).map(|_| vec![rng.uniform(), rng.uniform()]).collect();
+        let c = BsplineCurve::new(p, knots, control).unwrap();
+        if p == 1 {
+            // A double knot of a polyline is a jump, which the continuous formula cannot be.
+            let err = Piecewise::from_bspline(&c).unwrap_err();
+            assert!(matches!(err, Error::InvalidKnots { .. }), "{err:?}");
+            continue;
+        }
+        curves.push((format!("degree {p}"), c));
+    }
+    for (name, c) in &curves {
+        let f = Piecewise::from_bspline(c).unwrap();
+        let (a, b) = c.domain();
+        let mut ts: Vec<f64> = (0..=400).map(|k| a + (b - a) * k as f64 / 400.0).collect();
+        ts.extend(f.knots());
+        let scale = c.control_flat().iter().fold(1.0f64, |m, x| m.max(x.abs()));
+        let formula = f.formula().unwrap();
+        let mut printed = vec![0.0; ts.len() * c.dim()];
+        formula.eval_batch(&[&ts], &mut printed).unwrap();
+        for (k, &t) in ts.iter().enumerate() {
+            let want = c.eval(t);
+            for (i, got) in [f.eval(t), f.eval_formula(t)].iter().enumerate() {
+                let err = common::max_abs_diff(got, &want);
+                assert!(err <= 1e-13 * scale, "{name}, form {i}, t = {t}: {err:e}");
+            }
+            let err = common::max_abs_diff(&printed[k * c.dim()..(k + 1) * c.dim()], &want);
+            assert!(err <= 1e-13 * scale, "{name}, printed, t = {t}: {err:e}");
+        }
+        assert!(formula.print(Format::Mathematica).contains('t'), "{name}");
+    }
+}

@@ -10,7 +10,9 @@
 //!   1-D Bézier nets `{"bezier":[[[z],...],...]}`, formulas `"expr in x, y"` or
 //!   `{"z":"expr","domain":[[x0,x1],[y0,y1]]}`;
 //! - parametric patches may also be formulas `{"x":"expr","y":"expr","z":"expr"}` in u, v,
-//!   optionally with `"domain":[[u0,u1],[v0,v1]]` mapped linearly onto the cell.
+//!   optionally with `"domain":[[u0,u1],[v0,v1]]` mapped linearly onto the cell;
+//! - a saved B-spline surface `{"type":"bspline_surface",...}` (e.g. from `geomkit interpolate
+//!   surface -o fit.json`): its knot cells as polynomial patches, explicit z(x, y) for heights.
 
 use super::mesh::{mesh_summary, write_mesh};
 use crate::figures::{linspace, surface_svg, GridEval, Layer, SurfaceView};
@@ -46,8 +48,8 @@ pub enum ComposeCommand {
     /// A piecewise-ruled surface over curves (CURVES.json) as one formula (2), with its
     /// consistency checks: formula text, or OUT like `compose body`.
     Ruled(RuledArgs),
-    /// A piecewise function or composite curve (PIECES.json) as one formula (spec §5), with
-    /// the continuity report at its breakpoints; OUT .svg plots it.
+    /// A piecewise function, composite curve or saved B-spline curve (PIECES.json) as one
+    /// formula (spec §5), with the continuity report at its breakpoints; OUT .svg plots it.
     Piecewise(PiecewiseArgs),
 }
 
@@ -111,7 +113,8 @@ pub struct BodyArgs {
 /// Arguments of `compose patches`.
 #[derive(Debug, Args)]
 pub struct PatchesArgs {
-    /// The scene (JSON).
+    /// The scene (JSON), or a saved B-spline surface ({"type":"bspline_surface",...}, e.g.
+    /// from `geomkit interpolate surface -o fit.json`: one patch per knot cell).
     pub scene: PathBuf,
     /// Print the continuity report as JSON {"max_jump":..,"jumps":[..]} instead of the formula.
     #[arg(long)]
@@ -139,8 +142,9 @@ pub struct RuledArgs {
 pub struct PiecewiseArgs {
     /// The pieces (JSON): {"type":"piecewise","knots":[x0,...,xn],"pieces":["f0(x)",...]}
     /// for a function, pieces {"x":"expr","y":"expr"[,"z":..][,"domain":[t0,t1]]} in t
-    /// for a composite curve, or {"type":"polyline"|"polygon","points":[[x,y],...]
-    /// [,"knots":[...]]}.
+    /// for a composite curve, {"type":"polyline"|"polygon","points":[[x,y],...]
+    /// [,"knots":[...]]}, or a saved B-spline curve ({"type":"bspline_curve",...}, e.g. from
+    /// `geomkit interpolate curve -o fit.json`: one polynomial piece per knot span).
     pub pieces: PathBuf,
     /// Print the continuity report as JSON instead of the formula.
     #[arg(long)]
@@ -659,6 +663,12 @@ impl SurfaceModel {
             }
             "ruled" => Some(parse_ruled(v).map(SurfaceModel::Ruled)),
             "formula" => Some(match v.get("model") {
+                // The formula of `compose patches` over a saved B-spline surface: its cells.
+                Some(m) if m.get("type").and_then(Value::as_str) == Some("bspline_surface") => {
+                    parse_scene_value(m)
+                        .map(SurfaceModel::Scene)
+                        .context("model")
+                }
                 Some(m) => SurfaceModel::from_json(m)
                     .unwrap_or_else(|| Err(anyhow!("\"model\" is no composite or ruled surface")))
                     .context("model"),
@@ -719,8 +729,14 @@ pub fn parse_scene_value(v: &Value) -> Result<CompositeSurface> {
     let (ku, kv) = match ty {
         "composite_surface" => ("u_knots", "v_knots"),
         "composite_explicit" => ("x_knots", "y_knots"),
+        "bspline_surface" => {
+            let obj = v.as_object().expect("a value with a \"type\" is an object");
+            let m = crate::model::parse_bspline_surface(obj)?;
+            return Ok(CompositeSurface::from_bspline(&m.surface)?);
+        }
         other => bail!(
-            "\"type\" must be \"composite_surface\" or \"composite_explicit\", found {other:?}"
+            "\"type\" must be \"composite_surface\", \"composite_explicit\" or \
+             \"bspline_surface\", found {other:?}"
         ),
     };
     let uk = number_list(v.get(ku), ku)?;

@@ -7,7 +7,9 @@
 //!   a composite curve in t (`z` and `domain` optional: without a domain a piece is defined
 //!   on its knot interval);
 //! - `{"type":"polyline"|"polygon","points":[[x,y],...],"knots":[...]}` (`knots` optional,
-//!   0, 1, 2, ... by default; one coordinate per point gives a function).
+//!   0, 1, 2, ... by default; one coordinate per point gives a function);
+//! - `{"type":"bspline_curve",...}` (a saved model, e.g. from `geomkit interpolate curve
+//!   -o fit.json`): one polynomial piece per knot span ([`Piecewise::from_bspline`]).
 
 use super::compose::{
     format_of, formula_json, formula_line, formula_text, number_list, read_json, FormulaOutput,
@@ -60,9 +62,16 @@ pub fn parse_pieces(v: &Value) -> Result<Piecewise> {
                 .collect::<Result<Vec<_>>>()?;
             Ok(Piecewise::from_pieces(knots, parsed, "t")?)
         }
-        other => {
-            bail!("\"type\" must be \"piecewise\", \"polyline\" or \"polygon\", found {other:?}")
+        "bspline_curve" => {
+            let obj = v.as_object().expect("a value with a \"type\" is an object");
+            Ok(Piecewise::from_bspline(
+                &crate::model::parse_bspline_curve(obj)?.curve,
+            )?)
         }
+        other => bail!(
+            "\"type\" must be \"piecewise\", \"polyline\", \"polygon\" or \"bspline_curve\", \
+             found {other:?}"
+        ),
     }
 }
 

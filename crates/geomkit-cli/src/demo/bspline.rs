@@ -241,6 +241,31 @@ fn trajectory(ctx: &Context) -> Result<Report> {
     ));
     fd_check(&mut r, curve, 1001)?;
 
+    // The whole curve as one formula (method 3), for a symbolic system.
+    let formula = geomkit::compose::Piecewise::from_bspline(curve)?;
+    let printed = formula.formula()?;
+    r.file(
+        ctx,
+        "traj6.m",
+        printed.print(geomkit::expr::Format::Mathematica).as_bytes(),
+        "the curve as one formula x(t), y(t) (Mathematica)",
+    )?;
+    let (a, b) = curve.domain();
+    let ts: Vec<f64> = (0..=1000)
+        .map(|i| a + (b - a) * i as f64 / 1000.0)
+        .collect();
+    let mut values = vec![0.0; ts.len() * 2];
+    printed.eval_batch(&[&ts], &mut values)?;
+    let off = ts
+        .iter()
+        .zip(values.chunks_exact(2))
+        .fold(0.0f64, |m, (&t, v)| m.max(max_diff(v, &curve.eval(t))));
+    r.check(Check::at_most(
+        "the printed single formula (spec §5) vs the B-spline at 1001 parameters (relative)",
+        off / max_abs(&k),
+        1e-13,
+    ));
+
     // Cost of the two routes.
     let mut cost = String::new();
     let mut worst = 0.0f64;

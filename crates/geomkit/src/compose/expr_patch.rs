@@ -103,6 +103,40 @@ impl ExprPatch {
         Self::new(graph, roots, names, texts, &vars, Some(vec![(0.0, 1.0); 2]))
     }
 
+    /// A curve piece Σ_a c_a s^a in `var` on \[0, 1\] (its local parameter), the power
+    /// coefficients row-major (`coef_rows[a * names.len() + k]` for coordinate k), so that
+    /// polynomial curve pieces (the spans of a B-spline) mix with formula pieces.
+    pub(crate) fn from_power(coef_rows: &[f64], names: &[String], var: &str) -> Result<Self> {
+        let dim = names.len();
+        let mut graph = Graph::new();
+        let s = graph.var(var);
+        let roots: Vec<Id> = (0..dim)
+            .map(|k| {
+                let terms: Vec<Id> = coef_rows
+                    .chunks_exact(dim)
+                    .enumerate()
+                    .map(|(a, row)| {
+                        let c = coef(&mut graph, row[k]);
+                        graph.prod(&[(c, 1), (s, a as i32)])
+                    })
+                    .collect();
+                graph.sum(&terms)
+            })
+            .collect();
+        let texts = roots
+            .iter()
+            .map(|&r| graph.print(r, crate::expr::Format::Sympy))
+            .collect();
+        Self::new(
+            graph,
+            roots,
+            names.to_vec(),
+            texts,
+            &[var],
+            Some(vec![(0.0, 1.0)]),
+        )
+    }
+
     fn new(
         graph: Graph,
         roots: Vec<Id>,

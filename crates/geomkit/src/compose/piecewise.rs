@@ -139,6 +139,52 @@ impl Piecewise {
         })
     }
 
+    /// The B-spline curve `c` on its domain as pieces in t: one polynomial per non-empty
+    /// knot span (its Bézier segment by de Boor's triangle, in power form of the span's own
+    /// parameter s = (t - t_i) / (t_(i+1) - t_i), well conditioned on \[0, 1\]), the knots
+    /// its distinct knots there. The single formula then equals the curve on its domain:
+    /// a curve interpolated through measured points (method 2) becomes one formula for a
+    /// symbolic system. Continuity at the knots is that of the spline (C2 for the cubics
+    /// of interpolation), up to rounding. Errors: [`Error::InvalidKnots`] for a knot inside
+    /// the domain repeated degree + 1 times (the curve jumps there, and the formula of §5
+    /// joins its pieces continuously).
+    ///
+    /// ```
+    /// use geomkit::bspline::{interpolate_curve, InterpolationOptions};
+    /// use geomkit::compose::Piecewise;
+    /// let pts = vec![vec![0.0, 0.0], vec![1.0, 2.0], vec![3.0, 3.0], vec![4.0, 0.0]];
+    /// let fit = interpolate_curve(&pts, &InterpolationOptions::default()).unwrap();
+    /// let f = Piecewise::from_bspline(fit.curve()).unwrap();
+    /// assert_eq!(f.knots(), fit.parameters());
+    /// let at = f.eval_formula(fit.parameters()[2]);
+    /// assert!((at[0] - 3.0).abs() < 1e-13 && (at[1] - 3.0).abs() < 1e-13);
+    /// ```
+    pub fn from_bspline(c: &crate::bspline::BsplineCurve) -> Result<Self> {
+        let (p, dim, knots) = (c.degree(), c.dim(), c.knots());
+        let n = c.n_control();
+        let inside = |i: usize| knots[p] < knots[i] && knots[i] < knots[n];
+        if let Some(i) = (p + 1..n).find(|&i| knots[i + p] == knots[i] && inside(i)) {
+            return Err(Error::InvalidKnots {
+                index: i,
+                reason: "a knot repeated degree + 1 times makes the curve jump there",
+            });
+        }
+        let spans = super::poly::spans(knots, p, n);
+        let names = coordinate_names(dim);
+        let mut breaks: Vec<f64> = spans.iter().map(|&s| knots[s]).collect();
+        breaks.extend(spans.last().map(|&s| knots[s + 1]));
+        let pieces = spans
+            .iter()
+            .map(|&s| {
+                let ctrl = &c.control_flat()[(s - p) * dim..];
+                let bez = super::poly::bezier_points_of_span(knots, p, s, ctrl, dim);
+                let power = crate::bezier::BezierCurve::from_flat(dim, bez)?.to_power();
+                ExprPatch::from_power(&power, &names, "s")
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Self::from_pieces(breaks, pieces, "t")
+    }
+
     /// The polyline through `points` (each of the same dimension; a polygon when `closed`,
     /// back to the first point), point k at `knots[k]` (default k). One coordinate is a
     /// piecewise-linear function of x; more are a curve in t. Continuous by construction.

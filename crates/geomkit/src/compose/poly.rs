@@ -271,14 +271,20 @@ impl PolyPatch {
 }
 
 /// The indices s with knots[s] < knots[s+1] inside the domain [knots[p], knots[n]].
-fn spans(knots: &[f64], p: usize, n: usize) -> Vec<usize> {
+pub(super) fn spans(knots: &[f64], p: usize, n: usize) -> Vec<usize> {
     (p..n).filter(|&s| knots[s] < knots[s + 1]).collect()
 }
 
 /// The p+1 Bézier points of span s (knots[s] < knots[s+1]) of a degree-p B-spline whose
 /// control points c_(s-p).. start at `ctrl` (points of `len` numbers): the blossoms
 /// b_k = blossom(knots[s] (p-k times), knots[s+1] (k times)) by de Boor's triangle.
-fn bezier_points_of_span(knots: &[f64], p: usize, s: usize, ctrl: &[f64], len: usize) -> Vec<f64> {
+pub(super) fn bezier_points_of_span(
+    knots: &[f64],
+    p: usize,
+    s: usize,
+    ctrl: &[f64],
+    len: usize,
+) -> Vec<f64> {
     let mut out = Vec::with_capacity((p + 1) * len);
     let mut d = vec![0.0; (p + 1) * len];
     for k in 0..=p {
