@@ -210,10 +210,7 @@ pub(crate) fn distance(a: &[f64], b: &[f64]) -> f64 {
         3 => sum_sq::<3>(a[..3].try_into().unwrap(), b[..3].try_into().unwrap()),
         _ => a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum(),
     };
-    if s.is_finite() && s >= SAFE_SUM_SQ {
-        return s.sqrt();
-    }
-    scaled_distance(a, b)
+    root_of_sum_sq(s, a, b)
 }
 
 /// [`distance`] from each point of `points` (`dim` coordinates each) to the next, into
@@ -224,12 +221,7 @@ pub(crate) fn distances_into(points: &[f64], dim: usize, out: &mut [f64]) {
         let pairs = points.chunks_exact(N).zip(points[N..].chunks_exact(N));
         for (o, (a, b)) in out.iter_mut().zip(pairs) {
             let (a, b): (&[f64; N], &[f64; N]) = (a.try_into().unwrap(), b.try_into().unwrap());
-            let s = sum_sq(a, b);
-            *o = if s.is_finite() && s >= SAFE_SUM_SQ {
-                s.sqrt()
-            } else {
-                scaled_distance(a, b)
-            };
+            *o = root_of_sum_sq(sum_sq(a, b), a, b);
         }
     }
     debug_assert_eq!(out.len() + 1, points.len() / dim);
@@ -255,6 +247,17 @@ const SAFE_SUM_SQ: f64 = f64::from_bits((1023 - 900) << 52);
 #[inline(always)]
 fn sum_sq<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
     (0..N).fold(0.0, |s, k| s + (a[k] - b[k]) * (a[k] - b[k]))
+}
+
+/// The distance from its sum of squares `s`: the plain root, or [`scaled_distance`] when
+/// `s` overflowed or came near underflow.
+#[inline(always)]
+fn root_of_sum_sq(s: f64, a: &[f64], b: &[f64]) -> f64 {
+    if s.is_finite() && s >= SAFE_SUM_SQ {
+        s.sqrt()
+    } else {
+        scaled_distance(a, b)
+    }
 }
 
 /// [`distance`] scaled by the largest coordinate difference (sums of squares that overflow
