@@ -58,11 +58,7 @@ fn residual(points: &[Vec<f64>], fit: &geomkit::bspline::CurveInterpolation) -> 
 fn passes_through_every_point_for_every_end_and_parametrization() {
     for n in [2usize, 3, 4, 5, 8, 50, 1000] {
         for end in all_ends() {
-            for param in [
-                Parametrization::Uniform,
-                Parametrization::ChordLength,
-                Parametrization::Centripetal,
-            ] {
+            for param in common::PARAMETRIZATIONS {
                 if end == EndCondition::Periodic && n < 3 {
                     continue;
                 }
@@ -260,11 +256,7 @@ fn tiles_equal_the_global_solve() {
         })
         .collect();
     let scale = pts.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    for param in [
-        Parametrization::Uniform,
-        Parametrization::ChordLength,
-        Parametrization::Centripetal,
-    ] {
+    for param in common::PARAMETRIZATIONS {
         for end in [
             EndCondition::NotAKnot,
             EndCondition::Natural,

@@ -68,11 +68,7 @@ fn agrees_with_the_bspline_for_every_end_parametrization_and_dimension() {
                 p
             })
             .collect();
-        for param in [
-            Parametrization::Uniform,
-            Parametrization::ChordLength,
-            Parametrization::Centripetal,
-        ] {
+        for param in common::PARAMETRIZATIONS {
             for end in [
                 EndCondition::NotAKnot,
                 EndCondition::Natural,

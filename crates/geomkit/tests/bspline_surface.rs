@@ -61,11 +61,7 @@ fn passes_through_every_grid_point() {
     ];
     for (rows, cols) in [(2usize, 2usize), (3, 5), (14, 14), (40, 23)] {
         for end in &ends {
-            for param in [
-                Parametrization::Uniform,
-                Parametrization::ChordLength,
-                Parametrization::Centripetal,
-            ] {
+            for param in common::PARAMETRIZATIONS {
                 let grid = terrain(rows, cols, (rows * 100 + cols) as u64);
                 let opts = SurfaceInterpolationOptions::default()
                     .with_end(end.clone())

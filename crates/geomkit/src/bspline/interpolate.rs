@@ -122,6 +122,16 @@ pub(crate) enum Params {
     Own(Vec<f64>),
 }
 
+impl Params {
+    /// The parameters, given the knots they may lie in.
+    fn of<'a>(&'a self, knots: &'a [f64]) -> &'a [f64] {
+        match self {
+            Params::Knots(r) => &knots[r.clone()],
+            Params::Own(t) => t,
+        }
+    }
+}
+
 impl CurveInterpolation {
     /// `params` in the knots of `curve` must be in range (the constructors of this module
     /// and `tiles.rs` build both).
@@ -141,10 +151,7 @@ impl CurveInterpolation {
     /// parameters()\[i\]: the curve passes through reference point i there (N values; for
     /// periodic curves without the closing one).
     pub fn parameters(&self) -> &[f64] {
-        match &self.params {
-            Params::Knots(r) => &self.curve.knots()[r.clone()],
-            Params::Own(t) => t,
-        }
+        self.params.of(self.curve.knots())
     }
 
     /// The curve, the parameters dropped.
@@ -551,10 +558,7 @@ impl Solver1d {
 
     /// Parameters of the reference points.
     pub fn parameters(&self) -> &[f64] {
-        match &self.params {
-            Params::Knots(r) => &self.knots[r.clone()],
-            Params::Own(t) => t,
-        }
+        self.params.of(&self.knots)
     }
 
     fn build(

@@ -2,6 +2,14 @@
 #![allow(dead_code, missing_docs)]
 
 use geomkit::bezier::{BezierCurve, ParamCurve};
+use geomkit::bspline::Parametrization;
+
+/// Every parametrization of interpolation, for tests that loop over them.
+pub const PARAMETRIZATIONS: [Parametrization; 3] = [
+    Parametrization::Uniform,
+    Parametrization::ChordLength,
+    Parametrization::Centripetal,
+];
 
 /// Deterministic xorshift generator of numbers in [-1, 1).
 pub struct Rng(pub u64);
