@@ -346,7 +346,7 @@ fn bad_input_gives_one_line_and_no_file() {
         (
             "dims.json",
             r#"{"type":"bezier_curve","points":[[0,0],[1,1,1]]}"#,
-            "points[1] has 3 coordinates but points[0] has 2",
+            "points[1] has 3 coordinates but the first point has 2",
         ),
     ];
     for (name, text, want) in cases {

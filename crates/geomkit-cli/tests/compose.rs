@@ -162,14 +162,42 @@ fn body_files_mesh_render_and_evaluate() {
     assert!(!out.status.success());
     assert!(text(&out.stderr).contains("name it .txt, .json, .obj, .stl, .ply, .glb, .png or .svg"));
     assert!(!d.join("cube.step").exists());
-    // A formula file without a model (a piecewise function) says so.
+    // The formula file of a piecewise function carries its pieces: eval reads it back, at
+    // the breakpoints exactly (the hat 0 -> 1 -> 0).
     write(
         d,
         "f.json",
         r#"{"type":"piecewise","knots":[0,1,2],"pieces":["x","2 - x"]}"#,
     );
     ok(d, &["compose", "piecewise", "f.json", "-o", "pf.json"]);
-    let out = geomkit(d, &["mesh", "pf.json", "-o", "pf.obj"]);
+    let out = ok(d, &["eval", "pf.json", "--samples", "5"]);
+    assert!(
+        text(&out.stdout).starts_with("x,f\n"),
+        "{}",
+        text(&out.stdout)
+    );
+    let rows: Vec<Vec<f64>> = text(&out.stdout)
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(
+        rows,
+        vec![
+            vec![0.0, 0.0],
+            vec![0.5, 0.5],
+            vec![1.0, 1.0],
+            vec![1.5, 0.5],
+            vec![2.0, 0.0]
+        ]
+    );
+    // A formula file without a model (written by hand or by an older geomkit) says so.
+    let formula: Value =
+        serde_json::from_str(&fs::read_to_string(d.join("pf.json")).unwrap()).unwrap();
+    let mut bare = formula.as_object().unwrap().clone();
+    bare.remove("model");
+    write(d, "bare.json", &Value::Object(bare).to_string());
+    let out = geomkit(d, &["mesh", "bare.json", "-o", "pf.obj"]);
     assert!(!out.status.success());
     assert!(
         text(&out.stderr).contains("carries no model"),
@@ -462,7 +490,7 @@ fn piecewise_functions_polygons_and_curves() {
             "not a finite number",
         ),
         (r#"{"type":"polyline","points":[[0,0]]}"#, "polyline points"),
-        (r#"{"type":"spline"}"#, "\"type\" must be"),
+        (r#"{"type":"spline"}"#, "unknown type \"spline\""),
         (
             r#"{"type":"bspline_curve","degree":1,"knots":[0,0,1,1,2,2],"control_points":[[0,0],[1,0],[1,1],[2,1]]}"#,
             "repeated degree + 1 times",

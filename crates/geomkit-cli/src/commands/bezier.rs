@@ -9,7 +9,7 @@ use crate::cli::{
     ReduceArgs,
 };
 use crate::figures::{curve_change_svg, surface_svg, Layer};
-use crate::model::{read_model, to_json, ErrorReport, Model};
+use crate::model::{read_model, to_json, BezierModel, ErrorReport};
 use crate::output::{write_stdout, Destination};
 use crate::svg::{palette, Stroke};
 use anyhow::{bail, Context, Result};
@@ -40,17 +40,17 @@ fn degree(args: DegreeArgs) -> Result<()> {
     let ctx = file_context(&args.input);
     let tol = args.tolerance;
     let text = match &model {
-        Model::Curve(c) => curve_degree_text(
+        BezierModel::Curve(c) => curve_degree_text(
             &args,
             &model,
             &c.degree_report(tol).with_context(ctx)?,
             c.scale(),
         ),
-        Model::Rational(r) => {
+        BezierModel::Rational(r) => {
             let report = r.degree_report(tol).with_context(ctx)?;
             curve_degree_text(&args, &model, &report, r.homogeneous().scale())
         }
-        Model::Surface(s) => {
+        BezierModel::Surface(s) => {
             let report = s.degree_report(tol).with_context(ctx)?;
             let (u, v) = (report.u, report.v);
             if args.json {
@@ -93,7 +93,12 @@ fn degree(args: DegreeArgs) -> Result<()> {
     write_stdout(text.as_bytes())
 }
 
-fn curve_degree_text(args: &DegreeArgs, model: &Model, r: &DegreeReport, scale: f64) -> String {
+fn curve_degree_text(
+    args: &DegreeArgs,
+    model: &BezierModel,
+    r: &DegreeReport,
+    scale: f64,
+) -> String {
     if args.json {
         return format!(
             "{{\"degree\":{},\"real_degree\":{},\"defect\":{}}}\n",
@@ -106,7 +111,7 @@ fn curve_degree_text(args: &DegreeArgs, model: &Model, r: &DegreeReport, scale: 
             .to_string()
             + "\n"
     };
-    let homogeneous = matches!(model, Model::Rational(_));
+    let homogeneous = matches!(model, BezierModel::Rational(_));
     let mut t = format!("{}: {}\n", args.input.display(), model.describe());
     if homogeneous {
         t += "(degrees of the homogeneous curve (w·u, w))\n";
@@ -194,8 +199,8 @@ fn output_format(path: Option<&Path>) -> Result<Format> {
 struct Change {
     input: PathBuf,
     operation: &'static str,
-    old: Model,
-    new: Model,
+    old: BezierModel,
+    new: BezierModel,
     error: Option<ErrorReport>,
 }
 
@@ -214,9 +219,9 @@ fn check_size(to: Degrees) -> Result<()> {
     Ok(())
 }
 
-fn wrong_arity(model: &Model, to: Degrees) -> anyhow::Error {
+fn wrong_arity(model: &BezierModel, to: Degrees) -> anyhow::Error {
     match (model, to) {
-        (Model::Surface(_), _) => anyhow::anyhow!(
+        (BezierModel::Surface(_), _) => anyhow::anyhow!(
             "a surface needs a target degree per direction: --to N,M (got --to {to})"
         ),
         _ => anyhow::anyhow!("a curve takes one target degree: --to N (got --to {to})"),
@@ -229,11 +234,13 @@ fn elevate(args: ElevateArgs) -> Result<()> {
     let old = read_model(&args.input)?;
     let ctx = file_context(&args.input);
     let new = match (&old, args.to) {
-        (Model::Curve(c), Degrees::One(n)) => Model::Curve(c.elevate_degree(n).with_context(ctx)?),
-        (Model::Rational(r), Degrees::One(n)) => {
-            Model::Rational(r.elevate_degree(n).with_context(ctx)?)
+        (BezierModel::Curve(c), Degrees::One(n)) => {
+            BezierModel::Curve(c.elevate_degree(n).with_context(ctx)?)
         }
-        (Model::Surface(s), Degrees::Two(n, m)) => {
+        (BezierModel::Rational(r), Degrees::One(n)) => {
+            BezierModel::Rational(r.elevate_degree(n).with_context(ctx)?)
+        }
+        (BezierModel::Surface(s), Degrees::Two(n, m)) => {
             let (a, b) = s.degrees();
             if n < a || m < b {
                 bail!(
@@ -242,7 +249,7 @@ fn elevate(args: ElevateArgs) -> Result<()> {
                     args.input.display()
                 );
             }
-            Model::Surface(s.change_degree(n, m, None).with_context(ctx)?)
+            BezierModel::Surface(s.change_degree(n, m, None).with_context(ctx)?)
         }
         (model, to) => return Err(wrong_arity(model, to)),
     };
@@ -289,7 +296,7 @@ fn reduce(args: ReduceArgs) -> Result<()> {
     let old = read_model(&args.input)?;
     let input = args.input.as_path();
     let (new, error) = match (&old, args.to) {
-        (Model::Curve(c), Degrees::One(n)) if args.approx => {
+        (BezierModel::Curve(c), Degrees::One(n)) if args.approx => {
             let Continuity(start, end) = args.continuity.unwrap_or(Continuity(None, None));
             let norm = match args.norm.unwrap_or(Norm::L2) {
                 Norm::L2 => ReductionNorm::L2,
@@ -305,33 +312,33 @@ fn reduce(args: ReduceArgs) -> Result<()> {
                 l2: r.l2_error,
                 linf_bound: r.linf.upper_bound,
             };
-            (Model::Curve(r.curve), Some(report))
+            (BezierModel::Curve(r.curve), Some(report))
         }
-        (Model::Rational(_), Degrees::One(_)) if args.approx => bail!(
+        (BezierModel::Rational(_), Degrees::One(_)) if args.approx => bail!(
             "{}: approximate reduction is available for polynomial curves only (this curve has \
              weights); reduce it exactly, down to its real degree",
             input.display()
         ),
-        (Model::Surface(_), _) if args.approx => bail!(
+        (BezierModel::Surface(_), _) if args.approx => bail!(
             "{}: approximate reduction is available for curves only; surfaces reduce exactly \
              (drop --approx)",
             input.display()
         ),
-        (Model::Curve(c), Degrees::One(n)) => (
-            Model::Curve(
+        (BezierModel::Curve(c), Degrees::One(n)) => (
+            BezierModel::Curve(
                 c.reduce_degree(n, args.tolerance)
                     .map_err(|e| explain_reduction(e, input, true))?,
             ),
             None,
         ),
-        (Model::Rational(r), Degrees::One(n)) => (
-            Model::Rational(
+        (BezierModel::Rational(r), Degrees::One(n)) => (
+            BezierModel::Rational(
                 r.reduce_degree(n, args.tolerance)
                     .map_err(|e| explain_reduction(e, input, false))?,
             ),
             None,
         ),
-        (Model::Surface(s), Degrees::Two(n, m)) => {
+        (BezierModel::Surface(s), Degrees::Two(n, m)) => {
             let (a, b) = s.degrees();
             if n > a || m > b {
                 bail!(
@@ -341,7 +348,7 @@ fn reduce(args: ReduceArgs) -> Result<()> {
                 );
             }
             (
-                Model::Surface(
+                BezierModel::Surface(
                     s.change_degree(n, m, args.tolerance)
                         .with_context(file_context(input))?,
                 ),
@@ -375,11 +382,11 @@ fn change(args: ChangeArgs) -> Result<()> {
     let input = args.input.as_path();
     let tol = args.tolerance;
     let new = match (&old, args.to) {
-        (Model::Curve(c), Degrees::One(n)) => Model::Curve(
+        (BezierModel::Curve(c), Degrees::One(n)) => BezierModel::Curve(
             c.change_degree(n, tol)
                 .map_err(|e| explain_reduction(e, input, true))?,
         ),
-        (Model::Rational(r), Degrees::One(n)) => Model::Rational(
+        (BezierModel::Rational(r), Degrees::One(n)) => BezierModel::Rational(
             if n >= r.degree() {
                 r.elevate_degree(n)
             } else {
@@ -387,7 +394,7 @@ fn change(args: ChangeArgs) -> Result<()> {
             }
             .map_err(|e| explain_reduction(e, input, false))?,
         ),
-        (Model::Surface(s), Degrees::Two(n, m)) => Model::Surface(
+        (BezierModel::Surface(s), Degrees::Two(n, m)) => BezierModel::Surface(
             s.change_degree(n, m, tol)
                 .with_context(file_context(input))?,
         ),
@@ -406,11 +413,11 @@ fn change(args: ChangeArgs) -> Result<()> {
     )
 }
 
-fn degrees_of(model: &Model) -> String {
+fn degrees_of(model: &BezierModel) -> String {
     match model {
-        Model::Curve(c) => c.degree().to_string(),
-        Model::Rational(r) => r.degree().to_string(),
-        Model::Surface(s) => format!("{:?}", s.degrees()),
+        BezierModel::Curve(c) => c.degree().to_string(),
+        BezierModel::Rational(r) => r.degree().to_string(),
+        BezierModel::Surface(s) => format!("{:?}", s.degrees()),
     }
 }
 
@@ -443,7 +450,7 @@ fn change_svg(change: &Change) -> Result<String> {
         );
     }
     match (&change.old, &change.new) {
-        (Model::Curve(a), Model::Curve(b)) => {
+        (BezierModel::Curve(a), BezierModel::Curve(b)) => {
             let new_curve: Option<&dyn ParamCurve> = change.error.map(|_| b as &dyn ParamCurve);
             curve_change_svg(
                 &title,
@@ -452,10 +459,12 @@ fn change_svg(change: &Change) -> Result<String> {
                 (new_curve, &b.points()),
             )
         }
-        (Model::Rational(a), Model::Rational(b)) => {
+        (BezierModel::Rational(a), BezierModel::Rational(b)) => {
             curve_change_svg(&title, &subtitle, (a, &a.points()), (None, &b.points()))
         }
-        (Model::Surface(a), Model::Surface(b)) => surface_change_svg(&title, &subtitle, a, b),
+        (BezierModel::Surface(a), BezierModel::Surface(b)) => {
+            surface_change_svg(&title, &subtitle, a, b)
+        }
         _ => bail!("internal error: the model kind changed"),
     }
 }
@@ -528,7 +537,7 @@ fn eval(args: EvalArgs) -> Result<()> {
     let model = read_model(&args.input)?;
     let k = args.samples;
     let most = match model {
-        Model::Surface(_) => MAX_SURFACE_SAMPLES,
+        BezierModel::Surface(_) => MAX_SURFACE_SAMPLES,
         _ => MAX_CURVE_SAMPLES,
     };
     if k > most {
@@ -537,11 +546,11 @@ fn eval(args: EvalArgs) -> Result<()> {
     let ts: Vec<f64> = (0..k).map(|a| a as f64 / (k - 1) as f64).collect();
     let dest = Destination::from_option(args.output.as_deref());
     match &model {
-        Model::Curve(_) | Model::Rational(_) => {
+        BezierModel::Curve(_) | BezierModel::Rational(_) => {
             let curve: &dyn ParamCurve = match &model {
-                Model::Curve(c) => c,
-                Model::Rational(r) => r,
-                Model::Surface(_) => unreachable!("matched above"),
+                BezierModel::Curve(c) => c,
+                BezierModel::Rational(r) => r,
+                BezierModel::Surface(_) => unreachable!("matched above"),
             };
             let d = curve.dim();
             dest.write_with(|w| {
@@ -555,7 +564,7 @@ fn eval(args: EvalArgs) -> Result<()> {
                 Ok(())
             })
         }
-        Model::Surface(s) => {
+        BezierModel::Surface(s) => {
             let d = s.dim();
             let mut row_buf = vec![0.0; k * d];
             dest.write_with(|w| {

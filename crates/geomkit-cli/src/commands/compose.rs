@@ -16,22 +16,21 @@
 
 use super::mesh::{mesh_summary, write_mesh};
 use crate::figures::{linspace, surface_svg, GridEval, Layer, SurfaceView};
-use crate::output::{Destination, RowSink, TableFormat};
-use crate::progress::Progress;
+use crate::output::Destination;
 use crate::render::shape::{picture_svg, tessellate, Loaded, PictureOptions, Sampling, Shape};
 use crate::render::svg_to_png;
 use crate::svg::palette;
-use crate::table::{extension, Table};
+use crate::table::extension;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
-use geomkit::bezier::BezierSurface;
 use geomkit::compose::{
-    bodies, CompositeSurface, ExprPatch, Formula, GridLine, PolyPatch, RuledCurve, RuledSurface,
-    SurfaceKind,
+    bodies, CompositeSurface, Formula, GridLine, RuledCurve, RuledSurface, SurfaceKind,
 };
 use geomkit::expr::Format;
 use geomkit::mesh::SurfaceShape;
-use serde_json::{json, Map, Value};
+use geomkit_model::schema::FormulaFile;
+use geomkit_model::{AnyModel, ModelFile};
+use serde_json::{json, Value};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -303,26 +302,27 @@ pub fn formula_text(f: &Formula, format: Format, program: bool) -> String {
     }
 }
 
-/// The formula in every syntax, with its size, as JSON.
-pub fn formula_json(f: &Formula, what: &str, extra: Value) -> String {
-    let mut printed = Map::new();
-    for fmt in Format::ALL {
-        printed.insert(fmt.name().into(), Value::String(f.print(fmt)));
-    }
-    let mut v = json!({
-        "type": "formula",
-        "what": what,
-        "variables": f.vars,
-        "coordinates": f.names,
-        "op_count": f.op_count(),
-        "formulas": printed,
-    });
-    if let (Value::Object(o), Value::Object(e)) = (&mut v, extra) {
-        o.extend(e);
-    }
-    let mut s = serde_json::to_string_pretty(&v).expect("serializable");
-    s.push('\n');
-    s
+/// The formula file (`-o OUT.json`): the formula in every syntax, its size, the continuity
+/// report and the model it was made from, which `geomkit eval`, `mesh` and `render` read
+/// back.
+pub fn formula_json(
+    f: &Formula,
+    what: &str,
+    continuity: Option<Value>,
+    model: Option<ModelFile>,
+) -> String {
+    geomkit_model::to_json(&ModelFile::Formula(FormulaFile {
+        what: what.to_string(),
+        variables: f.vars.clone(),
+        coordinates: f.names.clone(),
+        op_count: f.op_count(),
+        formulas: Format::ALL
+            .into_iter()
+            .map(|fmt| (fmt.name().to_string(), f.print(fmt)))
+            .collect(),
+        continuity,
+        model: model.map(Box::new),
+    }))
 }
 
 /// Evaluations on a grid, for pictures and meshes (structural evaluators).
@@ -394,9 +394,17 @@ fn run_body(args: BodyArgs) -> Result<()> {
 /// A ruled surface's formula, model, mesh or picture, as `out` asks.
 fn write_ruled(body: &RuledSurface, what: &str, out: &SurfaceOutput) -> Result<()> {
     let f = body.formula()?;
-    let model = ruled_json(body).map_or(json!({}), |m| json!({ "model": m }));
+    let model = geomkit_model::ruled_file(body).map(ModelFile::Ruled);
     let subtitle = formula_line(&f);
-    write_surface(Box::new(body.clone()), &f, what, &subtitle, model, out)
+    write_surface(
+        Box::new(body.clone()),
+        &f,
+        what,
+        &subtitle,
+        None,
+        model,
+        out,
+    )
 }
 
 /// The first line of the Maple formula, shortened to 140 characters (a picture's subtitle).
@@ -418,7 +426,8 @@ fn write_surface(
     f: &Formula,
     what: &str,
     subtitle: &str,
-    extra: Value,
+    continuity: Option<Value>,
+    model: Option<ModelFile>,
     out: &SurfaceOutput,
 ) -> Result<()> {
     let o = &out.formula;
@@ -437,7 +446,7 @@ fn write_surface(
     };
     match extension(path).unwrap_or_default().as_str() {
         "txt" => dest.write(formula_text(f, format, o.program).as_bytes()),
-        "json" => dest.write(formula_json(f, what, extra).as_bytes()),
+        "json" => dest.write(formula_json(f, what, continuity, model).as_bytes()),
         ext @ ("obj" | "stl" | "ply" | "glb") => {
             let sampling = match out.samples.as_deref() {
                 Some(text) => {
@@ -467,126 +476,6 @@ fn write_surface(
             path.display()
         ),
     }
-}
-
-/// A ruled surface as the JSON `compose ruled` reads (the "model" of a formula file), or
-/// `None` when a curve is a formula in another variable than t.
-pub fn ruled_json(s: &RuledSurface) -> Option<Value> {
-    let curves = s
-        .curves()
-        .iter()
-        .map(|c| {
-            Some(match c {
-                RuledCurve::Point(p) => json!({ "point": p }),
-                RuledCurve::Polyline { vertices, closed } if *closed => {
-                    json!({ "polygon": vertices })
-                }
-                RuledCurve::Polyline { vertices, .. } => json!({ "polyline": vertices }),
-                RuledCurve::Circle { center, radius } => {
-                    json!({ "circle": { "center": center, "radius": radius } })
-                }
-                RuledCurve::Expr(e) if e.vars() == ["t"] && e.texts().len() == 3 => {
-                    let (t0, t1) = c.interval();
-                    let t = e.texts();
-                    json!({ "x": t[0], "y": t[1], "z": t[2], "t": [t0, t1] })
-                }
-                _ => return None,
-            })
-        })
-        .collect::<Option<Vec<Value>>>()?;
-    let ((u0, u1), _) = s.domain();
-    Some(json!({ "type": "ruled", "u": [u0, u1], "v": s.v_values(), "curves": curves }))
-}
-
-/// Reads a JSON file.
-pub fn read_json(path: &Path) -> Result<Value> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    serde_json::from_str(&text).map_err(|e| anyhow!("{}: invalid JSON: {e}", path.display()))
-}
-
-/// `[x, y, z]` points of a JSON array.
-fn points3(v: &Value, place: &str) -> Result<Vec<[f64; 3]>> {
-    let arr = v
-        .as_array()
-        .ok_or_else(|| anyhow!("{place} must be an array of points [x, y, z]"))?;
-    arr.iter()
-        .enumerate()
-        .map(
-            |(k, p)| match number_list(Some(p), &format!("{place}[{k}]"))?[..] {
-                [x, y, z] => Ok([x, y, z]),
-                _ => bail!("{place}[{k}] must be a point [x, y, z]"),
-            },
-        )
-        .collect()
-}
-
-/// One curve of a ruled-surface file.
-fn ruled_curve(c: &Value) -> Result<RuledCurve> {
-    if let Some(p) = c.get("point") {
-        return Ok(RuledCurve::Point(points3(&json!([p]), "point")?[0]));
-    }
-    if let Some(p) = c.get("polygon") {
-        return Ok(RuledCurve::polygon(points3(p, "polygon")?)?);
-    }
-    if let Some(p) = c.get("polyline") {
-        return Ok(RuledCurve::polyline(points3(p, "polyline")?)?);
-    }
-    if let Some(circle) = c.get("circle") {
-        let center = points3(&json!([circle.get("center")]), "circle.center")?[0];
-        let radius = circle
-            .get("radius")
-            .and_then(Value::as_f64)
-            .ok_or_else(|| anyhow!("\"circle\" needs a numeric \"radius\""))?;
-        return Ok(RuledCurve::Circle { center, radius });
-    }
-    let text = |n: &str| -> Result<&str> {
-        match c.get(n) {
-            None if n == "z" => Ok("0"),
-            None => bail!("missing \"{n}\": give x, y, z as formulas in t and \"t\":[t0,t1], or \"point\", \"polygon\", \"polyline\""),
-            Some(t) => t.as_str().ok_or_else(|| anyhow!("\"{n}\" must be a formula string")),
-        }
-    };
-    let coords = [text("x")?, text("y")?, text("z")?];
-    let t = match number_list(c.get("t"), "t")?[..] {
-        [t0, t1] => (t0, t1),
-        _ => bail!("\"t\" must be [t0, t1]"),
-    };
-    Ok(RuledCurve::formula(coords, t)?)
-}
-
-/// Parses a ruled-surface file (see [`RuledArgs`]).
-pub fn parse_ruled(v: &Value) -> Result<RuledSurface> {
-    let ty = v.get("type").and_then(Value::as_str).unwrap_or("");
-    if ty != "ruled" {
-        bail!("\"type\" must be \"ruled\", found {ty:?}");
-    }
-    let curves = v
-        .get("curves")
-        .and_then(Value::as_array)
-        .ok_or_else(|| anyhow!("missing or non-array \"curves\""))?;
-    let curves = curves
-        .iter()
-        .enumerate()
-        .map(|(k, c)| ruled_curve(c).with_context(|| format!("curves[{k}]")))
-        .collect::<Result<Vec<_>>>()?;
-    let vs = number_list(v.get("v"), "v")?;
-    if let Some(k) = vs.windows(2).position(|w| w[1] <= w[0]) {
-        bail!(
-            "\"v\" must be strictly increasing: v[{}] = {} after v[{k}] = {}",
-            k + 1,
-            vs[k + 1],
-            vs[k]
-        );
-    }
-    let u = match v.get("u") {
-        None => (0.0, 1.0),
-        Some(u) => match number_list(Some(u), "u")?[..] {
-            [a, b] => (a, b),
-            _ => bail!("\"u\" must be [u0, u1]"),
-        },
-    };
-    Ok(RuledSurface::new(curves, vs, u)?)
 }
 
 /// The consistency checks of a ruled surface: which curves are closed, whether the
@@ -636,8 +525,14 @@ pub fn ruled_report(s: &RuledSurface) -> Result<String> {
 }
 
 fn run_ruled(args: RuledArgs) -> Result<()> {
-    let v = read_json(&args.curves)?;
-    let s = parse_ruled(&v).with_context(|| args.curves.display().to_string())?;
+    let s = match geomkit_model::load(&args.curves)? {
+        AnyModel::Ruled(s) => s,
+        other => bail!(
+            "{}: this is a {}; `compose ruled` takes a \"ruled\" file",
+            args.curves.display(),
+            other.describe()
+        ),
+    };
     let report = ruled_report(&s)?;
     let what = format!("ruled surface over {} curves", s.curves().len());
     write_ruled(&s, &what, &args.out)?;
@@ -645,226 +540,35 @@ fn run_ruled(args: RuledArgs) -> Result<()> {
     Ok(())
 }
 
-/// A surface model of `compose`: a composite scene, a ruled surface, or a formula file
-/// (`compose ... -o OUT.json`) through the model it carries.
-pub enum SurfaceModel {
-    /// `{"type":"composite_surface"|"composite_explicit",...}`.
-    Scene(CompositeSurface),
-    /// `{"type":"ruled",...}`.
-    Ruled(RuledSurface),
-}
-
-impl SurfaceModel {
-    /// The model in a parsed JSON file, `None` when it is no `compose` surface.
-    pub fn from_json(v: &Value) -> Option<Result<SurfaceModel>> {
-        match v.get("type").and_then(Value::as_str)? {
-            "composite_surface" | "composite_explicit" => {
-                Some(parse_scene_value(v).map(SurfaceModel::Scene))
-            }
-            "ruled" => Some(parse_ruled(v).map(SurfaceModel::Ruled)),
-            "formula" => Some(match v.get("model") {
-                // The formula of `compose patches` over a saved B-spline surface: its cells.
-                Some(m) if m.get("type").and_then(Value::as_str) == Some("bspline_surface") => {
-                    parse_scene_value(m)
-                        .map(SurfaceModel::Scene)
-                        .context("model")
-                }
-                Some(m) => SurfaceModel::from_json(m)
-                    .unwrap_or_else(|| Err(anyhow!("\"model\" is no composite or ruled surface")))
-                    .context("model"),
-                None => Err(anyhow!(
-                    "this formula file carries no model (a formula of `compose piecewise`, \
-                     or written by an older geomkit): mesh or draw the surface with \
-                     `geomkit compose ... -o OUT.obj|.png`"
-                )),
-            }),
-            _ => None,
-        }
-    }
-
-    /// What it is, for messages and pictures.
-    pub fn describe(&self) -> String {
-        match self {
-            SurfaceModel::Scene(s) => {
-                let (a, b) = s.cells();
-                format!("composite surface of {a}×{b} patches in R^{}", s.dim())
-            }
-            SurfaceModel::Ruled(s) => format!("ruled surface over {} curves", s.curves().len()),
-        }
-    }
-
-    /// The surface, to mesh or draw.
-    pub fn into_shape(self) -> Box<dyn SurfaceShape> {
-        match self {
-            SurfaceModel::Scene(s) => Box::new(s),
-            SurfaceModel::Ruled(s) => Box::new(s),
-        }
-    }
-}
-
-/// A list of finite numbers at `place`.
-pub fn number_list(v: Option<&Value>, place: &str) -> Result<Vec<f64>> {
-    let arr = v
-        .and_then(Value::as_array)
-        .ok_or_else(|| anyhow!("missing or non-array \"{place}\""))?;
-    arr.iter()
-        .enumerate()
-        .map(|(k, x)| {
-            x.as_f64()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| anyhow!("{place}[{k}] is not a finite number"))
-        })
-        .collect()
-}
-
-/// Parses a scene (see the module docs).
-pub fn parse_scene(text: &str) -> Result<CompositeSurface> {
-    let v: Value = serde_json::from_str(text).map_err(|e| anyhow!("invalid JSON: {e}"))?;
-    parse_scene_value(&v)
-}
-
-/// [`parse_scene`] of parsed JSON.
-pub fn parse_scene_value(v: &Value) -> Result<CompositeSurface> {
-    let ty = v.get("type").and_then(Value::as_str).unwrap_or("");
-    let (ku, kv) = match ty {
-        "composite_surface" => ("u_knots", "v_knots"),
-        "composite_explicit" => ("x_knots", "y_knots"),
-        "bspline_surface" => {
-            let obj = v.as_object().expect("a value with a \"type\" is an object");
-            let m = crate::model::parse_bspline_surface(obj)?;
-            return Ok(CompositeSurface::from_bspline(&m.surface)?);
-        }
+/// A scene, or a saved B-spline surface as its cells, and its file.
+fn read_scene(path: &Path) -> Result<(CompositeSurface, ModelFile)> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let file = geomkit_model::parse_file(&text).map_err(|e| e.in_file(path))?;
+    let surface = match AnyModel::from_file(file.clone()).map_err(|e| e.in_file(path))? {
+        AnyModel::Composite(s) => s,
+        AnyModel::BsplineSurface(m) => CompositeSurface::from_bspline(&m.surface)
+            .with_context(|| path.display().to_string())?,
         other => bail!(
-            "\"type\" must be \"composite_surface\", \"composite_explicit\" or \
-             \"bspline_surface\", found {other:?}"
+            "{}: this is a {}; `compose patches` takes a \"composite_surface\", \
+             \"composite_explicit\" or \"bspline_surface\" file",
+            path.display(),
+            other.describe()
         ),
     };
-    let uk = number_list(v.get(ku), ku)?;
-    let vk = number_list(v.get(kv), kv)?;
-    let rows = v
-        .get("patches")
-        .and_then(Value::as_array)
-        .ok_or_else(|| anyhow!("missing or non-array \"patches\""))?;
-    let explicit = ty == "composite_explicit";
-    let mut patches: Vec<Vec<ScenePatch>> = Vec::with_capacity(rows.len());
-    for (i, row) in rows.iter().enumerate() {
-        let row = row
-            .as_array()
-            .ok_or_else(|| anyhow!("patches[{i}] must be an array of patches"))?;
-        let mut out = Vec::with_capacity(row.len());
-        for (j, p) in row.iter().enumerate() {
-            let place = format!("patches[{i}][{j}]");
-            out.push(scene_patch(p, explicit).with_context(|| place)?);
-        }
-        patches.push(out);
-    }
-    let kind = if explicit {
-        SurfaceKind::Explicit
-    } else {
-        SurfaceKind::Parametric
-    };
-    let polys: Option<Vec<Vec<PolyPatch>>> = patches
-        .iter()
-        .map(|r| {
-            r.iter()
-                .map(|p| match p {
-                    ScenePatch::Poly(p) => Some(p.clone()),
-                    ScenePatch::Expr(_) => None,
-                })
-                .collect()
-        })
-        .collect();
-    if let Some(polys) = polys {
-        return Ok(CompositeSurface::from_poly(uk, vk, polys, kind)?);
-    }
-    let vars = if explicit { ["x", "y"] } else { ["u", "v"] };
-    let names: &[&str] = if explicit { &["z"] } else { &["x", "y", "z"] };
-    let mut exprs = Vec::with_capacity(patches.len());
-    for (i, row) in patches.into_iter().enumerate() {
-        let mut out = Vec::with_capacity(row.len());
-        for (j, p) in row.into_iter().enumerate() {
-            out.push(match p {
-                ScenePatch::Expr(e) => *e,
-                ScenePatch::Poly(p) => ExprPatch::from_poly(&p, names, vars)
-                    .with_context(|| format!("patches[{i}][{j}]"))?,
-            });
-        }
-        exprs.push(out);
-    }
-    Ok(CompositeSurface::from_expr(uk, vk, exprs, kind)?)
+    Ok((surface, file))
 }
 
-/// One patch of a scene file, as read.
-enum ScenePatch {
-    Poly(PolyPatch),
-    Expr(Box<ExprPatch>),
-}
-
-/// `"domain": [[a, b], [c, d], ...]` of a formula patch or curve, if present.
-pub fn domain_of(p: &Value, vars: usize) -> Result<Option<Vec<(f64, f64)>>> {
-    let Some(d) = p.get("domain") else {
-        return Ok(None);
-    };
-    let rows = d
-        .as_array()
-        .filter(|r| r.len() == vars)
-        .ok_or_else(|| anyhow!("\"domain\" must be {vars} interval(s) [start, end]"))?;
-    rows.iter()
-        .enumerate()
-        .map(
-            |(k, r)| match number_list(Some(r), &format!("domain[{k}]"))?[..] {
-                [a, b] => Ok((a, b)),
-                _ => bail!("domain[{k}] must be [start, end]"),
-            },
-        )
-        .collect::<Result<Vec<_>>>()
-        .map(Some)
-}
-
-/// A patch `{"bezier": ...}`, `{"x": "..", "y": "..", "z": "..", "domain": ..}` or, for
-/// explicit scenes, `"expr in x, y"` or `{"z": "..", "domain": ..}`.
-fn scene_patch(p: &Value, explicit: bool) -> Result<ScenePatch> {
-    if let Some(net) = p.get("bezier") {
-        let net: Vec<Vec<Vec<f64>>> =
-            serde_json::from_value(net.clone()).map_err(|e| anyhow!("bezier: {e}"))?;
-        let b = BezierSurface::new(net).context("bezier")?;
-        return Ok(ScenePatch::Poly(PolyPatch::from_bezier(&b)));
-    }
-    let (names, vars): (&[&str], [&str; 2]) = if explicit {
-        (&["z"], ["x", "y"])
-    } else {
-        (&["x", "y", "z"], ["u", "v"])
-    };
-    let texts: Vec<(&str, &str)> = match p {
-        Value::String(t) if explicit => vec![("z", t.as_str())],
-        Value::Object(o) => names
-            .iter()
-            .filter_map(|&n| o.get(n).map(|t| (n, t)))
-            .map(|(n, t)| {
-                t.as_str()
-                    .map(|t| (n, t))
-                    .ok_or_else(|| anyhow!("\"{n}\" must be a formula string"))
-            })
-            .collect::<Result<_>>()?,
-        _ => vec![],
-    };
-    let required = if explicit { 1 } else { 2 };
-    if texts.len() < required || (!explicit && texts[..2].iter().map(|t| t.0).ne(["x", "y"])) {
-        if explicit {
-            bail!(
-                "expected a formula in x, y, {{\"z\": \"..\"}} or {{\"bezier\": [[[z],...],...]}}"
-            );
-        }
-        bail!("expected {{\"x\": \"..\", \"y\": \"..\", \"z\": \"..\"}} in u, v or {{\"bezier\": [[[x,y,z],...],...]}}");
-    }
-    let domain = domain_of(p, 2)?;
-    Ok(ScenePatch::Expr(Box::new(ExprPatch::parse(
-        &texts, &vars, domain,
-    )?)))
-}
-
-/// The continuity report as JSON.
+/// The continuity report as JSON text.
 pub fn report_json(s: &CompositeSurface) -> String {
+    format!(
+        "{}\n",
+        serde_json::to_string_pretty(&report_value(s)).expect("serializable")
+    )
+}
+
+/// The continuity report.
+fn report_value(s: &CompositeSurface) -> Value {
     let r = s.continuity();
     let jumps: Vec<Value> = r
         .jumps
@@ -882,23 +586,17 @@ pub fn report_json(s: &CompositeSurface) -> String {
         SurfaceKind::Parametric => ("u", "v"),
         SurfaceKind::Explicit => ("x", "y"),
     };
-    let v = json!({
+    json!({
         "max_jump": r.max_jump,
         "tolerance": r.tolerance,
         "continuous": r.is_continuous(),
         "statement": r.statement(names.0, names.1, (uk, vk)),
         "jumps": jumps,
-    });
-    format!(
-        "{}\n",
-        serde_json::to_string_pretty(&v).expect("serializable")
-    )
+    })
 }
 
 fn run_patches(args: PatchesArgs) -> Result<()> {
-    let text = std::fs::read_to_string(&args.scene)
-        .with_context(|| format!("cannot read {}", args.scene.display()))?;
-    let s = parse_scene(&text).with_context(|| args.scene.display().to_string())?;
+    let (s, file) = read_scene(&args.scene)?;
     if args.report_json {
         let dest = Destination::from_option(args.out.formula.output.as_deref());
         return dest.write(report_json(&s).as_bytes());
@@ -912,110 +610,16 @@ fn run_patches(args: PatchesArgs) -> Result<()> {
     let (n, m) = s.cells();
     let what = format!("composite surface of {n}×{m} patches");
     let f = s.formula()?;
-    let extra = json!({
-        "continuity": serde_json::from_str::<Value>(&report_json(&s))?,
-        "model": serde_json::from_str::<Value>(&text)?,
-    });
-    write_surface(Box::new(s), &f, &what, &statement, extra, &args.out)?;
+    let continuity = report_value(&s);
+    write_surface(
+        Box::new(s),
+        &f,
+        &what,
+        &statement,
+        Some(continuity),
+        Some(file),
+        &args.out,
+    )?;
     let _ = writeln!(std::io::stderr(), "continuity: {statement}");
     Ok(())
-}
-
-/// `geomkit eval` on a `compose` surface: a K×L grid of the domain or the (u, v) pairs of a
-/// file, by the structural evaluator (equal to the single formula).
-pub fn eval_surface(
-    model: &SurfaceModel,
-    samples: Option<(usize, usize)>,
-    at: Option<&Path>,
-    output: Option<&Path>,
-) -> Result<()> {
-    let format = match output.map(extension) {
-        None => TableFormat::Csv,
-        Some(Some(e)) if e == "csv" => TableFormat::Csv,
-        Some(Some(e)) if e == "npy" => TableFormat::Npy,
-        Some(_) => bail!("name the output .csv or .npy"),
-    };
-    let ((u0, u1), (v0, v1)) = match model {
-        SurfaceModel::Scene(s) => s.domain(),
-        SurfaceModel::Ruled(s) => s.domain(),
-    };
-    let uv: Vec<f64> = match (samples, at) {
-        (Some((k, l)), _) => {
-            let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, l));
-            us.iter()
-                .flat_map(|&u| vs.iter().flat_map(move |&v| [u, v]))
-                .collect()
-        }
-        (None, Some(p)) => {
-            let t = Table::read(p, &Progress::hidden())?;
-            let (_, c) = t.as_records()?;
-            if c != 2 {
-                bail!(
-                    "{}: {c} column(s), but a surface takes two (u, v)",
-                    t.name()
-                );
-            }
-            t.data
-        }
-        (None, None) => bail!("give --samples or --at"),
-    };
-    let n = uv.len() / 2;
-    let (d, names) = match model {
-        SurfaceModel::Scene(s) if s.kind() == SurfaceKind::Explicit => (1, ["x", "y", "z"]),
-        SurfaceModel::Scene(s) => (s.dim(), ["u", "v", "x"]),
-        SurfaceModel::Ruled(_) => (3, ["u", "v", "x"]),
-    };
-    let mut pts = vec![0.0; n * d];
-    match model {
-        SurfaceModel::Scene(s) => s.eval_many(&uv, &mut pts)?,
-        SurfaceModel::Ruled(s) => {
-            if let Some(k) = uv.iter().position(|x| !x.is_finite()) {
-                bail!("point {} of --at: {} is not finite", k / 2, uv[k]);
-            }
-            for (q, p) in uv.chunks_exact(2).zip(pts.chunks_exact_mut(3)) {
-                s.eval_into(q[0], q[1], p);
-            }
-        }
-    }
-    let header: Vec<String> = names
-        .iter()
-        .map(|s| s.to_string())
-        .chain(["y", "z"].iter().map(|s| s.to_string()))
-        .take(2 + d)
-        .collect();
-    Destination::from_option(output).write_with(|w| {
-        let mut sink = RowSink::start(w, format, &[n, d + 2], &header)?;
-        let mut rows = Vec::with_capacity(n * (d + 2));
-        for (q, p) in uv.chunks_exact(2).zip(pts.chunks_exact(d)) {
-            rows.extend_from_slice(q);
-            rows.extend_from_slice(p);
-        }
-        sink.push(w, &rows)?;
-        sink.finish()
-    })
-}
-
-/// `geomkit eval` hook: evaluates MODEL if it is a `compose` surface (`Some(())`), else
-/// `None`.
-pub fn eval_if_surface(args: &crate::cli::ModelEvalArgs) -> Result<Option<()>> {
-    if extension(&args.model).as_deref() != Some("json") {
-        return Ok(None);
-    }
-    let Ok(text) = std::fs::read_to_string(&args.model) else {
-        return Ok(None);
-    };
-    let Ok(v) = serde_json::from_str::<Value>(&text) else {
-        return Ok(None);
-    };
-    let Some(model) = SurfaceModel::from_json(&v) else {
-        return Ok(None);
-    };
-    let model = model.with_context(|| args.model.display().to_string())?;
-    let samples = args.samples.map(|s| (s.0, s.1.unwrap_or(s.0)));
-    if let Some((k, l)) = samples {
-        if !(2..=10_000).contains(&k) || !(2..=10_000).contains(&l) {
-            bail!("--samples: each count must be from 2 to 10000 (got {k}x{l})");
-        }
-    }
-    eval_surface(&model, samples, args.at.as_deref(), args.output.as_deref()).map(Some)
 }

@@ -12,91 +12,38 @@
 //!   -o fit.json`): one polynomial piece per knot span ([`Piecewise::from_bspline`]).
 
 use super::compose::{
-    format_of, formula_json, formula_line, formula_text, number_list, read_json, FormulaOutput,
-    PiecewiseArgs,
+    format_of, formula_json, formula_line, formula_text, FormulaOutput, PiecewiseArgs,
 };
 use crate::figures::linspace;
 use crate::output::Destination;
 use crate::svg::{palette, Axes, Figure};
 use crate::table::extension;
-use anyhow::{anyhow, bail, Context, Result};
-use geomkit::compose::{ExprPatch, Piecewise};
+use anyhow::{bail, Context, Result};
+use geomkit::compose::Piecewise;
+use geomkit_model::{AnyModel, ModelFile};
 use serde_json::{json, Value};
 use std::io::Write;
 use std::path::Path;
 
-/// Parses a pieces file (see the module docs).
-pub fn parse_pieces(v: &Value) -> Result<Piecewise> {
-    let ty = v.get("type").and_then(Value::as_str).unwrap_or("");
-    match ty {
-        "polyline" | "polygon" => {
-            let pts = v
-                .get("points")
-                .and_then(Value::as_array)
-                .ok_or_else(|| anyhow!("missing or non-array \"points\""))?;
-            let points = pts
-                .iter()
-                .enumerate()
-                .map(|(k, p)| number_list(Some(p), &format!("points[{k}]")))
-                .collect::<Result<Vec<_>>>()?;
-            let knots = match v.get("knots") {
-                None => None,
-                Some(k) => Some(number_list(Some(k), "knots")?),
-            };
-            Ok(Piecewise::polyline(points, knots, ty == "polygon")?)
-        }
-        "piecewise" => {
-            let knots = number_list(v.get("knots"), "knots")?;
-            let pieces = v
-                .get("pieces")
-                .and_then(Value::as_array)
-                .ok_or_else(|| anyhow!("missing or non-array \"pieces\""))?;
-            if pieces.iter().all(Value::is_string) {
-                let texts: Vec<&str> = pieces.iter().filter_map(Value::as_str).collect();
-                return Ok(Piecewise::function(knots, &texts)?);
-            }
-            let parsed = pieces
-                .iter()
-                .enumerate()
-                .map(|(i, p)| curve_piece(p).with_context(|| format!("pieces[{i}]")))
-                .collect::<Result<Vec<_>>>()?;
-            Ok(Piecewise::from_pieces(knots, parsed, "t")?)
-        }
-        "bspline_curve" => {
-            let obj = v.as_object().expect("a value with a \"type\" is an object");
-            Ok(Piecewise::from_bspline(
-                &crate::model::parse_bspline_curve(obj)?.curve,
-            )?)
+/// Reads a pieces file or a saved B-spline curve, and its file (the model of the formula
+/// file).
+fn read_pieces(path: &Path) -> Result<(Piecewise, ModelFile)> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let file = geomkit_model::parse_file(&text).map_err(|e| e.in_file(path))?;
+    let pieces = match AnyModel::from_file(file.clone()).map_err(|e| e.in_file(path))? {
+        AnyModel::Piecewise(p) => p,
+        AnyModel::BsplineCurve(m) => {
+            Piecewise::from_bspline(&m.curve).with_context(|| path.display().to_string())?
         }
         other => bail!(
-            "\"type\" must be \"piecewise\", \"polyline\", \"polygon\" or \"bspline_curve\", \
-             found {other:?}"
+            "{}: this is a {}; `compose piecewise` takes a \"piecewise\", \"polyline\", \
+             \"polygon\" or \"bspline_curve\" file",
+            path.display(),
+            other.describe()
         ),
-    }
-}
-
-/// A curve piece `{"x":"..","y":"..","z":"..","domain":[t0,t1]}`.
-fn curve_piece(p: &Value) -> Result<ExprPatch> {
-    let o = p.as_object().ok_or_else(|| {
-        anyhow!("expected a formula in x, or {{\"x\": \"..\", \"y\": \"..\"}} in t")
-    })?;
-    let mut coords = Vec::new();
-    for n in ["x", "y", "z"] {
-        match o.get(n) {
-            Some(Value::String(t)) => coords.push((n, t.as_str())),
-            Some(_) => bail!("\"{n}\" must be a formula string"),
-            None if n == "z" => {}
-            None => bail!("missing \"{n}\": a curve piece has x and y (and z) as formulas in t"),
-        }
-    }
-    let domain = match o.get("domain") {
-        None => None,
-        Some(d) => match number_list(Some(d), "domain")?[..] {
-            [a, b] => Some(vec![(a, b)]),
-            _ => bail!("\"domain\" must be [t0, t1]"),
-        },
     };
-    Ok(ExprPatch::parse(&coords, &["t"], domain)?)
+    Ok((pieces, file))
 }
 
 /// The continuity report as JSON.
@@ -180,8 +127,7 @@ pub fn plot(p: &Piecewise, title: &str, subtitle: &str) -> Result<String> {
 
 /// Runs `geomkit compose piecewise`.
 pub fn run(args: PiecewiseArgs) -> Result<()> {
-    let v = read_json(&args.pieces)?;
-    let p = parse_pieces(&v).with_context(|| args.pieces.display().to_string())?;
+    let (p, file) = read_pieces(&args.pieces)?;
     let out: &FormulaOutput = &args.out;
     let format = format_of(&out.format)?;
     let dest = Destination::from_option(out.output.as_deref());
@@ -204,7 +150,8 @@ pub fn run(args: PiecewiseArgs) -> Result<()> {
             dest.write(formula_text(&f, format, out.program).as_bytes())?
         }
         Some(Some(e)) if e == "json" => {
-            dest.write(formula_json(&f, &what, json!({"continuity": report_json(&p)})).as_bytes())?
+            let json = formula_json(&f, &what, Some(report_json(&p)), Some(file));
+            dest.write(json.as_bytes())?
         }
         Some(Some(e)) if e == "svg" => {
             dest.write(plot(&p, &what, &formula_line(&f))?.as_bytes())?

@@ -16,10 +16,11 @@ use geomkit::bezier::ParamCurve;
 use geomkit::exact::Rational;
 use geomkit::expr::{Format, Graph};
 use geomkit::pointcalc::{
-    optimize, Factor, Goal, Hypersurface, NodePreset, Nodes, OptimizeOptions, PointEquation,
-    PointOptions, PointSurface, PrintedSurface, Warning,
+    optimize, Goal, Hypersurface, NodePreset, Nodes, OptimizeOptions, PointEquation, PointOptions,
+    PointSurface, PrintedSurface, Warning,
 };
-use serde::{Deserialize, Serialize};
+use geomkit_model::{AnyModel, PointcalcModel};
+use serde::Deserialize;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -301,79 +302,24 @@ fn options(strict: bool) -> PointOptions {
 // ---------------------------------------------------------------------------------------------
 // model files
 
-/// A factor in a model file.
-#[derive(Debug, Serialize, Deserialize)]
-struct FactorFile {
-    name: String,
-    nodes: Vec<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    exact: Option<Vec<String>>,
+/// The model file of `pointcalc fit`.
+pub fn model_json(model: &Hypersurface, response: &[String]) -> String {
+    geomkit_model::to_json(&PointcalcModel::file_of(model, response))
 }
 
-/// A fitted model file.
-#[derive(Debug, Serialize, Deserialize)]
-struct ModelFile {
-    #[serde(rename = "type")]
-    kind: String,
-    factors: Vec<FactorFile>,
-    response: Vec<String>,
-    /// Row-major over the factors (first factor slowest), one number per response.
-    values: Vec<f64>,
+/// Reads a model file of `pointcalc fit`.
+fn read_model(path: &Path) -> Result<(Hypersurface, Vec<String>)> {
+    match geomkit_model::load(path)? {
+        AnyModel::Pointcalc(m) => Ok((m.model, m.response)),
+        other => bail!(
+            "{}: this is a {}, not a \"{MODEL_TYPE}\" (the output of `pointcalc fit`)",
+            path.display(),
+            other.describe()
+        ),
+    }
 }
 
 const MODEL_TYPE: &str = "pointcalc-model";
-
-pub fn model_json(model: &Hypersurface, response: &[String]) -> String {
-    let factors = model
-        .factors()
-        .iter()
-        .map(|f| FactorFile {
-            name: f.name().to_string(),
-            nodes: f.nodes().values().to_vec(),
-            exact: f.nodes().is_rational().then(|| {
-                f.nodes()
-                    .exact_values()
-                    .iter()
-                    .map(|r| r.to_string())
-                    .collect()
-            }),
-        })
-        .collect();
-    let file = ModelFile {
-        kind: MODEL_TYPE.into(),
-        factors,
-        response: response.to_vec(),
-        values: model.values().to_vec(),
-    };
-    serde_json::to_string_pretty(&file).expect("serializable") + "\n"
-}
-
-fn read_model(path: &Path) -> Result<(Hypersurface, Vec<String>)> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {name}"))?;
-    let file: ModelFile =
-        serde_json::from_str(&text).map_err(|e| anyhow!("{name}: not a pointcalc model ({e})"))?;
-    if file.kind != MODEL_TYPE {
-        bail!("{name}: type is '{}', expected '{MODEL_TYPE}'", file.kind);
-    }
-    let mut factors = Vec::new();
-    for f in file.factors {
-        let nodes = match &f.exact {
-            Some(e) => Nodes::from_rationals(
-                e.iter()
-                    .map(|x| parse_rational(x))
-                    .collect::<Result<Vec<_>>>()?,
-            ),
-            None => Nodes::new(f.nodes),
-        }
-        .with_context(|| format!("{name}: factor {}", f.name))?;
-        factors.push(Factor::new(f.name, nodes));
-    }
-    let dim = file.response.len();
-    let model = Hypersurface::new(factors, dim, file.values, &PointOptions::default())
-        .with_context(|| name.clone())?;
-    Ok((model, file.response))
-}
 
 // ---------------------------------------------------------------------------------------------
 // CSV with a header

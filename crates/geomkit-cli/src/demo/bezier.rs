@@ -4,7 +4,7 @@
 
 use super::{sci, Check, Context, Item, Report};
 use crate::figures::{curve_change_svg, surface_svg, surface_with_net, Layer};
-use crate::model::{ErrorReport, Model};
+use crate::model::{BezierModel, ErrorReport};
 use crate::svg::{escape, palette, Axes, Figure, Stroke};
 use anyhow::{ensure, Result};
 use geomkit::bezier::{
@@ -204,14 +204,14 @@ fn fig1(
     r.model(
         ctx,
         &format!("{id}_degree{n}.json"),
-        &Model::Curve(old.clone()),
+        &BezierModel::Curve(old.clone()),
         None,
         "input",
     )?;
     r.model(
         ctx,
         &format!("{id}_degree{target}.json"),
-        &Model::Curve(new.clone()),
+        &BezierModel::Curve(new.clone()),
         None,
         "elevated",
     )?;
@@ -286,14 +286,14 @@ fn fig2(ctx: &Context) -> Result<Report> {
     r.model(
         ctx,
         "fig2_degree5.json",
-        &Model::Curve(quintic.clone()),
+        &BezierModel::Curve(quintic.clone()),
         None,
         "Example 2",
     )?;
     r.model(
         ctx,
         "fig2_degree3.json",
-        &Model::Curve(cubic.clone()),
+        &BezierModel::Curve(cubic.clone()),
         None,
         "the cubic",
     )?;
@@ -470,21 +470,21 @@ fn fig4(ctx: &Context) -> Result<Report> {
     r.model(
         ctx,
         "fig4_original.json",
-        &Model::Surface(surface.clone()),
+        &BezierModel::Surface(surface.clone()),
         None,
         "7×3 net",
     )?;
     r.model(
         ctx,
         "fig4_row_added.json",
-        &Model::Surface(added),
+        &BezierModel::Surface(added),
         None,
         "8×3 net",
     )?;
     r.model(
         ctx,
         "fig4_row_removed.json",
-        &Model::Surface(removed),
+        &BezierModel::Surface(removed),
         None,
         "6×3 net",
     )?;
@@ -585,7 +585,7 @@ fn fig5(ctx: &Context) -> Result<Report> {
         r.model(
             ctx,
             &format!("{id}.json"),
-            &Model::Surface((*s).clone()),
+            &BezierModel::Surface((*s).clone()),
             None,
             &format!("({a}, {b})"),
         )?;
@@ -664,7 +664,7 @@ fn approx(ctx: &Context) -> Result<Report> {
     r.model(
         ctx,
         "approx_degree12.json",
-        &Model::Curve(original.clone()),
+        &BezierModel::Curve(original.clone()),
         None,
         "input",
     )?;
@@ -702,7 +702,7 @@ fn approx(ctx: &Context) -> Result<Report> {
         r.model(
             ctx,
             &format!("approx_{id}.json"),
-            &Model::Curve(red.curve.clone()),
+            &BezierModel::Curve(red.curve.clone()),
             Some(&error),
             name,
         )?;

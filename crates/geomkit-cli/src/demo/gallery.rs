@@ -6,7 +6,7 @@
 use super::{Check, Context, Item, Report};
 use crate::commands::mesh::write_mesh;
 use crate::figures::View;
-use crate::model::Model;
+use crate::model::BezierModel;
 use crate::render::shaded::{Overlay, Scene, Solid, BACK, FRONT};
 use crate::render::shape::{load, picture_svg, PictureOptions, Shape, Tessellation};
 use crate::render::svg_to_png;
@@ -330,7 +330,7 @@ fn mushroom(ctx: &Context) -> Result<Report> {
     r.model(
         ctx,
         "fig3-mushroom.json",
-        &Model::Surface(s),
+        &BezierModel::Surface(s),
         None,
         "the surface, bezier_surface",
     )?;
@@ -427,7 +427,7 @@ fn mask(ctx: &Context) -> Result<Report> {
     r.model(
         ctx,
         "fig3-mask.json",
-        &Model::Surface(s.clone()),
+        &BezierModel::Surface(s.clone()),
         None,
         "the surface, bezier_surface",
     )?;

@@ -13,7 +13,7 @@ mod gallery;
 mod pointcalc;
 
 use crate::cli::DemoArgs;
-use crate::model::{to_json, ErrorReport, Model};
+use crate::model::{to_json, BezierModel, ErrorReport};
 use crate::output::{ensure_dir, write_atomic, write_stdout};
 use crate::svg::escape;
 use anyhow::{bail, Result};
@@ -183,7 +183,7 @@ impl Report {
         &mut self,
         ctx: &Context,
         file: &str,
-        model: &Model,
+        model: &BezierModel,
         error: Option<&ErrorReport>,
         what: &str,
     ) -> Result<()> {

@@ -3,21 +3,20 @@
 //! points).
 
 use super::shaded::{Overlay, Scene};
-use crate::commands::compose::SurfaceModel;
 use crate::figures::{add_polygon, View};
-use crate::model::{parse_any_model, read_any_model, AnyModel, Model};
+use crate::model::{read_any_model, AnyModel, BezierModel};
 use crate::svg::{palette, Axes, Figure, Stroke};
-use crate::table::extension;
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{bail, Context, Result};
 use geomkit::bezier::BezierSurface;
 use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
+use geomkit::compose::Piecewise;
 use geomkit::mesh::{
     tessellate_curve, tessellate_surface, CurveOptions, CurveShape, Polyline, SurfaceOptions,
     SurfaceShape, TriMesh,
 };
 use geomkit::pointcalc::{Nodes, PointEquation, PointSurface};
-use serde_json::Value;
+use geomkit_model::PointcalcModel;
 use std::path::Path;
 
 /// A control net lifted to R^3: rows, columns, row-major points.
@@ -165,105 +164,116 @@ fn bspline_curve(c: BsplineCurve, parameters: Option<Vec<f64>>) -> Shape {
     }
 }
 
-/// The shape of a model of `geomkit bezier`/`interpolate`.
-pub fn from_any(model: AnyModel) -> Loaded {
-    let what = model.describe();
-    let shape = match model {
-        AnyModel::Bezier(Model::Curve(c)) => {
-            let pts = c.points();
-            let ts = uniform(pts.len());
-            Shape::Curve {
-                curve: Box::new(c),
-                control: Some((pts, ts)),
-                references: Vec::new(),
-            }
-        }
-        AnyModel::Bezier(Model::Rational(c)) => {
-            let pts = c.points();
-            let ts = uniform(pts.len());
-            Shape::Curve {
-                curve: Box::new(c),
-                control: Some((pts, ts)),
-                references: Vec::new(),
-            }
-        }
-        AnyModel::Bezier(Model::Surface(s)) => bezier_surface(s),
-        AnyModel::BsplineCurve(m) => bspline_curve(m.curve, m.parameters),
-        AnyModel::BsplineSurface(m) => bspline_surface(m.surface, m.parameters),
-    };
-    Loaded { what, shape }
+/// A piecewise function or composite curve as a curve over its knots.
+struct PiecewiseCurve(Piecewise);
+
+impl ParamCurve for PiecewiseCurve {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn eval_into(&self, t: f64, out: &mut [f64]) {
+        self.0.eval_into(t, out)
+    }
 }
 
-/// A point-calculus model file (`pointcalc fit`): one factor is a curve, two factors a
-/// surface (a, b, y(a, b)); one response.
-fn pointcalc_model(v: &Value) -> Result<Loaded> {
-    let factors = v
-        .get("factors")
-        .and_then(Value::as_array)
-        .ok_or_else(|| anyhow!("missing \"factors\" of a pointcalc-model"))?;
-    let values: Vec<f64> = v
-        .get("values")
-        .and_then(Value::as_array)
-        .ok_or_else(|| anyhow!("missing \"values\" of a pointcalc-model"))?
-        .iter()
-        .enumerate()
-        .map(|(k, x)| {
-            x.as_f64()
-                .ok_or_else(|| anyhow!("values[{k}] is not a number"))
-        })
-        .collect::<Result<_>>()?;
-    let responses = v
-        .get("response")
-        .and_then(Value::as_array)
-        .map_or(1, Vec::len);
-    if responses != 1 {
-        bail!("a pointcalc-model with {responses} responses cannot be drawn (one response only)");
+impl CurveShape for PiecewiseCurve {
+    fn domain(&self) -> (f64, f64) {
+        let k = self.0.knots();
+        (k[0], k[k.len() - 1])
     }
-    let mut nodes = Vec::new();
-    let mut names = Vec::new();
-    for (k, f) in factors.iter().enumerate() {
-        let vals: Vec<f64> = f
-            .get("nodes")
-            .and_then(Value::as_array)
-            .ok_or_else(|| anyhow!("factors[{k}] has no \"nodes\""))?
-            .iter()
-            .filter_map(Value::as_f64)
-            .collect();
-        names.push(
-            f.get("name")
-                .and_then(Value::as_str)
-                .unwrap_or("?")
-                .to_string(),
-        );
-        nodes.push(Nodes::new(vals).with_context(|| format!("factors[{k}]"))?);
+    fn breaks(&self) -> Vec<f64> {
+        self.0.knots().to_vec()
     }
-    match nodes.len() {
-        1 => {
-            let n = nodes.remove(0);
-            if values.len() != n.len() {
-                bail!("{} values for {} levels", values.len(), n.len());
+}
+
+/// The shape of any model; errors for models that are neither one curve nor one surface.
+pub fn from_any(model: AnyModel) -> Result<Loaded> {
+    let what = model.describe();
+    let shape = match model {
+        AnyModel::Bezier(BezierModel::Curve(c)) => {
+            let pts = c.points();
+            let ts = uniform(pts.len());
+            Shape::Curve {
+                curve: Box::new(c),
+                control: Some((pts, ts)),
+                references: Vec::new(),
             }
-            let refs = n
+        }
+        AnyModel::Bezier(BezierModel::Rational(c)) => {
+            let pts = c.points();
+            let ts = uniform(pts.len());
+            Shape::Curve {
+                curve: Box::new(c),
+                control: Some((pts, ts)),
+                references: Vec::new(),
+            }
+        }
+        AnyModel::Bezier(BezierModel::Surface(s)) => bezier_surface(s),
+        AnyModel::BsplineCurve(m) => bspline_curve(m.curve, m.parameters),
+        AnyModel::BsplineSurface(m) => bspline_surface(m.surface, m.parameters),
+        AnyModel::Composite(s) => plain_surface(Box::new(s)),
+        AnyModel::Ruled(s) => plain_surface(Box::new(s)),
+        AnyModel::Piecewise(p) => Shape::Curve {
+            curve: Box::new(PiecewiseCurve(p)),
+            control: None,
+            references: Vec::new(),
+        },
+        AnyModel::Formula(f) => match f.model {
+            Some(m) => return from_any(*m),
+            None => bail!(
+                "this formula file carries no model (written by an older geomkit): mesh or \
+                 draw it with `geomkit compose ... -o OUT.obj|.png`"
+            ),
+        },
+        AnyModel::Pointcalc(m) => pointcalc_shape(&m)?,
+        AnyModel::CurveSamples(c) => Shape::Curve {
+            curve: Box::new(c),
+            control: None,
+            references: Vec::new(),
+        },
+        AnyModel::SurfaceSamples(s) => plain_surface(Box::new(s)),
+        other => bail!("a {} cannot be drawn or meshed", other.describe()),
+    };
+    Ok(Loaded { what, shape })
+}
+
+/// A surface without a net or reference points.
+fn plain_surface(surface: Box<dyn SurfaceShape>) -> Shape {
+    Shape::Surface {
+        surface,
+        net: None,
+        references: Vec::new(),
+    }
+}
+
+/// A point-calculus model: one factor is a curve, two factors a surface (a, b, y(a, b));
+/// one response.
+fn pointcalc_shape(m: &PointcalcModel) -> Result<Shape> {
+    let model = &m.model;
+    if model.dim() != 1 {
+        bail!(
+            "a pointcalc-model with {} responses cannot be drawn (one response only)",
+            model.dim()
+        );
+    }
+    let values = model.values();
+    let nodes: Vec<&Nodes> = model.factors().iter().map(|f| f.nodes()).collect();
+    match nodes[..] {
+        [n] => {
+            let references = n
                 .values()
                 .iter()
-                .zip(&values)
+                .zip(values)
                 .map(|(&t, &y)| (t, vec![y]))
                 .collect();
-            let eq = PointEquation::new(n, values.iter().map(|&y| vec![y]).collect())?;
-            Ok(Loaded {
-                what: format!("point-calculus model of {} with one factor", names[0]),
-                shape: Shape::Curve {
-                    curve: Box::new(eq),
-                    control: None,
-                    references: refs,
-                },
+            let eq = PointEquation::new(n.clone(), values.iter().map(|&y| vec![y]).collect())?;
+            Ok(Shape::Curve {
+                curve: Box::new(eq),
+                control: None,
+                references,
             })
         }
-        2 => {
-            let (a, b) = (nodes[0].clone(), nodes[1].clone());
-            if values.len() != a.len() * b.len() {
-                bail!("{} values for {}×{} levels", values.len(), a.len(), b.len());
-            }
+        [a, b] => {
             // net[i][j] = (a_i, b_j, y_ij): the point equations reproduce the linear
             // coordinates exactly, so the surface is (a, b, y(a, b)).
             let net: Vec<Vec<Vec<f64>>> = a
@@ -279,242 +289,26 @@ fn pointcalc_model(v: &Value) -> Result<Loaded> {
                 })
                 .collect();
             let references = net.iter().flatten().map(|p| to3(p)).collect();
-            let s = PointSurface::tensor(b, a, net)?;
-            Ok(Loaded {
-                what: format!("point-calculus model over {} and {}", names[0], names[1]),
-                shape: Shape::Surface {
-                    surface: Box::new(s),
-                    net: None,
-                    references,
-                },
+            let s = PointSurface::tensor(b.clone(), a.clone(), net)?;
+            Ok(Shape::Surface {
+                surface: Box::new(s),
+                net: None,
+                references,
             })
         }
-        k => bail!("a pointcalc-model with {k} factors cannot be drawn or meshed (1 or 2 only)"),
-    }
-}
-
-/// Rows of numbers at `name`, all of one length.
-fn rows(v: &Value, name: &str) -> Result<Vec<Vec<f64>>> {
-    let arr = v
-        .get(name)
-        .and_then(Value::as_array)
-        .ok_or_else(|| anyhow!("missing array \"{name}\""))?;
-    let rows: Vec<Vec<f64>> = arr
-        .iter()
-        .enumerate()
-        .map(|(k, r)| {
-            r.as_array()
-                .ok_or_else(|| anyhow!("{name}[{k}] is not an array"))?
-                .iter()
-                .map(|x| {
-                    x.as_f64()
-                        .ok_or_else(|| anyhow!("{name}[{k}] holds a non-number"))
-                })
-                .collect()
-        })
-        .collect::<Result<_>>()?;
-    if let Some(k) = rows
-        .iter()
-        .position(|r| r.len() != rows[0].len() || r.is_empty())
-    {
-        bail!(
-            "{name}[{k}] has {} numbers, {name}[0] has {}",
-            rows[k].len(),
-            rows[0].len()
-        );
-    }
-    Ok(rows)
-}
-
-fn numbers(v: &Value, name: &str) -> Result<Vec<f64>> {
-    v.get(name)
-        .and_then(Value::as_array)
-        .ok_or_else(|| anyhow!("missing array \"{name}\""))?
-        .iter()
-        .enumerate()
-        .map(|(k, x)| {
-            x.as_f64()
-                .ok_or_else(|| anyhow!("{name}[{k}] is not a number"))
-        })
-        .collect()
-}
-
-/// Samples (t, x, ...) joined by straight segments: the polyline through them.
-struct SampledCurve {
-    ts: Vec<f64>,
-    dim: usize,
-    points: Vec<f64>,
-}
-
-impl ParamCurve for SampledCurve {
-    fn dim(&self) -> usize {
-        self.dim
-    }
-    fn eval_into(&self, t: f64, out: &mut [f64]) {
-        let n = self.ts.len();
-        let k = self.ts.partition_point(|&x| x <= t).clamp(1, n - 1) - 1;
-        let (t0, t1) = (self.ts[k], self.ts[k + 1]);
-        let f = if t1 > t0 {
-            ((t - t0) / (t1 - t0)).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let (a, b) = (
-            &self.points[k * self.dim..],
-            &self.points[(k + 1) * self.dim..],
-        );
-        for c in 0..self.dim {
-            out[c] = a[c] + f * (b[c] - a[c]);
-        }
-    }
-}
-
-impl CurveShape for SampledCurve {
-    fn domain(&self) -> (f64, f64) {
-        (self.ts[0], self.ts[self.ts.len() - 1])
-    }
-    fn breaks(&self) -> Vec<f64> {
-        self.ts.clone()
-    }
-}
-
-/// `pointcalc curve -o X.json`: samples [t, x, y, ...] of the curve.
-fn sampled_curve(v: &Value) -> Result<Loaded> {
-    let samples = rows(v, "samples")?;
-    if samples.len() < 2 || samples[0].len() < 2 {
-        bail!("a pointcalc-curve needs at least 2 samples [t, x, ...]");
-    }
-    let ts: Vec<f64> = samples.iter().map(|r| r[0]).collect();
-    if let Some(k) = ts.windows(2).position(|w| w[1] <= w[0]) {
-        bail!("samples[{}]: t must increase", k + 1);
-    }
-    let dim = samples[0].len() - 1;
-    let points = samples.iter().flat_map(|r| r[1..].to_vec()).collect();
-    Ok(Loaded {
-        what: format!("point-equation curve in R^{dim}, {} samples", ts.len()),
-        shape: Shape::Curve {
-            curve: Box::new(SampledCurve { ts, dim, points }),
-            control: None,
-            references: Vec::new(),
-        },
-    })
-}
-
-/// A grid of samples joined bilinearly.
-struct SampledSurface {
-    us: Vec<f64>,
-    vs: Vec<f64>,
-    dim: usize,
-    points: Vec<f64>,
-}
-
-impl SurfaceShape for SampledSurface {
-    fn dim(&self) -> usize {
-        self.dim
-    }
-    fn domain(&self) -> ((f64, f64), (f64, f64)) {
-        (
-            (self.us[0], self.us[self.us.len() - 1]),
-            (self.vs[0], self.vs[self.vs.len() - 1]),
-        )
-    }
-    fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
-        let locate = |xs: &[f64], x: f64| {
-            let k = xs.partition_point(|&y| y <= x).clamp(1, xs.len() - 1) - 1;
-            let f = ((x - xs[k]) / (xs[k + 1] - xs[k])).clamp(0.0, 1.0);
-            (k, f)
-        };
-        let (d, nv) = (self.dim, self.vs.len());
-        let p = |i: usize, j: usize, c: usize| self.points[(i * nv + j) * d + c];
-        for (a, &u) in us.iter().enumerate() {
-            let (i, f) = locate(&self.us, u);
-            for (b, &v) in vs.iter().enumerate() {
-                let (j, g) = locate(&self.vs, v);
-                for c in 0..d {
-                    out[(a * vs.len() + b) * d + c] = (1.0 - f) * (1.0 - g) * p(i, j, c)
-                        + f * (1.0 - g) * p(i + 1, j, c)
-                        + (1.0 - f) * g * p(i, j + 1, c)
-                        + f * g * p(i + 1, j + 1, c);
-                }
-            }
-        }
-        Ok(())
-    }
-    fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
-        (self.us.clone(), self.vs.clone())
-    }
-}
-
-/// `pointcalc surface -o X.json`: a u × v grid of samples.
-fn sampled_surface(v: &Value) -> Result<Loaded> {
-    let (us, vs) = (numbers(v, "u")?, numbers(v, "v")?);
-    let points = rows(v, "points")?;
-    if us.len() < 2 || vs.len() < 2 || points.len() != us.len() * vs.len() {
-        bail!(
-            "a pointcalc-surface-samples needs u and v with at least 2 values each and \
-             u × v points ({} × {} given, {} points)",
-            us.len(),
-            vs.len(),
-            points.len()
-        );
-    }
-    for (name, xs) in [("u", &us), ("v", &vs)] {
-        if let Some(k) = xs.windows(2).position(|w| w[1] <= w[0]) {
-            bail!("{name}[{}] must be greater than the previous value", k + 1);
-        }
-    }
-    let dim = points[0].len();
-    Ok(Loaded {
-        what: format!(
-            "point-equation surface in R^{dim}, {}×{} samples",
-            us.len(),
-            vs.len()
+        _ => bail!(
+            "a pointcalc-model with {} factors cannot be drawn or meshed (1 or 2 only)",
+            nodes.len()
         ),
-        shape: Shape::Surface {
-            surface: Box::new(SampledSurface {
-                us,
-                vs,
-                dim,
-                points: points.concat(),
-            }),
-            net: None,
-            references: Vec::new(),
-        },
-    })
+    }
 }
 
-/// Reads any model file: Bézier and B-spline JSON (and control-point CSV/.npy pairs),
-/// composite scenes, point-calculus models and the curve/surface samples of `pointcalc
-/// curve|surface` (joined by straight segments / bilinear cells).
+/// Reads any model file (see [`read_any_model`]) as a shape to draw or mesh: Bézier and
+/// B-spline JSON (and control-point CSV/.npy pairs), composite scenes, ruled surfaces,
+/// piecewise formulas, formula files, point-calculus models and the curve/surface samples
+/// of `pointcalc curve|surface` (joined by straight segments / bilinear cells).
 pub fn load(path: &Path) -> Result<Loaded> {
-    if matches!(extension(path).as_deref(), Some("npy" | "csv")) {
-        return Ok(from_any(read_any_model(path)?));
-    }
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    parse(&text).with_context(|| path.display().to_string())
-}
-
-/// Parses a model from JSON text (see [`load`]).
-pub fn parse(text: &str) -> Result<Loaded> {
-    let v: Value = serde_json::from_str(text).map_err(|e| anyhow!("invalid JSON: {e}"))?;
-    if let Some(model) = SurfaceModel::from_json(&v) {
-        let model = model?;
-        return Ok(Loaded {
-            what: model.describe(),
-            shape: Shape::Surface {
-                surface: model.into_shape(),
-                net: None,
-                references: Vec::new(),
-            },
-        });
-    }
-    match v.get("type").and_then(Value::as_str) {
-        Some("pointcalc-model") => pointcalc_model(&v),
-        Some("pointcalc-curve") => sampled_curve(&v),
-        Some("pointcalc-surface-samples") => sampled_surface(&v),
-        _ => Ok(from_any(parse_any_model(text)?)),
-    }
+    from_any(read_any_model(path)?).with_context(|| path.display().to_string())
 }
 
 /// How to tessellate.
