@@ -13,7 +13,7 @@
 
 use super::formula::{coef, int_const, num};
 use super::poly::PolyPatch;
-use crate::expr::{parse, Const, Graph, Id, Node, Tape};
+use crate::expr::{parse_with_variables, Const, Graph, Id, Node, Tape};
 use crate::{Error, Result};
 use std::collections::HashMap;
 
@@ -43,11 +43,18 @@ impl PartialEq for ExprPatch {
     }
 }
 
-fn expression_error(name: &str, message: impl ToString) -> Error {
+/// An error of coordinate `name` that the message says (no parse error inside).
+fn expression_error(name: &str, message: String) -> Error {
     Error::Expression {
         what: format!("coordinate {name}"),
-        message: message.to_string(),
+        message,
+        parse: None,
     }
+}
+
+/// An engine error of coordinate `name`, keeping a parse error's span.
+fn engine_error(name: &str, e: crate::expr::ExprError) -> Error {
+    Error::expression(format!("coordinate {name}"), e)
 }
 
 impl ExprPatch {
@@ -56,8 +63,9 @@ impl ExprPatch {
     /// whatever cell it is placed on.
     ///
     /// Errors: [`Error::Expression`] naming the coordinate for a formula that does not parse
-    /// (with the byte position), that uses a variable other than `vars`, or that divides by
-    /// an exact zero; [`Error::Empty`] without coordinates; [`Error::PatchCount`] for a
+    /// or that uses a variable other than `vars` (with the [`crate::expr::ParseError`] and
+    /// its span in the formula's text as `parse`; an unknown name is refused even where it
+    /// would cancel, as in `u + w - w`), or that divides by an exact zero; [`Error::Empty`] without coordinates; [`Error::PatchCount`] for a
     /// domain with a number of intervals other than the number of variables;
     /// [`Error::InvalidShape`] for an interval that is not finite and increasing.
     pub fn parse(
@@ -68,7 +76,8 @@ impl ExprPatch {
         let mut graph = Graph::new();
         let mut roots = Vec::with_capacity(coords.len());
         for (name, text) in coords {
-            let e = parse(&mut graph, text).map_err(|e| expression_error(name, e))?;
+            let e =
+                parse_with_variables(&mut graph, text, vars).map_err(|e| engine_error(name, e))?;
             roots.push(e);
         }
         let texts = coords.iter().map(|c| c.1.to_string()).collect();
@@ -168,7 +177,7 @@ impl ExprPatch {
         if let Some(d) = &domain {
             check_domain(d, vars.len())?;
         }
-        let tape = Tape::new(&graph, &roots, vars).map_err(|e| expression_error(&names[0], e))?;
+        let tape = Tape::new(&graph, &roots, vars).map_err(|e| engine_error(&names[0], e))?;
         Ok(ExprPatch {
             graph,
             roots,
@@ -214,7 +223,7 @@ impl ExprPatch {
             let mut cols: Vec<&mut [f64]> = out.chunks_mut(1).collect();
             self.tape
                 .eval_batch(&inputs, &mut cols)
-                .map_err(|e| expression_error(&self.names[0], e))?;
+                .map_err(|e| engine_error(&self.names[0], e))?;
         }
         Ok(out)
     }

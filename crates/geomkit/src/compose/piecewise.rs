@@ -410,9 +410,14 @@ fn check_count(axis: &Axis, got: usize) -> Result<()> {
 /// An expression error inside piece i.
 fn in_piece(e: Error, i: usize) -> Error {
     match e {
-        Error::Expression { what, message } => Error::Expression {
+        Error::Expression {
+            what,
+            message,
+            parse,
+        } => Error::Expression {
             what: format!("piece {i} {what}"),
             message,
+            parse,
         },
         e => e,
     }
