@@ -67,6 +67,16 @@ fn case(
     }
 }
 
+impl Case {
+    /// The case parsed with [`parse_with_variables`].
+    fn only(self, variables: &'static [&'static str]) -> Case {
+        Case {
+            variables: Some(variables),
+            ..self
+        }
+    }
+}
+
 fn unclosed(open: usize, function: Option<&str>) -> ParseErrorKind {
     ParseErrorKind::UnclosedParen {
         open,
@@ -77,6 +87,10 @@ fn unclosed(open: usize, function: Option<&str>) -> ParseErrorKind {
 #[test]
 fn spans_of_a_catalogue_of_bad_formulas() {
     use ParseErrorKind::*;
+    // An exponent's reason is not compared.
+    let exponent = || BadExponent {
+        reason: String::new(),
+    };
     let cases = [
         case("(u+1", "", 4, (1, 5), unclosed(0, None)),
         case("2*(u + 1", "", 8, (1, 9), unclosed(2, None)),
@@ -112,68 +126,29 @@ fn spans_of_a_catalogue_of_bad_formulas() {
         case("1 + ü", "ü", 4, (1, 5), UnexpectedChar('ü')),
         case("π·ü + (u", "π", 0, (1, 1), UnexpectedChar('π')),
         case("u + (v ·w)", "·", 7, (1, 8), unclosed(4, None)),
-        case(
-            "u^v",
-            "^v",
-            1,
-            (1, 2),
-            BadExponent {
-                reason: String::new(),
-            },
-        ),
-        case(
-            "u ** (v + 1) + 2",
-            "** (v + 1)",
-            2,
-            (1, 3),
-            BadExponent {
-                reason: String::new(),
-            },
-        ),
+        case("u^v", "^v", 1, (1, 2), exponent()),
+        case("u ** (v + 1) + 2", "** (v + 1)", 2, (1, 3), exponent()),
         case("u +\n  v *\n  (w", "", 14, (3, 5), unclosed(12, None)),
         case("u +\n  ü * v", "ü", 6, (2, 3), UnexpectedChar('ü')),
         case("sin(u)\n+ 𝛼", "𝛼", 9, (2, 3), UnexpectedChar('𝛼')),
         case("u\r\n  + )", ")", 7, (2, 5), UnexpectedChar(')')),
     ];
+    let unknown = |name: &str, known: &[&str]| UnknownVariable {
+        name: name.into(),
+        known: known.iter().map(|v| v.to_string()).collect(),
+    };
     let with_variables = [
-        Case {
-            text: "u + w",
-            variables: Some(&["u", "v"]),
-            snippet: "w",
-            start: 4,
-            line_column: (1, 5),
-            kind: UnknownVariable {
-                name: "w".into(),
-                known: vec!["u".into(), "v".into()],
-            },
-        },
-        Case {
-            text: "ü·0 + sin(uu)",
-            variables: Some(&["u"]),
-            snippet: "",
-            start: 0,
-            line_column: (1, 1),
-            kind: UnexpectedChar('ü'),
-        },
-        Case {
-            text: "sin(ü)\n * (u + pi*wv - wv)",
-            variables: Some(&["u", "v"]),
-            snippet: "",
-            start: 4,
-            line_column: (1, 5),
-            kind: UnexpectedChar('ü'),
-        },
-        Case {
-            text: "u\n * (v + pi*wv - wv)",
-            variables: Some(&["u", "v"]),
-            snippet: "wv",
-            start: 13,
-            line_column: (2, 12),
-            kind: UnknownVariable {
-                name: "wv".into(),
-                known: vec!["u".into(), "v".into()],
-            },
-        },
+        case("u + w", "w", 4, (1, 5), unknown("w", &["u", "v"])).only(&["u", "v"]),
+        case("ü·0 + sin(uu)", "", 0, (1, 1), UnexpectedChar('ü')).only(&["u"]),
+        case("sin(ü)\n * (u + pi*wv)", "", 4, (1, 5), UnexpectedChar('ü')).only(&["u"]),
+        case(
+            "u\n * (v + pi*wv - wv)",
+            "wv",
+            13,
+            (2, 12),
+            unknown("wv", &["u", "v"]),
+        )
+        .only(&["u", "v"]),
     ];
     for c in cases.iter().chain(&with_variables) {
         let e = parse_error(c.text, c.variables);
