@@ -416,6 +416,44 @@ mod tests {
     }
 
     #[test]
+    fn parse_errors_keep_their_span_in_the_coordinate_text() {
+        use crate::expr::ParseErrorKind;
+        let y = "u·v + 1";
+        let e = ExprPatch::parse(&[("x", "u"), ("y", y)], &["u", "v"], None).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "coordinate y: parse error at byte 1: expected an operator or the end of the \
+             formula, found `·`"
+        );
+        let Error::Expression {
+            what,
+            parse: Some(p),
+            ..
+        } = &e
+        else {
+            panic!("{e:?}")
+        };
+        assert_eq!(what, "coordinate y");
+        assert_eq!(&y[p.span.clone()], "·");
+        // An unknown variable where it stands, even where it would cancel.
+        let z = "u +\n w - w";
+        let e = ExprPatch::parse(&[("z", z)], &["u", "v"], None).unwrap_err();
+        let p = e.parse_error().unwrap();
+        assert_eq!((&z[p.span.clone()], p.line, p.column), ("w", 2, 2));
+        assert!(matches!(&p.kind, ParseErrorKind::UnknownVariable { name, .. } if name == "w"));
+        assert_eq!(
+            e.to_string(),
+            "coordinate z: unknown variable `w` (the variables are u, v) at byte 5 (line 2, \
+             column 2)"
+        );
+        // Errors that are not about the text carry no parse error.
+        let p = ExprPatch::parse(&[("x", "ln(u)")], &["u"], None).unwrap();
+        let e = p.check_finite(&[(0.0, 1.0)]).unwrap_err();
+        assert!(matches!(e, Error::Expression { parse: None, .. }), "{e:?}");
+        assert!(e.parse_error().is_none());
+    }
+
+    #[test]
     fn placing_maps_the_domain_and_poly_patches_agree() {
         let p = ExprPatch::parse(
             &[("z", "x^2 + 3*y")],
