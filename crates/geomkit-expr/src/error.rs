@@ -2,37 +2,17 @@
 
 use thiserror::Error;
 
+use crate::parse_error::ParseError;
+
 /// Everything that can go wrong in the expression engine. Every variant names what is wrong
 /// and where.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
 #[non_exhaustive]
 pub enum ExprError {
-    /// The text could not be parsed.
-    #[error("parse error at byte {position}: expected {expected}, found {found}")]
-    Parse {
-        /// Byte offset into the text where the problem was found.
-        position: usize,
-        /// What the parser expected there.
-        expected: String,
-        /// What it found (a token, or `end of input`).
-        found: String,
-    },
-    /// An exponent that is not an integer constant (only integer powers and `^(1/2)` exist).
-    #[error("unsupported exponent at byte {position}: {reason}")]
-    Exponent {
-        /// Byte offset of the `^`.
-        position: usize,
-        /// Why the exponent is not accepted.
-        reason: String,
-    },
-    /// The formula nests deeper than the parser allows.
-    #[error("formula nests deeper than {max} levels at byte {position}")]
-    TooDeep {
-        /// Byte offset where the limit was reached.
-        position: usize,
-        /// The limit.
-        max: usize,
-    },
+    /// The text could not be parsed: the byte span of the mistake, its kind and what was
+    /// expected ([`ParseError`]; boxed to keep the engine's results small).
+    #[error(transparent)]
+    Parse(Box<ParseError>),
     /// An evaluation or a tape needs a variable that was not given.
     #[error("unknown variable `{name}`: no value given for it")]
     UnknownVariable {
@@ -76,3 +56,9 @@ pub enum ExprError {
 
 /// The engine's result type.
 pub type Result<T> = std::result::Result<T, ExprError>;
+
+impl From<ParseError> for ExprError {
+    fn from(e: ParseError) -> Self {
+        ExprError::Parse(Box::new(e))
+    }
+}

@@ -12,7 +12,10 @@
 //!   every finite input, so no NaN is hidden), equal bases combined (`x·x = x^2`, not
 //!   `x/x = 1`), `-(-x) = x`, constants distributed over sums, `|−x| = |x|`,
 //!   `|x|^2 = x^2`, `sqrt(x^2) = |x|`.
-//! - [`parse`]: infix text (`^` powers, `abs sqrt sin ...`, `pi`), exact decimal literals.
+//! - [`parse`]: infix text (`^` powers, `abs sqrt sin ...`, `pi`), exact decimal literals;
+//!   [`parse_with_variables`] also refuses names outside a list. A mistake is a
+//!   [`ParseError`] with the byte span of the text to underline, its [`ParseErrorKind`] and
+//!   what was [`Expected`]; [`line_column`] and [`render_caret`] show it.
 //! - [`Graph::substitute`], [`Graph::diff`] (`abs' = sign`), [`Graph::op_count`],
 //!   [`Graph::eval`].
 //! - [`Graph::print`] (one inline expression), [`Graph::print_program`] and
@@ -44,6 +47,7 @@ mod error;
 pub mod fixtures;
 mod graph;
 mod parse;
+mod parse_error;
 mod print;
 pub mod tape;
 
@@ -51,6 +55,7 @@ pub use error::{ExprError, Result};
 pub use graph::{Const, Func, Graph, Id, Node};
 pub use num_bigint::BigInt;
 pub use num_rational::BigRational;
-pub use parse::{parse, MAX_DEPTH};
+pub use parse::{parse, parse_with_variables, MAX_DEPTH};
+pub use parse_error::{line_column, render_caret, Expected, ParseError, ParseErrorKind};
 pub use print::Format;
 pub use tape::Tape;

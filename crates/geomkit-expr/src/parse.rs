@@ -1,7 +1,9 @@
 //! Infix parser: `+ - * /`, `^` or `**` for powers (right-associative, binding tighter than
 //! unary minus: `-x^2 = -(x^2)`), parentheses, function calls `abs(..)`, `sqrt(..)`, ...,
 //! the constant `pi`. Number literals are exact: `0.1` is the rational 1/10, `1e-3` is
-//! 1/1000.
+//! 1/1000. A mistake is a [`ParseError`] with the byte span to underline.
+
+use std::ops::Range;
 
 use num_bigint::BigInt;
 use num_rational::BigRational;
@@ -9,9 +11,13 @@ use num_traits::{ToPrimitive, Zero};
 
 use crate::error::{ExprError, Result};
 use crate::graph::{Const, Func, Graph, Id, Node};
+use crate::parse_error::{Expected, ParseError, ParseErrorKind, MAX_DECIMAL_EXPONENT};
 
 /// Deepest nesting of parentheses, function calls, unary signs and powers accepted.
 pub const MAX_DEPTH: usize = 200;
+
+/// What may start an operand.
+const OPERAND: [Expected; 3] = [Expected::Number, Expected::Name, Expected::OpenParen];
 
 /// Parses infix `text` into `g`.
 ///
@@ -20,32 +26,73 @@ pub const MAX_DEPTH: usize = 200;
 /// `atom = number | name | name "(" expr ")" | "(" expr ")"`. Exponents must be integer
 /// constants (or exactly 1/2, read as `sqrt`). Function names: `abs sign sqrt sin cos tan
 /// exp ln log(=ln) atan arctan asin arcsin acos arccos sinh cosh tanh` (and `Abs`, `signum`,
-/// `Log`, `Pi` as Maple and SymPy print them).
+/// `Log`, `Pi` as Maple and SymPy print them). Whitespace, newlines included, separates
+/// tokens.
 ///
 /// # Errors
-/// [`ExprError::Parse`] with the byte position and what was expected,
-/// [`ExprError::Exponent`] for a non-integer exponent, [`ExprError::TooDeep`].
+/// [`ExprError::Parse`] with a [`ParseError`]: the byte span of the mistake in `text`, its
+/// [`ParseErrorKind`] (an unexpected char or end, an unclosed or unmatched parenthesis, an
+/// unknown function, a malformed number, a non-integer exponent, nesting deeper than
+/// [`MAX_DEPTH`]) and what was [`Expected`] there. Parsing never panics, whatever the text.
 ///
 /// ```
-/// use geomkit_expr::{parse, Format, Graph};
+/// use geomkit_expr::{parse, ExprError, Format, Graph, ParseErrorKind};
 /// let mut g = Graph::new();
 /// let e = parse(&mut g, "2*(u - 1)^2 - -v").unwrap();
 /// assert_eq!(g.print(e, Format::Sympy), "2*(u - 1)**2 + v");
 /// let err = parse(&mut g, "u + * v").unwrap_err();
 /// assert_eq!(err.to_string(), "parse error at byte 4: expected a number, a name or `(`, found `*`");
+/// // What an editor underlines:
+/// let ExprError::Parse(e) = err else { panic!() };
+/// assert_eq!((e.span.clone(), &e.kind), (4..5, &ParseErrorKind::UnexpectedChar('*')));
 /// ```
 pub fn parse(g: &mut Graph, text: &str) -> Result<Id> {
+    parse_in(g, text, None)
+}
+
+/// Parses infix `text` into `g` like [`parse`], refusing any variable name other than
+/// `variables` (`pi` stays the constant): for formulas in known variables, so that a
+/// misspelt name is reported where it stands, even where simplification would cancel it
+/// (`u + w - w`).
+///
+/// # Errors
+/// Those of [`parse`], and [`ParseErrorKind::UnknownVariable`] with the span of the first
+/// unknown name.
+///
+/// ```
+/// use geomkit_expr::{parse_with_variables, ExprError, Graph, ParseErrorKind};
+/// let text = "sin(u) * wv";
+/// let err = parse_with_variables(&mut Graph::new(), text, &["u", "v"]).unwrap_err();
+/// assert_eq!(
+///     err.to_string(),
+///     "unknown variable `wv` (the variables are u, v) at byte 9"
+/// );
+/// let ExprError::Parse(e) = err else { panic!() };
+/// assert_eq!(&text[e.span.clone()], "wv");
+/// assert!(matches!(e.kind, ParseErrorKind::UnknownVariable { .. }));
+/// ```
+pub fn parse_with_variables(g: &mut Graph, text: &str, variables: &[&str]) -> Result<Id> {
+    parse_in(g, text, Some(variables))
+}
+
+fn parse_in(g: &mut Graph, text: &str, variables: Option<&[&str]>) -> Result<Id> {
     let mut p = Parser {
         g,
         s: text.as_bytes(),
         text,
         pos: 0,
         depth: 0,
+        number_end: None,
+        variables,
     };
     let e = p.expr()?;
     p.skip_ws();
     if p.pos < p.s.len() {
-        return Err(p.error("an operator or the end of the formula"));
+        let expected = vec![Expected::Operator, Expected::End];
+        if p.s[p.pos] == b')' {
+            return Err(p.fail(p.here(), ParseErrorKind::UnmatchedCloseParen, expected));
+        }
+        return Err(p.unexpected(expected));
     }
     Ok(e)
 }
@@ -56,6 +103,9 @@ struct Parser<'a, 'g> {
     text: &'a str,
     pos: usize,
     depth: usize,
+    /// Where the last number literal ended (a `.` there makes it malformed: `2..3`).
+    number_end: Option<usize>,
+    variables: Option<&'a [&'a str]>,
 }
 
 impl Parser<'_, '_> {
@@ -70,28 +120,43 @@ impl Parser<'_, '_> {
         self.s.get(self.pos).copied()
     }
 
-    fn found(&self) -> String {
-        match self.text[self.pos..].chars().next() {
-            None => "end of input".to_string(),
-            Some(c) => format!("`{c}`"),
-        }
+    /// The span of the char at the position (empty at the end).
+    fn here(&self) -> Range<usize> {
+        let len = self.text[self.pos..]
+            .chars()
+            .next()
+            .map_or(0, char::len_utf8);
+        self.pos..self.pos + len
     }
 
-    fn error(&self, expected: &str) -> ExprError {
-        ExprError::Parse {
-            position: self.pos,
-            expected: expected.to_string(),
-            found: self.found(),
-        }
+    fn fail(&self, span: Range<usize>, kind: ParseErrorKind, expected: Vec<Expected>) -> ExprError {
+        ParseError::new(self.text, span, kind, expected).into()
+    }
+
+    /// The char at the position (or the end) where one of `expected` should be.
+    fn unexpected(&self, expected: Vec<Expected>) -> ExprError {
+        let kind = match self.text[self.pos..].chars().next() {
+            None => ParseErrorKind::UnexpectedEnd,
+            Some('.') if self.number_end == Some(self.pos) => ParseErrorKind::BadNumber,
+            Some(c) => ParseErrorKind::UnexpectedChar(c),
+        };
+        self.fail(self.here(), kind, expected)
+    }
+
+    /// A `)` missing where the position is, for the `(` at `open`.
+    fn unclosed(&self, open: usize, function: Option<&str>) -> ExprError {
+        let kind = ParseErrorKind::UnclosedParen {
+            open,
+            function: function.map(str::to_string),
+        };
+        self.fail(self.here(), kind, vec![Expected::CloseParen])
     }
 
     fn enter(&mut self) -> Result<()> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(ExprError::TooDeep {
-                position: self.pos,
-                max: MAX_DEPTH,
-            });
+            let kind = ParseErrorKind::TooDeep { max: MAX_DEPTH };
+            return Err(self.fail(self.here(), kind, Vec::new()));
         }
         Ok(())
     }
@@ -180,9 +245,13 @@ impl Parser<'_, '_> {
         self.enter()?;
         let ex = self.unary()?;
         self.depth -= 1;
-        let bad = |reason: &str| ExprError::Exponent {
-            position: at,
-            reason: reason.to_string(),
+        let text = self.text;
+        let end = at + text[at..self.pos].trim_end().len();
+        let bad = |reason: &str| -> ExprError {
+            let kind = ParseErrorKind::BadExponent {
+                reason: reason.to_string(),
+            };
+            ParseError::new(text, at..end, kind, Vec::new()).into()
         };
         let r = match self.g.node(ex) {
             Node::Const(Const::Rat(r)) => r.clone(),
@@ -208,17 +277,18 @@ impl Parser<'_, '_> {
     fn atom(&mut self) -> Result<Id> {
         match self.peek() {
             Some(b'(') => {
+                let open = self.pos;
                 self.pos += 1;
                 let e = self.expr()?;
                 if self.peek() != Some(b')') {
-                    return Err(self.error("`)`"));
+                    return Err(self.unclosed(open, None));
                 }
                 self.pos += 1;
                 Ok(e)
             }
             Some(c) if c.is_ascii_digit() || c == b'.' => self.number(),
             Some(c) if c.is_ascii_alphabetic() || c == b'_' => self.name(),
-            _ => Err(self.error("a number, a name or `(`")),
+            _ => Err(self.unexpected(OPERAND.to_vec())),
         }
     }
 
@@ -230,6 +300,7 @@ impl Parser<'_, '_> {
             self.pos += 1;
         }
         let name = &self.text[start..self.pos];
+        let name_span = start..self.pos;
         let func = match name {
             "log" | "Log" => Some(Func::Ln),
             "Abs" => Some(Func::Abs),
@@ -241,24 +312,35 @@ impl Parser<'_, '_> {
         };
         if let Some(f) = func {
             if self.peek() != Some(b'(') {
-                return Err(self.error(&format!("`(` after the function name `{name}`")));
+                let kind = ParseErrorKind::CallWithoutParen {
+                    function: name.to_string(),
+                };
+                return Err(self.fail(self.here(), kind, vec![Expected::OpenParen]));
             }
+            let open = self.pos;
             self.pos += 1;
             let a = self.expr()?;
             if self.peek() != Some(b')') {
-                return Err(self.error(&format!("`)` closing `{name}(`")));
+                return Err(self.unclosed(open, Some(name)));
             }
             self.pos += 1;
             return Ok(self.g.fun(f, a));
         }
         if self.peek() == Some(b'(') {
-            self.pos = start;
-            return Err(self.error(&format!(
-                "a known function (abs, sign, sqrt, sin, cos, tan, exp, ln, atan, asin, acos, sinh, cosh, tanh), not `{name}`"
-            )));
+            let kind = ParseErrorKind::UnknownFunction {
+                name: name.to_string(),
+            };
+            return Err(self.fail(name_span, kind, vec![Expected::Function]));
         }
         if name == "pi" || name == "Pi" {
             return Ok(self.g.pi());
+        }
+        if let Some(known) = self.variables.filter(|v| !v.contains(&name)) {
+            let kind = ParseErrorKind::UnknownVariable {
+                name: name.to_string(),
+                known: known.iter().map(|v| v.to_string()).collect(),
+            };
+            return Err(self.fail(name_span, kind, Vec::new()));
         }
         Ok(self.g.var(name))
     }
@@ -280,7 +362,11 @@ impl Parser<'_, '_> {
         }
         if int_part.is_empty() && frac.is_empty() {
             self.pos = start;
-            return Err(self.error("a digit"));
+            return Err(self.fail(
+                self.here(),
+                ParseErrorKind::BadNumber,
+                vec![Expected::Digit],
+            ));
         }
         let mut exp: i64 = 0;
         if matches!(self.s.get(self.pos), Some(b'e' | b'E')) {
@@ -300,13 +386,16 @@ impl Parser<'_, '_> {
             let d = digits(self);
             if d.is_empty() {
                 self.pos = save + 1;
-                return Err(self.error("digits of the exponent"));
+                let expected = vec![Expected::ExponentDigits];
+                return Err(self.fail(self.here(), ParseErrorKind::BadNumber, expected));
             }
             exp = match d.parse::<i64>() {
-                Ok(e) if e <= 4000 => e,
+                Ok(e) if e <= MAX_DECIMAL_EXPONENT => e,
                 _ => {
+                    let span = save..self.pos;
                     self.pos = save;
-                    return Err(self.error("an exponent of at most 4000"));
+                    let expected = vec![Expected::SmallExponent];
+                    return Err(self.fail(span, ParseErrorKind::BadNumber, expected));
                 }
             };
             if neg {
@@ -323,6 +412,7 @@ impl Parser<'_, '_> {
         } else {
             BigRational::new(mantissa, num_traits::Pow::pow(&ten, (-scale) as u64))
         };
+        self.number_end = Some(self.pos);
         Ok(self.g.rat(r))
     }
 }

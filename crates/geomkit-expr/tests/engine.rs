@@ -1,6 +1,6 @@
 //! Simplification, exactness, substitute, diff, eval and errors of the expression engine.
 
-use geomkit_expr::{fixtures, parse, ExprError, Format, Graph, Id, Tape};
+use geomkit_expr::{fixtures, parse, ExprError, Format, Graph, Id, ParseErrorKind, Tape};
 
 fn p(g: &mut Graph, s: &str) -> Id {
     parse(g, s).unwrap()
@@ -150,28 +150,35 @@ fn errors_name_what_and_where() {
     let mut g = Graph::new();
     let err = parse(&mut g, "2*(u + 1").unwrap_err();
     assert_eq!(
-        err,
-        ExprError::Parse {
-            position: 8,
-            expected: "`)`".into(),
-            found: "end of input".into()
-        }
+        err.to_string(),
+        "parse error at byte 8: expected `)`, found end of input"
     );
+    let span = |err: ExprError| match err {
+        ExprError::Parse(e) => (e.span.clone(), e.kind.clone()),
+        e => panic!("{e}"),
+    };
+    let open = ParseErrorKind::UnclosedParen {
+        open: 2,
+        function: None,
+    };
+    assert_eq!(span(err), (8..8, open));
     let err = parse(&mut g, "foo(u)").unwrap_err();
-    assert!(matches!(err, ExprError::Parse { position: 0, .. }), "{err}");
-    let err = parse(&mut g, "u^v").unwrap_err();
+    assert_eq!(span(err).0, 0..3);
+    let (at, kind) = span(parse(&mut g, "u^v").unwrap_err());
+    assert_eq!(at, 1..3);
     assert!(
-        matches!(err, ExprError::Exponent { position: 1, .. }),
-        "{err}"
+        matches!(kind, ParseErrorKind::BadExponent { .. }),
+        "{kind:?}"
     );
-    let err = parse(&mut g, "u^1.5").unwrap_err();
-    assert!(matches!(err, ExprError::Exponent { .. }), "{err}");
+    let (_, kind) = span(parse(&mut g, "u^1.5").unwrap_err());
+    assert!(
+        matches!(kind, ParseErrorKind::BadExponent { .. }),
+        "{kind:?}"
+    );
     assert_eq!(pp(&mut g, "u^(1/2)", Format::Maple), "sqrt(u)");
     let deep = format!("{}u{}", "(".repeat(1000), ")".repeat(1000));
-    assert!(matches!(
-        parse(&mut g, &deep),
-        Err(ExprError::TooDeep { .. })
-    ));
+    let (_, kind) = span(parse(&mut g, &deep).unwrap_err());
+    assert_eq!(kind, ParseErrorKind::TooDeep { max: 200 });
     let e = p(&mut g, "u + w");
     assert_eq!(
         g.eval(e, &[("u", 1.0)]),

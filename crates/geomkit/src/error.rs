@@ -1,5 +1,6 @@
 //! The library's one error type.
 
+use geomkit_expr::{ExprError, ParseError};
 use thiserror::Error;
 
 /// Everything that can go wrong in geomkit. Every variant names what is wrong and where.
@@ -216,12 +217,39 @@ pub enum Error {
         got: usize,
     },
     /// A formula that does not parse or evaluate, with the place of the problem.
+    ///
+    /// For a formula that does not parse (or names a variable it may not use), `parse` holds
+    /// the engine's structured error: the byte span of the mistake in that formula's text,
+    /// its kind and what was expected, for an editor to underline. It is a field rather than
+    /// the error's `source()` because the message already says it: a cause chain printed
+    /// with `{:#}` would say it twice.
+    ///
+    /// ```
+    /// use geomkit::compose::ExprPatch;
+    /// use geomkit::expr::ParseErrorKind;
+    /// use geomkit::Error;
+    /// let z = "sin(x) * (y + 1";
+    /// let err = ExprPatch::parse(&[("z", z)], &["x", "y"], None).unwrap_err();
+    /// assert_eq!(
+    ///     err.to_string(),
+    ///     "coordinate z: parse error at byte 15: expected `)`, found end of input"
+    /// );
+    /// let Error::Expression { what, parse: Some(e), .. } = &err else { panic!("{err}") };
+    /// assert_eq!(what, "coordinate z");
+    /// assert_eq!(e.span, 15..15);
+    /// assert!(matches!(e.kind, ParseErrorKind::UnclosedParen { open: 9, .. }));
+    /// assert_eq!(err.parse_error().map(|e| e.column), Some(16));
+    /// ```
     #[error("{what}: {message}")]
     Expression {
         /// Which formula ("patch \[1\]\[0\] x", "piece 2").
         what: String,
-        /// The expression engine's message (with the position).
+        /// The expression engine's message (with the position); for a parse error, the
+        /// Display of `parse`.
         message: String,
+        /// The parse error with its span in the formula's text, if the formula did not
+        /// parse; `None` for an error of evaluation (a value that is not finite, a shape).
+        parse: Option<Box<ParseError>>,
     },
     /// Parameters of a shape that do not make one (a size <= 0, a self-intersecting polygon).
     #[error("invalid {what}: {reason}")]
@@ -300,7 +328,37 @@ pub enum Error {
     /// An error of the expression engine (parse error with its position, unknown
     /// variable, division by exact zero, ...).
     #[error(transparent)]
-    Expr(#[from] geomkit_expr::ExprError),
+    Expr(#[from] ExprError),
+}
+
+impl Error {
+    /// The structured parse error inside, if this is one: a formula that does not parse
+    /// ([`Error::Expression`] with `parse`, or [`Error::Expr`] of a parse error). Its span
+    /// is a byte range of that formula's text.
+    pub fn parse_error(&self) -> Option<&ParseError> {
+        match self {
+            Error::Expression { parse, .. } => parse.as_deref(),
+            Error::Expr(ExprError::Parse(e)) => Some(e),
+            _ => None,
+        }
+    }
+
+    /// An [`Error::Expression`] of the formula `what` from an engine error, keeping a parse
+    /// error's structure.
+    pub(crate) fn expression(what: String, e: ExprError) -> Self {
+        match e {
+            ExprError::Parse(p) => Error::Expression {
+                what,
+                message: p.to_string(),
+                parse: Some(p),
+            },
+            e => Error::Expression {
+                what,
+                message: e.to_string(),
+                parse: None,
+            },
+        }
+    }
 }
 
 /// Result with the library's [`enum@Error`].

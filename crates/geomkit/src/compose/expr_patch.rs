@@ -13,7 +13,7 @@
 
 use super::formula::{coef, int_const, num};
 use super::poly::PolyPatch;
-use crate::expr::{parse, Const, Graph, Id, Node, Tape};
+use crate::expr::{parse_with_variables, Const, Graph, Id, Node, Tape};
 use crate::{Error, Result};
 use std::collections::HashMap;
 
@@ -43,11 +43,18 @@ impl PartialEq for ExprPatch {
     }
 }
 
-fn expression_error(name: &str, message: impl ToString) -> Error {
+/// An error of coordinate `name` that the message says (no parse error inside).
+fn expression_error(name: &str, message: String) -> Error {
     Error::Expression {
         what: format!("coordinate {name}"),
-        message: message.to_string(),
+        message,
+        parse: None,
     }
+}
+
+/// An engine error of coordinate `name`, keeping a parse error's span.
+fn engine_error(name: &str, e: crate::expr::ExprError) -> Error {
+    Error::expression(format!("coordinate {name}"), e)
 }
 
 impl ExprPatch {
@@ -56,8 +63,9 @@ impl ExprPatch {
     /// whatever cell it is placed on.
     ///
     /// Errors: [`Error::Expression`] naming the coordinate for a formula that does not parse
-    /// (with the byte position), that uses a variable other than `vars`, or that divides by
-    /// an exact zero; [`Error::Empty`] without coordinates; [`Error::PatchCount`] for a
+    /// or that uses a variable other than `vars` (with the [`crate::expr::ParseError`] and
+    /// its span in the formula's text as `parse`; an unknown name is refused even where it
+    /// would cancel, as in `u + w - w`), or that divides by an exact zero; [`Error::Empty`] without coordinates; [`Error::PatchCount`] for a
     /// domain with a number of intervals other than the number of variables;
     /// [`Error::InvalidShape`] for an interval that is not finite and increasing.
     pub fn parse(
@@ -68,7 +76,8 @@ impl ExprPatch {
         let mut graph = Graph::new();
         let mut roots = Vec::with_capacity(coords.len());
         for (name, text) in coords {
-            let e = parse(&mut graph, text).map_err(|e| expression_error(name, e))?;
+            let e =
+                parse_with_variables(&mut graph, text, vars).map_err(|e| engine_error(name, e))?;
             roots.push(e);
         }
         let texts = coords.iter().map(|c| c.1.to_string()).collect();
@@ -168,7 +177,7 @@ impl ExprPatch {
         if let Some(d) = &domain {
             check_domain(d, vars.len())?;
         }
-        let tape = Tape::new(&graph, &roots, vars).map_err(|e| expression_error(&names[0], e))?;
+        let tape = Tape::new(&graph, &roots, vars).map_err(|e| engine_error(&names[0], e))?;
         Ok(ExprPatch {
             graph,
             roots,
@@ -214,7 +223,7 @@ impl ExprPatch {
             let mut cols: Vec<&mut [f64]> = out.chunks_mut(1).collect();
             self.tape
                 .eval_batch(&inputs, &mut cols)
-                .map_err(|e| expression_error(&self.names[0], e))?;
+                .map_err(|e| engine_error(&self.names[0], e))?;
         }
         Ok(out)
     }
@@ -404,6 +413,44 @@ mod tests {
         let e = p.check_finite(&[(0.0, 1.0)]).unwrap_err();
         assert!(e.to_string().contains("at u = 0 is not a finite"), "{e}");
         assert!(p.check_finite(&[(0.5, 1.0)]).is_ok());
+    }
+
+    #[test]
+    fn parse_errors_keep_their_span_in_the_coordinate_text() {
+        use crate::expr::ParseErrorKind;
+        let y = "u·v + 1";
+        let e = ExprPatch::parse(&[("x", "u"), ("y", y)], &["u", "v"], None).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "coordinate y: parse error at byte 1: expected an operator or the end of the \
+             formula, found `·`"
+        );
+        let Error::Expression {
+            what,
+            parse: Some(p),
+            ..
+        } = &e
+        else {
+            panic!("{e:?}")
+        };
+        assert_eq!(what, "coordinate y");
+        assert_eq!(&y[p.span.clone()], "·");
+        // An unknown variable where it stands, even where it would cancel.
+        let z = "u +\n w - w";
+        let e = ExprPatch::parse(&[("z", z)], &["u", "v"], None).unwrap_err();
+        let p = e.parse_error().unwrap();
+        assert_eq!((&z[p.span.clone()], p.line, p.column), ("w", 2, 2));
+        assert!(matches!(&p.kind, ParseErrorKind::UnknownVariable { name, .. } if name == "w"));
+        assert_eq!(
+            e.to_string(),
+            "coordinate z: unknown variable `w` (the variables are u, v) at byte 5 (line 2, \
+             column 2)"
+        );
+        // Errors that are not about the text carry no parse error.
+        let p = ExprPatch::parse(&[("x", "ln(u)")], &["u"], None).unwrap();
+        let e = p.check_finite(&[(0.0, 1.0)]).unwrap_err();
+        assert!(matches!(e, Error::Expression { parse: None, .. }), "{e:?}");
+        assert!(e.parse_error().is_none());
     }
 
     #[test]

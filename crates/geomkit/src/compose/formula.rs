@@ -154,12 +154,8 @@ impl Formula {
     /// batched tape. Errors: [`Error::Expression`] for the engine's errors (shapes).
     pub fn eval_batch(&self, inputs: &[&[f64]], out: &mut [f64]) -> Result<()> {
         let vars: Vec<&str> = self.vars.iter().map(String::as_str).collect();
-        let tape = crate::expr::Tape::new(&self.graph, &self.roots, &vars).map_err(|e| {
-            Error::Expression {
-                what: "formula".into(),
-                message: e.to_string(),
-            }
-        })?;
+        let tape = crate::expr::Tape::new(&self.graph, &self.roots, &vars)
+            .map_err(|e| Error::expression("formula".into(), e))?;
         let n = inputs.first().map_or(0, |x| x.len());
         let d = self.roots.len();
         if out.len() != n * d {
@@ -172,10 +168,7 @@ impl Formula {
         {
             let mut refs: Vec<&mut [f64]> = cols.iter_mut().map(Vec::as_mut_slice).collect();
             tape.eval_batch(inputs, &mut refs)
-                .map_err(|e| Error::Expression {
-                    what: "formula".into(),
-                    message: e.to_string(),
-                })?;
+                .map_err(|e| Error::expression("formula".into(), e))?;
         }
         for (i, p) in out.chunks_exact_mut(d).enumerate() {
             for k in 0..d {

@@ -410,9 +410,14 @@ fn check_count(axis: &Axis, got: usize) -> Result<()> {
 /// An expression error inside piece i.
 fn in_piece(e: Error, i: usize) -> Error {
     match e {
-        Error::Expression { what, message } => Error::Expression {
+        Error::Expression {
+            what,
+            message,
+            parse,
+        } => Error::Expression {
             what: format!("piece {i} {what}"),
             message,
+            parse,
         },
         e => e,
     }
@@ -464,6 +469,8 @@ mod tests {
                 .starts_with("piece 1 coordinate f: parse error at byte 3"),
             "{e}"
         );
+        // The piece's name is added, the span in the piece's formula kept.
+        assert_eq!(e.parse_error().map(|p| p.span.clone()), Some(3..3));
         let e = Piecewise::function(vec![0.0, 1.0], &["x", "x"]).unwrap_err();
         assert!(
             matches!(

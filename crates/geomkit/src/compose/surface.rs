@@ -341,9 +341,14 @@ impl CompositeSurface {
                         ],
                     };
                     p.check_finite(&d).map_err(|e| match e {
-                        Error::Expression { what, message } => Error::Expression {
+                        Error::Expression {
+                            what,
+                            message,
+                            parse,
+                        } => Error::Expression {
                             what: format!("patch ({i}, {j}) {what}"),
                             message,
+                            parse,
                         },
                         e => e,
                     })?;
@@ -765,12 +770,10 @@ impl CompositeSurface {
                         g.sum(&[own[k], u_sums[q][k], v_sum[k], ck])
                     })
                     .collect();
-                tapes.push(Tape::new(&g, &roots, &["@s", "@t"]).map_err(|e| {
-                    Error::Expression {
-                        what: format!("patch ({p}, {q})"),
-                        message: e.to_string(),
-                    }
-                })?);
+                tapes.push(
+                    Tape::new(&g, &roots, &["@s", "@t"])
+                        .map_err(|e| Error::expression(format!("patch ({p}, {q})"), e))?,
+                );
             }
         }
         Ok(tapes)
