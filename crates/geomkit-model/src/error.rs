@@ -149,8 +149,13 @@ impl Error {
         if let Some(stripped) = message.strip_suffix(&suffix) {
             message = stripped.to_string();
         }
-        // serde quotes names in backticks; JSON users read double quotes.
-        message = message.replace('`', "\"");
+        // serde quotes field names in backticks; JSON users read double quotes.
+        if ["unknown field", "missing field", "duplicate field"]
+            .iter()
+            .any(|w| message.starts_with(w))
+        {
+            message = message.replace('`', "\"");
+        }
         if message.starts_with("number out of range") {
             message.push_str(" (every number must be a finite f64)");
         }

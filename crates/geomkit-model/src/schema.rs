@@ -648,7 +648,7 @@ impl<'de> Visitor<'de> for ModelFileVisitor {
         let tracked = serde_path_to_error::Deserializer::new(rest.into_deserializer(), &mut track);
         tracked.deserialize_map(TaggedVisitor(&tag)).map_err(|e| {
             let path = track.path().to_string();
-            let msg = e.to_string().replace('`', "\"");
+            let msg = e.to_string();
             de::Error::custom(if path == "." {
                 msg
             } else {
