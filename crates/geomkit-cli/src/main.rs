@@ -6,13 +6,10 @@
 mod cli;
 mod commands;
 mod demo;
-mod figures;
 mod model;
 mod npy;
 mod output;
 mod progress;
-mod render;
-mod svg;
 mod table;
 
 use clap::Parser;

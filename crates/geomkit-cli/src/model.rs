@@ -9,7 +9,7 @@ use crate::table::{extension, Table};
 use anyhow::{bail, Context, Result};
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
 pub use geomkit_model::schema::ReductionError as ErrorReport;
-pub use geomkit_model::{AnyModel, BezierModel, BsplineCurveModel, BsplineSurfaceModel};
+pub use geomkit_model::{AnyModel, BezierModel, BsplineCurveModel, BsplineSurfaceModel, Loaded};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
@@ -33,6 +33,11 @@ pub fn read_any_model(path: &Path) -> Result<AnyModel> {
         return read_control_pair(path);
     }
     Ok(geomkit_model::load(path)?)
+}
+
+/// Reads any model (see [`read_any_model`]) as one curve or surface to draw or mesh.
+pub fn load_shape(path: &Path) -> Result<Loaded> {
+    Loaded::from_model(read_any_model(path)?).with_context(|| path.display().to_string())
 }
 
 /// The file holding the knots of the control points in `control`: `NAME.knots.EXT`.

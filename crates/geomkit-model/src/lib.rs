@@ -9,6 +9,8 @@
 //!   versioned ([`schema::FORMAT_VERSION`]); [`ModelFile`] is any of them.
 //! - [`AnyModel`]: what a file describes, as library geometry, checked by the library;
 //!   [`AnyModel::describe`] says what it is.
+//! - [`Loaded`]: a model as one curve or one surface to draw or mesh, with its control
+//!   polygon or net and the points it passes through; [`Loaded::tessellate`].
 //! - [`parse`], [`load`], [`to_json`], [`write_json`]: text and files. Errors ([`Error`]) name
 //!   the file, the JSON path of the value at fault and the line and column, in one line:
 //!
@@ -32,6 +34,7 @@ mod model;
 mod numbers;
 mod sampled;
 pub mod schema;
+pub mod shape;
 
 pub use error::{Error, ErrorKind, Result};
 pub use model::{
@@ -41,6 +44,7 @@ pub use model::{
 pub use numbers::{Net, Points};
 pub use sampled::{SampledCurve, SampledSurface};
 pub use schema::ModelFile;
+pub use shape::{Loaded, Sampling, Shape, Tessellation};
 
 use std::io::Write;
 use std::path::Path;

@@ -8,12 +8,12 @@ use crate::cli::{
     BezierCommand, ChangeArgs, Continuity, DegreeArgs, Degrees, ElevateArgs, EvalArgs, Norm,
     ReduceArgs,
 };
-use crate::figures::{curve_change_svg, surface_svg, Layer};
 use crate::model::{read_model, to_json, BezierModel, ErrorReport};
 use crate::output::{write_stdout, Destination};
-use crate::svg::{palette, Stroke};
 use anyhow::{bail, Context, Result};
 use geomkit::bezier::{ApproxOptions, BezierSurface, DegreeReport, ParamCurve, ReductionNorm};
+use geomkit_plot::figures::{curve_change_svg, surface_svg, Layer};
+use geomkit_plot::svg::{palette, Stroke};
 use std::path::{Path, PathBuf};
 
 /// Runs a `bezier` subcommand.
@@ -452,16 +452,19 @@ fn change_svg(change: &Change) -> Result<String> {
     match (&change.old, &change.new) {
         (BezierModel::Curve(a), BezierModel::Curve(b)) => {
             let new_curve: Option<&dyn ParamCurve> = change.error.map(|_| b as &dyn ParamCurve);
-            curve_change_svg(
+            Ok(curve_change_svg(
                 &title,
                 &subtitle,
                 (a, &a.points()),
                 (new_curve, &b.points()),
-            )
+            )?)
         }
-        (BezierModel::Rational(a), BezierModel::Rational(b)) => {
-            curve_change_svg(&title, &subtitle, (a, &a.points()), (None, &b.points()))
-        }
+        (BezierModel::Rational(a), BezierModel::Rational(b)) => Ok(curve_change_svg(
+            &title,
+            &subtitle,
+            (a, &a.points()),
+            (None, &b.points()),
+        )?),
         (BezierModel::Surface(a), BezierModel::Surface(b)) => {
             surface_change_svg(&title, &subtitle, a, b)
         }
@@ -477,7 +480,7 @@ fn surface_change_svg(
 ) -> Result<String> {
     let (n, m) = old.degrees();
     let (n2, m2) = new.degrees();
-    surface_svg(
+    Ok(surface_svg(
         title,
         subtitle,
         &[
@@ -502,7 +505,7 @@ fn surface_change_svg(
                 legend: format!("new net, degrees ({n2}, {m2})"),
             },
         ],
-    )
+    )?)
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -15,11 +15,7 @@
 //!   surface -o fit.json`): its knot cells as polynomial patches, explicit z(x, y) for heights.
 
 use super::mesh::{mesh_summary, write_mesh};
-use crate::figures::{linspace, surface_svg, GridEval, Layer, SurfaceView};
 use crate::output::Destination;
-use crate::render::shape::{picture_svg, tessellate, Loaded, PictureOptions, Sampling, Shape};
-use crate::render::svg_to_png;
-use crate::svg::palette;
 use crate::table::extension;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
@@ -30,6 +26,11 @@ use geomkit::expr::Format;
 use geomkit::mesh::SurfaceShape;
 use geomkit_model::schema::FormulaFile;
 use geomkit_model::{AnyModel, ModelFile};
+use geomkit_model::{Loaded, Sampling, Shape};
+use geomkit_plot::figures::{linspace, surface_svg, GridEval, Layer, SurfaceView};
+use geomkit_plot::svg::palette;
+use geomkit_plot::svg_to_png;
+use geomkit_plot::{picture_svg, PictureOptions};
 use serde_json::{json, Value};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -374,7 +375,7 @@ pub fn composite_view(s: &CompositeSurface) -> GridView<'_> {
 
 /// A wireframe picture.
 pub fn picture(view: &GridView<'_>, title: &str, subtitle: &str, lines: usize) -> Result<String> {
-    surface_svg(
+    Ok(surface_svg(
         title,
         subtitle,
         &[Layer::Wireframe {
@@ -383,7 +384,7 @@ pub fn picture(view: &GridView<'_>, title: &str, subtitle: &str, lines: usize) -
             stroke: palette::CURVE.with_opacity(0.8),
             legend: "structural evaluator".into(),
         }],
-    )
+    )?)
 }
 
 fn run_body(args: BodyArgs) -> Result<()> {
@@ -455,7 +456,7 @@ fn write_surface(
                 }
                 None => Sampling::Tolerance(None),
             };
-            let t = tessellate(&loaded(), sampling)?;
+            let t = loaded().tessellate(sampling)?;
             let mut buf = Vec::new();
             write_mesh(&t, ext, false, &mut buf)?;
             dest.write(&buf)?;

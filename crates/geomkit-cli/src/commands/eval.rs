@@ -5,7 +5,6 @@
 
 use super::bezier::{coordinate_names, MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::cli::{ModelEvalArgs, Samples};
-use crate::figures::linspace;
 use crate::model::{read_any_model, AnyModel, BezierModel};
 use crate::output::{Destination, RowSink, TableFormat};
 use crate::progress::Progress;
@@ -16,6 +15,7 @@ use geomkit::bspline::{BsplineCurve, BsplineSurface};
 use geomkit::compose::{CompositeSurface, Piecewise, RuledSurface, SurfaceKind};
 use geomkit::mesh::SurfaceShape;
 use geomkit_model::{PointcalcModel, SampledSurface};
+use geomkit_plot::figures::linspace;
 use std::path::Path;
 
 /// Parameters evaluated at once.

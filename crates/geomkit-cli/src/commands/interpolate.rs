@@ -8,14 +8,10 @@
 
 use super::bezier::{coordinate_names, MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::cli::{CurveArgs, EndArg, InterpolateCommand, ParamArg, Samples, SurfaceArgs};
-use crate::figures::{
-    bspline_curve_figure, heightmap_svg, linspace, surface_svg, Layer, REFERENCE,
-};
 use crate::model::{knots_sibling, write_bspline_curve_json, write_bspline_surface_json};
 use crate::npy::NpyReader;
 use crate::output::{AtomicFile, Destination, RowSink, TableFormat};
 use crate::progress::Progress;
-use crate::svg::{palette, Stroke};
 use crate::table::{extension, is_npy, Table};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::ValueEnum;
@@ -24,6 +20,10 @@ use geomkit::bspline::{
     interpolate_surface_flat, BsplineCurve, BsplineSurface, CurveTiler, EndCondition,
     InterpolationOptions, Parametrization, SurfaceInterpolationOptions, TileOptions, TileSolution,
 };
+use geomkit_plot::figures::{
+    bspline_curve_figure, heightmap_svg, linspace, surface_svg, Layer, REFERENCE,
+};
+use geomkit_plot::svg::{palette, Stroke};
 use std::path::Path;
 use std::sync::mpsc;
 
@@ -916,7 +916,7 @@ fn surface_picture(
         let title = format!("Height field through {}×{} heights", grid.rows, grid.cols);
         let sub = format!("{name}: bicubic B-spline, end {ends}, {nu}×{nv} net");
         let cells = 128;
-        return heightmap_svg(&title, &sub, s, cells, 10);
+        return Ok(heightmap_svg(&title, &sub, s, cells, 10)?);
     }
     if grid.rows * grid.cols > MAX_DRAWN_POINTS {
         bail!(
@@ -962,7 +962,7 @@ fn surface_picture(
         radius: 2.4,
         legend: format!("reference points {}×{}", grid.rows, grid.cols),
     });
-    surface_svg(&title, &sub, &layers)
+    Ok(surface_svg(&title, &sub, &layers)?)
 }
 
 #[cfg(test)]

@@ -1,12 +1,13 @@
 //! `geomkit mesh MODEL -o OUT.obj|.stl|.ply|.glb [--tolerance T | --samples KxL] [--ascii]`.
 
 use crate::cli::Samples;
+use crate::model::load_shape as load;
 use crate::output::write_atomic;
-use crate::render::shape::{load, tessellate, Sampling, Tessellation};
 use crate::table::extension;
 use anyhow::{bail, Result};
 use clap::Args;
 use geomkit::mesh;
+use geomkit_model::{Sampling, Tessellation};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -58,7 +59,7 @@ pub fn run(args: MeshArgs) -> Result<()> {
         None => Sampling::Tolerance(args.tolerance),
     };
     let loaded = load(&args.model)?;
-    let t = tessellate(&loaded, sampling)?;
+    let t = loaded.tessellate(sampling)?;
     let mut buf = Vec::new();
     write_mesh(&t, &ext, args.ascii, &mut buf)?;
     write_atomic(&args.output, &buf)?;

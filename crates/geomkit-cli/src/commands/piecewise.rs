@@ -14,13 +14,13 @@
 use super::compose::{
     format_of, formula_json, formula_line, formula_text, FormulaOutput, PiecewiseArgs,
 };
-use crate::figures::linspace;
 use crate::output::Destination;
-use crate::svg::{palette, Axes, Figure};
 use crate::table::extension;
 use anyhow::{bail, Context, Result};
 use geomkit::compose::Piecewise;
 use geomkit_model::{AnyModel, ModelFile};
+use geomkit_plot::figures::linspace;
+use geomkit_plot::svg::{palette, Axes, Figure};
 use serde_json::{json, Value};
 use std::io::Write;
 use std::path::Path;

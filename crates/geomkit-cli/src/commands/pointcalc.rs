@@ -6,10 +6,8 @@
 //! (atomically): a failing command leaves no output file. Warnings (a large Lebesgue
 //! constant) go to standard error as `warning: ...` lines.
 
-use crate::figures::{linspace, surface_svg, Layer, Projection, SurfaceView};
 use crate::model::json_number;
 use crate::output::{write_stdout, Destination};
-use crate::svg::{palette, Axes, Figure, Stroke};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Subcommand};
 use geomkit::bezier::ParamCurve;
@@ -20,6 +18,8 @@ use geomkit::pointcalc::{
     PointSurface, PrintedSurface, Warning,
 };
 use geomkit_model::{AnyModel, PointcalcModel};
+use geomkit_plot::figures::{linspace, surface_svg, Layer, Projection, SurfaceView};
+use geomkit_plot::svg::{palette, Axes, Figure, Stroke};
 use serde::Deserialize;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -740,30 +740,6 @@ fn curve(args: CurveArgs) -> Result<()> {
         samples.join(",\n")
     );
     dest.write(text.as_bytes())
-}
-
-impl SurfaceView for PointSurface {
-    fn view_dim(&self) -> usize {
-        self.dim()
-    }
-    fn view_domain(&self) -> ((f64, f64), (f64, f64)) {
-        self.domain()
-    }
-    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
-        self.eval_grid(us, vs, out)
-    }
-}
-
-impl SurfaceView for PrintedSurface {
-    fn view_dim(&self) -> usize {
-        self.dim()
-    }
-    fn view_domain(&self) -> ((f64, f64), (f64, f64)) {
-        ((0.0, 1.0), (0.0, 1.0))
-    }
-    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
-        self.eval_grid(us, vs, out)
-    }
 }
 
 /// The surface of `pointcalc surface` (either kind).

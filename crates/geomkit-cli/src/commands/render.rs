@@ -1,12 +1,13 @@
 //! `geomkit render MODEL -o OUT.png|OUT.svg [--view AZ,EL] [--size WxH] [--no-net]`.
 
-use crate::figures::View;
+use crate::model::load_shape as load;
 use crate::output::write_atomic;
-use crate::render::shape::{load, picture_svg, PictureOptions};
-use crate::render::svg_to_png;
 use crate::table::extension;
 use anyhow::{bail, Result};
 use clap::Args;
+use geomkit_plot::figures::View;
+use geomkit_plot::svg_to_png;
+use geomkit_plot::{picture_svg, PictureOptions};
 use std::path::PathBuf;
 
 /// Arguments of `render`.

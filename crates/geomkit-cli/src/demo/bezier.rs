@@ -3,15 +3,15 @@
 //! approximate reduction, and the precision of the paper's f64 formula against ours.
 
 use super::{sci, Check, Context, Item, Report};
-use crate::figures::{curve_change_svg, surface_svg, surface_with_net, Layer};
 use crate::model::{BezierModel, ErrorReport};
-use crate::svg::{escape, palette, Axes, Figure, Stroke};
 use anyhow::{ensure, Result};
 use geomkit::bezier::{
     paper_formula_f64, ApproxOptions, BezierCurve, BezierSurface, Direction, ParamCurve,
     ReductionNorm,
 };
 use geomkit::exact::{degree_change_matrix, rational_from_f64, ExactBezierCurve};
+use geomkit_plot::figures::{curve_change_svg, surface_svg, surface_with_net, Layer};
+use geomkit_plot::svg::{escape, palette, Axes, Figure, Stroke};
 use std::fmt::Write as _;
 
 const EPS: f64 = f64::EPSILON;

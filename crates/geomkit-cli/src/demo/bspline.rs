@@ -6,13 +6,8 @@
 
 use super::bezier::SplitMix;
 use super::{sci, Check, Context, Item, Report};
-use crate::figures::{
-    bspline_curve_figure, curve_on_page, heightmap_svg, linspace, surface_svg, Layer, Projection,
-    REFERENCE,
-};
 use crate::model::{bspline_curve_json, bspline_surface_json};
 use crate::npy::write_npy;
-use crate::svg::{palette, Axes, Figure, Stroke};
 use anyhow::Result;
 use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
@@ -20,6 +15,11 @@ use geomkit::bspline::{
     interpolate_surface, paper_dense_inner_points, paper_fragments_averaged, BsplineCurve,
     EndCondition, InterpolationOptions, Parametrization, SurfaceInterpolationOptions, TileOptions,
 };
+use geomkit_plot::figures::{
+    bspline_curve_figure, curve_on_page, heightmap_svg, linspace, surface_svg, Layer, Projection,
+    REFERENCE,
+};
+use geomkit_plot::svg::{palette, Axes, Figure, Stroke};
 use std::fmt::Write as _;
 use std::time::Instant;
 

@@ -6,12 +6,12 @@
 use super::{Check, Context, Item, Report};
 use crate::commands::compose::{composite_view, picture, ruled_view};
 use crate::commands::piecewise;
-use crate::figures::linspace;
-use crate::svg::escape;
 use anyhow::Result;
 use geomkit::bspline::{interpolate_surface, SurfaceInterpolationOptions};
 use geomkit::compose::{bodies, CompositeSurface, ExprPatch, Piecewise, RuledSurface, SurfaceKind};
 use geomkit::expr::Format;
+use geomkit_plot::figures::linspace;
+use geomkit_plot::svg::escape;
 
 /// The items, in order.
 pub fn items() -> Vec<Item> {

@@ -5,16 +5,18 @@
 
 use super::{Check, Context, Item, Report};
 use crate::commands::mesh::write_mesh;
-use crate::figures::View;
+use crate::model::load_shape as load;
 use crate::model::BezierModel;
-use crate::render::shaded::{Overlay, Scene, Solid, BACK, FRONT};
-use crate::render::shape::{load, picture_svg, PictureOptions, Shape, Tessellation};
-use crate::render::svg_to_png;
-use crate::svg::palette;
 use anyhow::Result;
 use geomkit::bezier::BezierSurface;
 use geomkit::compose::{bodies, RuledSurface};
 use geomkit::mesh::{tessellate_surface, SurfaceOptions, TriMesh};
+use geomkit_model::{Shape, Tessellation};
+use geomkit_plot::figures::View;
+use geomkit_plot::shaded::{Overlay, Scene, Solid, BACK, FRONT};
+use geomkit_plot::svg::palette;
+use geomkit_plot::svg_to_png;
+use geomkit_plot::{picture_svg, PictureOptions};
 use std::f64::consts::TAU;
 
 /// The items, in order.

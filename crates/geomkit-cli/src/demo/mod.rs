@@ -15,8 +15,8 @@ mod pointcalc;
 use crate::cli::DemoArgs;
 use crate::model::{to_json, BezierModel, ErrorReport};
 use crate::output::{ensure_dir, write_atomic, write_stdout};
-use crate::svg::escape;
 use anyhow::{bail, Result};
+use geomkit_plot::svg::escape;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt::Write as _;
 use std::io::IsTerminal;
@@ -165,7 +165,7 @@ impl Report {
         let shown = match file.strip_suffix(".svg") {
             Some(stem) => {
                 let png = format!("{stem}.png");
-                ctx.write_bytes(&png, &crate::render::svg_to_png(svg, 2.0, None)?)?;
+                ctx.write_bytes(&png, &geomkit_plot::svg_to_png(svg, 2.0, None)?)?;
                 self.files.push((file.into(), "the picture as SVG".into()));
                 png
             }

@@ -5,8 +5,6 @@
 
 use super::{sci, Check, Context, Item, Report};
 use crate::commands::pointcalc::{curves_svg, model_json};
-use crate::figures::{heightmap_figure, linspace, surface_svg, HeightField, Layer};
-use crate::svg::{palette, Axes, Stroke};
 use anyhow::Result;
 use geomkit::bezier::ParamCurve;
 use geomkit::exact::Rational;
@@ -14,6 +12,8 @@ use geomkit::pointcalc::{
     optimize, printed_geomatrix_exact, Goal, Hypersurface, Nodes, OptimizeOptions, PointEquation,
     PointOptions, PointSurface, PrintedSurface,
 };
+use geomkit_plot::figures::{heightmap_figure, linspace, surface_svg, HeightField, Layer};
+use geomkit_plot::svg::{palette, Axes, Stroke};
 use std::fmt::Write as _;
 
 /// The point-calculus items.
@@ -171,8 +171,8 @@ fn bsurface9(ctx: &Context) -> Result<Report> {
          Rows first (row i with its own placement along u), then across (nodes {0, 1/2, 1} \
          along v) keeps Σ a_ij = 1 and passes through all nine points.",
     );
-    let layers = |s: &dyn crate::figures::SurfaceView, legend: &str| -> Result<String> {
-        surface_svg(
+    let layers = |s: &dyn geomkit_plot::figures::SurfaceView, legend: &str| -> Result<String> {
+        Ok(surface_svg(
             legend,
             "nine source points (orange)",
             &[
@@ -192,7 +192,7 @@ fn bsurface9(ctx: &Context) -> Result<Report> {
                     legend: "A_ij".into(),
                 },
             ],
-        )
+        )?)
     };
     r.picture(
         ctx,

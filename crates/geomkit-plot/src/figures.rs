@@ -9,9 +9,10 @@
 //! for Bézier functions since Σ b_ni(t) i/n = t).
 
 use crate::svg::{palette, Axes, Cell, Figure, Label, Placement, Stroke};
-use anyhow::{bail, Result};
+use crate::Result;
 use geomkit::bezier::{BezierSurface, ParamCurve};
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
+use geomkit::mesh::SurfaceShape;
 
 /// A surface that can be drawn: its dimension, parameter domain and a grid evaluator.
 pub trait SurfaceView {
@@ -23,19 +24,8 @@ pub trait SurfaceView {
     fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()>;
 }
 
-impl SurfaceView for BezierSurface {
-    fn view_dim(&self) -> usize {
-        self.dim()
-    }
-    fn view_domain(&self) -> ((f64, f64), (f64, f64)) {
-        ((0.0, 1.0), (0.0, 1.0))
-    }
-    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
-        self.eval_grid(us, vs, out)
-    }
-}
-
-impl SurfaceView for BsplineSurface {
+/// Every surface of the library draws as itself.
+impl<T: SurfaceShape> SurfaceView for T {
     fn view_dim(&self) -> usize {
         self.dim()
     }
@@ -119,7 +109,9 @@ impl Projection {
             2 => Projection::Plane,
             3 => Projection::Axonometric(View::default()),
             d => {
-                bail!("cannot draw points of dimension {d} (SVG output needs 1-, 2- or 3-D points)")
+                return Err(crate::Error::Unsupported(format!(
+                    "cannot draw points of dimension {d} (SVG output needs 1-, 2- or 3-D points)"
+                )))
             }
         })
     }
@@ -341,7 +333,9 @@ pub fn surface_svg(title: &str, subtitle: &str, layers: &[Layer<'_>]) -> Result<
             Layer::Points { dim, .. } => *dim,
         };
         if !(2..=3).contains(&dim) {
-            bail!("cannot draw a surface in R^{dim} (SVG output needs 2- or 3-D points)");
+            return Err(crate::Error::Unsupported(format!(
+                "cannot draw a surface in R^{dim} (SVG output needs 2- or 3-D points)"
+            )));
         }
     }
     for layer in layers {
@@ -660,7 +654,9 @@ pub fn heightmap_svg(
     levels: usize,
 ) -> Result<String> {
     if surface.dim() != 1 {
-        bail!("a height map needs a surface of heights (1-D points)");
+        return Err(crate::Error::Unsupported(
+            "a height map needs a surface of heights (1-D points)".into(),
+        ));
     }
     let field = HeightField {
         domain: surface.domain(),
