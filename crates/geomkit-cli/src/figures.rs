@@ -10,8 +10,9 @@
 
 use crate::svg::{palette, Axes, Cell, Figure, Label, Placement, Stroke};
 use anyhow::{bail, Result};
-use geomkit::bezier::{BezierSurface, ParamCurve};
+use geomkit::bezier::BezierSurface;
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
+use geomkit::geom::Curve;
 
 /// A surface that can be drawn: its dimension, parameter domain and a grid evaluator.
 pub trait SurfaceView {
@@ -144,7 +145,7 @@ impl Projection {
     }
 
     /// `count` uniform samples of a curve on the page.
-    pub fn curve(&self, curve: &dyn ParamCurve, count: usize) -> Vec<[f64; 2]> {
+    pub fn curve(&self, curve: &dyn Curve, count: usize) -> Vec<[f64; 2]> {
         (0..count)
             .map(|k| {
                 let t = k as f64 / (count - 1) as f64;
@@ -199,8 +200,8 @@ pub fn add_polygon(
 pub fn curve_change_svg(
     title: &str,
     subtitle: &str,
-    old: (&dyn ParamCurve, &[Vec<f64>]),
-    new: (Option<&dyn ParamCurve>, &[Vec<f64>]),
+    old: (&dyn Curve, &[Vec<f64>]),
+    new: (Option<&dyn Curve>, &[Vec<f64>]),
 ) -> Result<String> {
     let proj = Projection::for_dim(old.0.dim())?;
     let old_poly = proj.polygon(old.1);

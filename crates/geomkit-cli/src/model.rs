@@ -23,8 +23,9 @@
 use crate::progress::Progress;
 use crate::table::{extension, Table};
 use anyhow::{anyhow, bail, Context, Result};
-use geomkit::bezier::{BezierCurve, BezierSurface, ParamCurve, RationalBezierCurve};
+use geomkit::bezier::{BezierCurve, BezierSurface, RationalBezierCurve};
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
+use geomkit::geom::Curve;
 use serde_json::{Map, Value};
 use std::fmt::Write as _;
 use std::io::{self, Write};
@@ -63,7 +64,7 @@ impl Model {
             Model::Rational(r) => format!(
                 "rational Bézier curve of degree {} in R^{} ({} control points)",
                 r.degree(),
-                ParamCurve::dim(r),
+                Curve::dim(r),
                 r.degree() + 1
             ),
             Model::Surface(s) => {

@@ -13,7 +13,8 @@ use crate::model::{read_model, to_json, ErrorReport, Model};
 use crate::output::{write_stdout, Destination};
 use crate::svg::{palette, Stroke};
 use anyhow::{bail, Context, Result};
-use geomkit::bezier::{ApproxOptions, BezierSurface, DegreeReport, ParamCurve, ReductionNorm};
+use geomkit::bezier::{ApproxOptions, BezierSurface, DegreeReport, ReductionNorm};
+use geomkit::geom::Curve;
 use std::path::{Path, PathBuf};
 
 /// Runs a `bezier` subcommand.
@@ -444,7 +445,7 @@ fn change_svg(change: &Change) -> Result<String> {
     }
     match (&change.old, &change.new) {
         (Model::Curve(a), Model::Curve(b)) => {
-            let new_curve: Option<&dyn ParamCurve> = change.error.map(|_| b as &dyn ParamCurve);
+            let new_curve: Option<&dyn Curve> = change.error.map(|_| b as &dyn Curve);
             curve_change_svg(
                 &title,
                 &subtitle,
@@ -538,7 +539,7 @@ fn eval(args: EvalArgs) -> Result<()> {
     let dest = Destination::from_option(args.output.as_deref());
     match &model {
         Model::Curve(_) | Model::Rational(_) => {
-            let curve: &dyn ParamCurve = match &model {
+            let curve: &dyn Curve = match &model {
                 Model::Curve(c) => c,
                 Model::Rational(r) => r,
                 Model::Surface(_) => unreachable!("matched above"),

@@ -30,7 +30,7 @@ use geomkit::compose::{
     SurfaceKind,
 };
 use geomkit::expr::Format;
-use geomkit::mesh::SurfaceShape;
+use geomkit::geom::Surface;
 use serde_json::{json, Map, Value};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -414,7 +414,7 @@ pub fn formula_line(f: &Formula) -> String {
 /// none or .txt the formula, .json the formula in every syntax plus `extra`, .obj/.stl/.ply/
 /// .glb the mesh `geomkit mesh` writes, .png/.svg the shaded picture of `geomkit render`.
 fn write_surface(
-    surface: Box<dyn SurfaceShape>,
+    surface: Box<dyn Surface>,
     f: &Formula,
     what: &str,
     subtitle: &str,
@@ -694,7 +694,7 @@ impl SurfaceModel {
     }
 
     /// The surface, to mesh or draw.
-    pub fn into_shape(self) -> Box<dyn SurfaceShape> {
+    pub fn into_shape(self) -> Box<dyn Surface> {
         match self {
             SurfaceModel::Scene(s) => Box::new(s),
             SurfaceModel::Ruled(s) => Box::new(s),

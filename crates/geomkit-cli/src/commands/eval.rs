@@ -10,8 +10,9 @@ use crate::output::{Destination, RowSink, TableFormat};
 use crate::progress::Progress;
 use crate::table::{extension, Table};
 use anyhow::{bail, Result};
-use geomkit::bezier::{BezierSurface, ParamCurve};
+use geomkit::bezier::BezierSurface;
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
+use geomkit::geom::{BatchOptions, Curve};
 use std::path::Path;
 
 /// Parameters evaluated at once.
@@ -22,7 +23,7 @@ const MAX_GRID_POINTS: usize = 100_000_000;
 /// A model seen as something to evaluate.
 enum Target<'a> {
     Curve {
-        curve: &'a dyn ParamCurve,
+        curve: &'a dyn Curve,
         bspline: Option<&'a BsplineCurve>,
         domain: (f64, f64),
     },
@@ -197,7 +198,7 @@ fn check_domain(table: &Table, col: usize, (a, b): (f64, f64), name: &str) -> Re
 fn write_curve(
     dest: &Destination,
     format: TableFormat,
-    curve: &dyn ParamCurve,
+    curve: &dyn Curve,
     bspline: Option<&BsplineCurve>,
     ts: &[f64],
     progress: &Progress,
@@ -214,7 +215,7 @@ fn write_curve(
             let pts = &mut points[..block.len() * d];
             match bspline {
                 Some(b) => b.eval_many_par(block, pts),
-                None => curve.eval_many(block, pts),
+                None => curve.eval_batch(block, pts, &BatchOptions::sequential()),
             }
             .map_err(std::io::Error::other)?;
             rows.clear();

@@ -12,9 +12,9 @@ use crate::output::{write_stdout, Destination};
 use crate::svg::{palette, Axes, Figure, Stroke};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Subcommand};
-use geomkit::bezier::ParamCurve;
 use geomkit::exact::Rational;
 use geomkit::expr::{Format, Graph};
+use geomkit::geom::Curve;
 use geomkit::pointcalc::{
     optimize, Factor, Goal, Hypersurface, NodePreset, Nodes, OptimizeOptions, PointEquation,
     PointOptions, PointSurface, PrintedSurface, Warning,

@@ -14,12 +14,12 @@ use crate::model::{bspline_curve_json, bspline_surface_json};
 use crate::npy::write_npy;
 use crate::svg::{palette, Axes, Figure, Stroke};
 use anyhow::Result;
-use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
     interpolate_curve, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
     interpolate_surface, paper_dense_inner_points, paper_fragments_averaged, BsplineCurve,
     EndCondition, InterpolationOptions, Parametrization, SurfaceInterpolationOptions, TileOptions,
 };
+use geomkit::geom::Curve;
 use std::fmt::Write as _;
 use std::time::Instant;
 

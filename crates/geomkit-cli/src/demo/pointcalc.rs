@@ -8,8 +8,8 @@ use crate::commands::pointcalc::{curves_svg, model_json};
 use crate::figures::{heightmap_figure, linspace, surface_svg, HeightField, Layer};
 use crate::svg::{palette, Axes, Stroke};
 use anyhow::Result;
-use geomkit::bezier::ParamCurve;
 use geomkit::exact::Rational;
+use geomkit::geom::Curve;
 use geomkit::pointcalc::{
     optimize, printed_geomatrix_exact, Goal, Hypersurface, Nodes, OptimizeOptions, PointEquation,
     PointOptions, PointSurface, PrintedSurface,

@@ -10,11 +10,10 @@ use crate::svg::{palette, Axes, Figure, Stroke};
 use crate::table::extension;
 use anyhow::{anyhow, bail, Context, Result};
 use geomkit::bezier::BezierSurface;
-use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
+use geomkit::geom::{Curve, Surface};
 use geomkit::mesh::{
-    tessellate_curve, tessellate_surface, CurveOptions, CurveShape, Polyline, SurfaceOptions,
-    SurfaceShape, TriMesh,
+    tessellate_curve, tessellate_surface, CurveOptions, Polyline, SurfaceOptions, TriMesh,
 };
 use geomkit::pointcalc::{Nodes, PointEquation, PointSurface};
 use serde_json::Value;
@@ -28,7 +27,7 @@ pub enum Shape {
     /// A curve.
     Curve {
         /// The curve.
-        curve: Box<dyn CurveShape>,
+        curve: Box<dyn Curve>,
         /// Control polygon and the parameter abscissa of each vertex (for 1-D graphs).
         control: Option<(Vec<Vec<f64>>, Vec<f64>)>,
         /// Reference points (t, point) the curve passes through.
@@ -37,7 +36,7 @@ pub enum Shape {
     /// A surface.
     Surface {
         /// The surface.
-        surface: Box<dyn SurfaceShape>,
+        surface: Box<dyn Surface>,
         /// Its control net in R^3, if it has one.
         net: Option<Net>,
         /// Points it passes through, in R^3.
@@ -346,9 +345,15 @@ struct SampledCurve {
     points: Vec<f64>,
 }
 
-impl ParamCurve for SampledCurve {
+impl Curve for SampledCurve {
     fn dim(&self) -> usize {
         self.dim
+    }
+    fn domain(&self) -> (f64, f64) {
+        (self.ts[0], self.ts[self.ts.len() - 1])
+    }
+    fn breaks(&self) -> Vec<f64> {
+        self.ts.clone()
     }
     fn eval_into(&self, t: f64, out: &mut [f64]) {
         let n = self.ts.len();
@@ -366,15 +371,6 @@ impl ParamCurve for SampledCurve {
         for c in 0..self.dim {
             out[c] = a[c] + f * (b[c] - a[c]);
         }
-    }
-}
-
-impl CurveShape for SampledCurve {
-    fn domain(&self) -> (f64, f64) {
-        (self.ts[0], self.ts[self.ts.len() - 1])
-    }
-    fn breaks(&self) -> Vec<f64> {
-        self.ts.clone()
     }
 }
 
@@ -408,9 +404,13 @@ struct SampledSurface {
     points: Vec<f64>,
 }
 
-impl SurfaceShape for SampledSurface {
+impl Surface for SampledSurface {
     fn dim(&self) -> usize {
         self.dim
+    }
+    fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
+        // Finite parameters of a trait caller: the grid of one point cannot fail.
+        let _ = self.eval_grid(&[u], &[v], out);
     }
     fn domain(&self) -> ((f64, f64), (f64, f64)) {
         (
@@ -648,7 +648,7 @@ pub fn picture_svg(
 /// A curve picture: the adaptive polyline, the control polygon with labels, the reference
 /// points. 1-D curves are graphs over the parameter, 3-D ones in the axonometric `view`.
 pub fn curve_svg(
-    curve: &dyn CurveShape,
+    curve: &dyn Curve,
     control: Option<&(Vec<Vec<f64>>, Vec<f64>)>,
     references: &[(f64, Vec<f64>)],
     title: &str,

@@ -24,6 +24,7 @@ use super::ramp::ramp;
 use super::surface::{ramps, ContinuityReport, GridLine, Jump};
 use crate::exact::Rational;
 use crate::expr::Graph;
+use crate::geom::{check_point, Curve};
 use crate::{Error, Result};
 
 /// A piecewise function (one coordinate, variable x) or composite curve (2 or more
@@ -440,6 +441,60 @@ fn breakpoint_report<'a>(
         max_jump: jumps.iter().fold(0.0f64, |m, j| m.max(j.max_jump)),
         jumps,
         tolerance: 64.0 * f64::EPSILON * scale.max(f64::MIN_POSITIVE),
+    }
+}
+
+/// The structural evaluator of the single formula of spec/composite-surfaces.md §5, on
+/// [x_0, x_n] (beyond the knots the ends are held).
+impl Curve for Piecewise {
+    fn dim(&self) -> usize {
+        self.names.len()
+    }
+
+    /// [x_0, x_n].
+    fn domain(&self) -> (f64, f64) {
+        let k = self.axis.knots();
+        (k[0], k[k.len() - 1])
+    }
+
+    fn eval_into(&self, t: f64, out: &mut [f64]) {
+        Piecewise::eval_into(self, t, out)
+    }
+
+    /// Polylines: the slope (p_(i+1) - p_i)/(x_(i+1) - x_i) of the segment holding x (the
+    /// one on the right at a knot; zero beyond the ends, where the formula holds them),
+    /// zero from order 2 on. Errors: [`Error::UnsupportedDerivative`] for order >= 1 of
+    /// formula pieces.
+    fn derivative_into(&self, t: f64, order: usize, out: &mut [f64]) -> Result<()> {
+        check_point(&[t], self.dim(), out)?;
+        if order == 0 {
+            self.eval_into(t, out);
+            return Ok(());
+        }
+        let Pieces::Linear { values } = &self.pieces else {
+            return Err(crate::geom::unsupported(
+                "a composite curve of formula pieces",
+                order,
+                "differentiate the printed formula symbolically (geomkit::expr)",
+            ));
+        };
+        let k = self.axis.knots();
+        let (a, b) = (k[0], k[k.len() - 1]);
+        if order > 1 || t < a || t > b {
+            out.fill(0.0);
+            return Ok(());
+        }
+        let (i, _) = self.axis.locate(t);
+        for (c, o) in out.iter_mut().enumerate() {
+            *o = (values[i + 1][c] - values[i][c]) / (k[i + 1] - k[i]);
+        }
+        Ok(())
+    }
+
+    /// The inner knots x_1..x_(n-1).
+    fn breaks(&self) -> Vec<f64> {
+        let k = self.axis.knots();
+        k[1..k.len() - 1].to_vec()
     }
 }
 
