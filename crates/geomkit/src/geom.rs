@@ -41,6 +41,13 @@ use crate::points::check_eval_args;
 use crate::{Error, Result};
 
 /// Where a batch may run.
+///
+/// ```
+/// use geomkit::geom::{BatchOptions, Parallelism};
+/// assert_eq!(Parallelism::default(), Parallelism::Auto);
+/// let o = BatchOptions::default().with_parallelism(Parallelism::Sequential);
+/// assert_eq!(o.parallelism, Parallelism::Sequential);
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[non_exhaustive]
 pub enum Parallelism {
@@ -73,18 +80,42 @@ pub struct BatchOptions {
 
 impl BatchOptions {
     /// Sets where the batch may run.
+    ///
+    /// ```
+    /// use geomkit::geom::{BatchOptions, Parallelism};
+    /// let o = BatchOptions::default().with_parallelism(Parallelism::Sequential);
+    /// assert_eq!(o, BatchOptions::sequential());
+    /// ```
     pub fn with_parallelism(mut self, parallelism: Parallelism) -> Self {
         self.parallelism = parallelism;
         self
     }
 
     /// Sets whether only kernels with the values of `eval_into`, bit for bit, may run.
+    ///
+    /// ```
+    /// use geomkit::bspline::{interpolate_curve, InterpolationOptions};
+    /// use geomkit::geom::{BatchOptions, Curve};
+    /// let pts: Vec<Vec<f64>> = (0..5).map(|k| vec![k as f64, (k % 2) as f64]).collect();
+    /// let c = interpolate_curve(&pts, &InterpolationOptions::default())?.into_curve();
+    /// let ts: Vec<f64> = (0..1 << 16).map(|k| k as f64 / 16384.0).collect();
+    /// let mut out = vec![0.0; 2 << 16];
+    /// // 2^16 parameters on 4 spans would take the piecewise form; not with bit_exact.
+    /// c.eval_batch(&ts, &mut out, &BatchOptions::default().with_bit_exact(true))?;
+    /// assert_eq!(&out[2 * 1000..2 * 1001], &c.eval(ts[1000])[..]);
+    /// # Ok::<(), geomkit::Error>(())
+    /// ```
     pub fn with_bit_exact(mut self, bit_exact: bool) -> Self {
         self.bit_exact = bit_exact;
         self
     }
 
     /// The options of a batch on the calling thread only.
+    ///
+    /// ```
+    /// use geomkit::geom::{BatchOptions, Parallelism};
+    /// assert_eq!(BatchOptions::sequential().parallelism, Parallelism::Sequential);
+    /// ```
     pub fn sequential() -> Self {
         Self::default().with_parallelism(Parallelism::Sequential)
     }
