@@ -298,7 +298,7 @@ pub trait Surface: Send + Sync {
     fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim();
         check_grid(us, vs, d, out)?;
-        if vs.is_empty() {
+        if vs.is_empty() || d == 0 {
             return Ok(());
         }
         let rows = (CHUNK_POINTS / vs.len()).max(1);
@@ -525,6 +525,65 @@ pub(crate) fn unsupported(what: &'static str, order: usize, reason: &'static str
 mod tests {
     use super::*;
     use crate::bspline::{interpolate_curve, InterpolationOptions};
+
+    /// A plane through the defaults only: S(u, v) = (u, v, u v).
+    struct Saddle;
+
+    impl Surface for Saddle {
+        fn dim(&self) -> usize {
+            3
+        }
+        fn domain(&self) -> ((f64, f64), (f64, f64)) {
+            ((-1.0, 1.0), (0.0, 2.0))
+        }
+        fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
+            out.copy_from_slice(&[u, v, u * v]);
+        }
+    }
+
+    /// A line through the defaults only.
+    struct Line;
+
+    impl Curve for Line {
+        fn dim(&self) -> usize {
+            1
+        }
+        fn domain(&self) -> (f64, f64) {
+            (2.0, 4.0)
+        }
+        fn eval_into(&self, t: f64, out: &mut [f64]) {
+            out[0] = 3.0 * t;
+        }
+    }
+
+    #[test]
+    fn defaults_evaluate_and_refuse_derivatives() {
+        let s = Saddle;
+        let (us, vs) = ([-1.0, 0.5, 1.0], [0.0, 2.0]);
+        let mut grid = [0.0; 18];
+        s.eval_grid(&us, &vs, &mut grid).unwrap();
+        assert_eq!(&grid[6..9], &[0.5, 0.0, 0.0]);
+        assert_eq!(&grid[15..], &[1.0, 2.0, 2.0]);
+        let big: Vec<f64> = (0..5000).map(|k| k as f64 * 1e-3).collect();
+        let mut out = vec![0.0; 3 * 5000 * 2];
+        s.eval_grid(&big, &[0.25, 0.5], &mut out).unwrap();
+        assert_eq!(&out[3 * (2 * 4999 + 1)..], &[4.999, 0.5, 4.999 * 0.5]);
+        assert!(s.eval_grid(&us, &vs, &mut grid[..17]).is_err());
+        let mut p = [0.0; 3];
+        s.derivative_into(0.5, 1.0, (0, 0), &mut p).unwrap();
+        assert_eq!(p, [0.5, 1.0, 0.5]);
+        assert!(matches!(
+            s.derivative_into(0.5, 1.0, (1, 0), &mut p),
+            Err(Error::UnsupportedDerivative { .. })
+        ));
+        let c = Line;
+        assert_eq!(c.sample_uniform(3), vec![6.0, 9.0, 12.0]);
+        assert!(c.breaks().is_empty() && s.breaks() == (Vec::new(), Vec::new()));
+        assert!(matches!(
+            c.derivative_into(3.0, 1, &mut [0.0]),
+            Err(Error::UnsupportedDerivative { .. })
+        ));
+    }
 
     #[test]
     fn uniform_params_end_exactly() {
