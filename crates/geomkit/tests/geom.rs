@@ -386,7 +386,6 @@ fn check_curve_fd(name: &str, c: &dyn Curve, max_order: usize) {
 fn curve_derivatives_match_central_differences() {
     for (name, c) in curves() {
         let orders = match name {
-            "composite function" | "ruled formula" => 0,
             "composite polyline" | "ruled polygon" => 1,
             _ => 2,
         };
@@ -396,11 +395,39 @@ fn curve_derivatives_match_central_differences() {
         let t = 0.5 * (a + b);
         c.derivative_into(t, 0, &mut out).unwrap();
         assert_eq!(out, c.eval(t), "{name}: order 0 is the point");
-        if orders == 0 {
-            assert!(matches!(
-                c.derivative_into(t, 1, &mut out),
-                Err(Error::UnsupportedDerivative { .. })
-            ));
+    }
+}
+
+/// Formula pieces and curves by the engine's symbolic derivative, in closed form.
+#[test]
+fn formula_derivatives_are_symbolic() {
+    let f = Piecewise::function(vec![-1.0, 0.0, 1.0, 2.0], &["-x", "x^3", "1"]).unwrap();
+    let mut d = [0.0];
+    for (x, k, want) in [
+        (-0.5, 1, -1.0),
+        (-0.5, 2, 0.0),
+        (0.5, 1, 0.75),
+        (0.5, 2, 3.0),
+        (0.5, 3, 6.0),
+        (1.5, 1, 0.0),
+        (2.5, 1, 0.0),
+    ] {
+        f.derivative_into(x, k, &mut d).unwrap();
+        assert!((d[0] - want).abs() < 1e-14, "x {x} k {k}: {}", d[0]);
+    }
+    let c = RuledCurve::formula(["cos(t)", "sin(t)", "t/10"], (0.0, 6.0)).unwrap();
+    let mut p = [0.0; 3];
+    for t in [0.0, 1.3, 5.9] {
+        c.derivative_into(t, 1, &mut p).unwrap();
+        let want = [-f64::sin(t), t.cos(), 0.1];
+        c.derivative_into(t, 2, &mut p[..]).unwrap();
+        let want2 = [-t.cos(), -t.sin(), 0.0];
+        for i in 0..3 {
+            assert!((p[i] - want2[i]).abs() < 1e-14, "{t}");
+        }
+        c.derivative_into(t, 1, &mut p).unwrap();
+        for i in 0..3 {
+            assert!((p[i] - want[i]).abs() < 1e-14, "{t}");
         }
     }
 }

@@ -461,32 +461,44 @@ impl Curve for Piecewise {
         Piecewise::eval_into(self, t, out)
     }
 
-    /// Polylines: the slope (p_(i+1) - p_i)/(x_(i+1) - x_i) of the segment holding x (the
-    /// one on the right at a knot; zero beyond the ends, where the formula holds them),
-    /// zero from order 2 on. Errors: [`Error::UnsupportedDerivative`] for order >= 1 of
-    /// formula pieces.
+    /// The derivative of the piece holding x (the one on the right at a knot; zero beyond
+    /// the ends, where the formula holds them; the shifts of §5 are constants). Polylines:
+    /// the slope (p_(i+1) - p_i)/(x_(i+1) - x_i), zero from order 2 on. Formula pieces:
+    /// the engine's symbolic derivative in the piece's own variable, times
+    /// (Δ own / Δx)^order for pieces on a domain of their own. Errors:
+    /// [`Error::Expression`] if a symbolic derivative does not compile.
     fn derivative_into(&self, t: f64, order: usize, out: &mut [f64]) -> Result<()> {
         check_point(&[t], self.dim(), out)?;
         if order == 0 {
             self.eval_into(t, out);
             return Ok(());
         }
-        let Pieces::Linear { values } = &self.pieces else {
-            return Err(crate::geom::unsupported(
-                "a composite curve of formula pieces",
-                order,
-                "differentiate the printed formula symbolically (geomkit::expr)",
-            ));
-        };
         let k = self.axis.knots();
-        let (a, b) = (k[0], k[k.len() - 1]);
-        if order > 1 || t < a || t > b {
+        if t < k[0] || t > k[k.len() - 1] {
             out.fill(0.0);
             return Ok(());
         }
-        let (i, _) = self.axis.locate(t);
-        for (c, o) in out.iter_mut().enumerate() {
-            *o = (values[i + 1][c] - values[i][c]) / (k[i + 1] - k[i]);
+        let (i, s) = self.axis.locate(t);
+        match &self.pieces {
+            Pieces::Linear { values } => {
+                for (c, o) in out.iter_mut().enumerate() {
+                    *o = if order > 1 {
+                        0.0
+                    } else {
+                        (values[i + 1][c] - values[i][c]) / (k[i + 1] - k[i])
+                    };
+                }
+            }
+            Pieces::Expr {
+                pieces, domains, ..
+            } => {
+                let (a, b) = domains[i];
+                pieces[i]
+                    .derivative(order)?
+                    .eval_local_many(&[domains[i]], &[&[s]], out);
+                let scale = ((b - a) / (k[i + 1] - k[i])).powi(order as i32);
+                out.iter_mut().for_each(|x| *x *= scale);
+            }
         }
         Ok(())
     }

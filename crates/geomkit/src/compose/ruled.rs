@@ -485,8 +485,8 @@ impl RuledCurve {
     /// The `order`-th derivative with respect to the curve's own parameter τ: points have
     /// none (zero), circles every order (r (cos, sin)(τ + kπ/2), 0), polylines the slope of
     /// the edge holding τ (the edge on the right at a vertex, zero beyond the ends where τ
-    /// is clamped) and zero from order 2 on. Errors: [`Error::UnsupportedDerivative`] for
-    /// order >= 1 of formula curves.
+    /// is clamped) and zero from order 2 on, formula curves the engine's symbolic
+    /// derivative. Errors: [`Error::Expression`] if that does not compile.
     fn derivative(&self, tau: f64, order: usize) -> Result<[f64; 3]> {
         if order == 0 {
             return Ok(self.eval(tau));
@@ -506,11 +506,10 @@ impl RuledCurve {
                 let k = (tau.floor() as usize).min(v.len() - 2);
                 Ok([0, 1, 2].map(|c| v[k + 1][c] - v[k][c]))
             }
-            RuledCurve::Expr(_) => Err(crate::geom::unsupported(
-                "a formula curve",
-                order,
-                "differentiate the formula symbolically (geomkit::expr)",
-            )),
+            RuledCurve::Expr(e) => {
+                let p = e.derivative(order)?.eval(&[tau])?;
+                Ok([p[0], p[1], p[2]])
+            }
         }
     }
 }
@@ -532,8 +531,9 @@ impl Curve for RuledCurve {
         out.copy_from_slice(&self.eval(t));
     }
 
-    /// Points: zero; circles: every order; polylines: the edge's slope, then zero.
-    /// Errors: [`Error::UnsupportedDerivative`] for order >= 1 of formula curves.
+    /// Points: zero; circles: every order; polylines: the edge's slope, then zero; formula
+    /// curves: the symbolic derivative. Errors: [`Error::Expression`] if that does not
+    /// compile.
     fn derivative_into(&self, t: f64, order: usize, out: &mut [f64]) -> Result<()> {
         check_point(&[t], 3, out)?;
         out.copy_from_slice(&self.derivative(t, order)?);
@@ -564,8 +564,7 @@ impl Surface for RuledSurface {
     /// With S = a(u) + λ(v)(b(u) - a(u)) between the curves a, b around v:
     /// ∂^ku a/∂u^ku = a^(ku)(τ) (dτ/du)^ku, then kv = 0: a + λ(b - a), kv = 1:
     /// (b - a)/Δv, kv >= 2: zero (at a curve, the strip above it). Errors: those of the
-    /// curves' derivatives ([`Error::UnsupportedDerivative`] for ku >= 1 on formula
-    /// curves).
+    /// curves' derivatives.
     fn derivative_into(
         &self,
         u: f64,
