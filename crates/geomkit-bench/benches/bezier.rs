@@ -6,7 +6,8 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use geomkit::bezier::{ApproxOptions, ParamCurve};
+use geomkit::bezier::ApproxOptions;
+use geomkit::geom::{BatchOptions, Curve};
 use geomkit_bench::{elevated_curve, random_curve, random_surface, uniform_params};
 
 /// Elevation n -> n' in one step (closed form (8)), 2-D and 3-D.
@@ -93,7 +94,7 @@ fn eval(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new("2d_1e4pts", format!("n{n}")), |b| {
             b.iter(|| {
                 black_box(&curve)
-                    .eval_many(black_box(&ts), &mut out)
+                    .eval_batch(black_box(&ts), &mut out, &BatchOptions::sequential())
                     .unwrap();
                 black_box(&out);
             })

@@ -8,11 +8,11 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
     interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights, BsplineCurve,
     EndCondition, InterpolationOptions, Parametrization, TileOptions,
 };
+use geomkit::geom::{BatchOptions, Curve};
 use geomkit_bench::{height_grid, helix_points, linspace, random_params};
 
 fn options(p: Parametrization) -> InterpolationOptions {
@@ -104,7 +104,11 @@ fn curve_eval(c: &mut Criterion) {
             |bch| {
                 bch.iter(|| {
                     black_box(&crv)
-                        .eval_many(black_box(&sorted), &mut out)
+                        .eval_batch(
+                            black_box(&sorted),
+                            &mut out,
+                            &BatchOptions::sequential().with_bit_exact(true),
+                        )
                         .unwrap()
                 })
             },

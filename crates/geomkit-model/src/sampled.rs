@@ -177,34 +177,36 @@ impl SampledSurface {
     }
 }
 
-impl geomkit::bezier::ParamCurve for SampledCurve {
+impl geomkit::geom::Curve for SampledCurve {
     fn dim(&self) -> usize {
         self.dim
+    }
+    fn domain(&self) -> (f64, f64) {
+        SampledCurve::domain(self)
     }
     fn eval_into(&self, t: f64, out: &mut [f64]) {
         SampledCurve::eval_into(self, t, out)
     }
-}
-
-impl geomkit::mesh::CurveShape for SampledCurve {
-    fn domain(&self) -> (f64, f64) {
-        SampledCurve::domain(self)
-    }
+    /// The samples: the polyline has a corner at each.
     fn breaks(&self) -> Vec<f64> {
         self.ts.clone()
     }
 }
 
-impl geomkit::mesh::SurfaceShape for SampledSurface {
+impl geomkit::geom::Surface for SampledSurface {
     fn dim(&self) -> usize {
         SampledSurface::dim(self)
     }
     fn domain(&self) -> ((f64, f64), (f64, f64)) {
         SampledSurface::domain(self)
     }
+    fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
+        SampledSurface::eval_into(self, u, v, out)
+    }
     fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
         SampledSurface::eval_grid(self, us, vs, out)
     }
+    /// The grid lines: the bilinear cells meet at creases there.
     fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
         (self.us.clone(), self.vs.clone())
     }

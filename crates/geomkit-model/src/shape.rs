@@ -4,12 +4,11 @@
 
 use crate::error::{Error, Result};
 use crate::model::{AnyModel, BezierModel, PointcalcModel};
-use geomkit::bezier::{BezierSurface, ParamCurve};
+use geomkit::bezier::BezierSurface;
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
-use geomkit::compose::Piecewise;
+use geomkit::geom::{Curve, Surface};
 use geomkit::mesh::{
-    tessellate_curve, tessellate_surface, CurveOptions, CurveShape, Polyline, SurfaceOptions,
-    SurfaceShape, TriMesh,
+    tessellate_curve, tessellate_surface, CurveOptions, Polyline, SurfaceOptions, TriMesh,
 };
 use geomkit::pointcalc::{Nodes, PointEquation, PointSurface};
 
@@ -21,7 +20,7 @@ pub enum Shape {
     /// A curve.
     Curve {
         /// The curve.
-        curve: Box<dyn CurveShape>,
+        curve: Box<dyn Curve>,
         /// Control polygon and the parameter abscissa of each vertex (for 1-D graphs).
         control: Option<(Vec<Vec<f64>>, Vec<f64>)>,
         /// Reference points (t, point) the curve passes through.
@@ -30,7 +29,7 @@ pub enum Shape {
     /// A surface.
     Surface {
         /// The surface.
-        surface: Box<dyn SurfaceShape>,
+        surface: Box<dyn Surface>,
         /// Its control net in R^3, if it has one.
         net: Option<Net>,
         /// Points it passes through, in R^3.
@@ -158,28 +157,6 @@ fn bspline_curve(c: BsplineCurve, parameters: Option<Vec<f64>>) -> Shape {
     }
 }
 
-/// A piecewise function or composite curve as a curve over its knots.
-struct PiecewiseCurve(Piecewise);
-
-impl ParamCurve for PiecewiseCurve {
-    fn dim(&self) -> usize {
-        self.0.dim()
-    }
-    fn eval_into(&self, t: f64, out: &mut [f64]) {
-        self.0.eval_into(t, out)
-    }
-}
-
-impl CurveShape for PiecewiseCurve {
-    fn domain(&self) -> (f64, f64) {
-        let k = self.0.knots();
-        (k[0], k[k.len() - 1])
-    }
-    fn breaks(&self) -> Vec<f64> {
-        self.0.knots().to_vec()
-    }
-}
-
 impl Loaded {
     /// The shape of any model; errors for models that are neither one curve nor one surface
     /// (a point-calculus model of 3 or more factors, a formula file without its model).
@@ -210,7 +187,7 @@ impl Loaded {
             AnyModel::Composite(s) => plain_surface(Box::new(s)),
             AnyModel::Ruled(s) => plain_surface(Box::new(s)),
             AnyModel::Piecewise(p) => Shape::Curve {
-                curve: Box::new(PiecewiseCurve(p)),
+                curve: Box::new(p),
                 control: None,
                 references: Vec::new(),
             },
@@ -277,7 +254,7 @@ impl Loaded {
 }
 
 /// A surface without a net or reference points.
-fn plain_surface(surface: Box<dyn SurfaceShape>) -> Shape {
+fn plain_surface(surface: Box<dyn Surface>) -> Shape {
     Shape::Surface {
         surface,
         net: None,

@@ -3,7 +3,7 @@
 //! where a model can be written back, and bad files give one line with the file, the JSON
 //! path and the line and column.
 
-use geomkit::bezier::ParamCurve;
+use geomkit::geom::Curve;
 use geomkit_model::schema::*;
 use geomkit_model::{
     parse, parse_file, to_json, AnyModel, BezierModel, ErrorKind, ModelFile, Net, Points,

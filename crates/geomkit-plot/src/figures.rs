@@ -10,9 +10,10 @@
 
 use crate::svg::{palette, Axes, Cell, Figure, Label, Placement, Stroke};
 use crate::Result;
-use geomkit::bezier::{BezierSurface, ParamCurve};
+use geomkit::bezier::BezierSurface;
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
-use geomkit::mesh::SurfaceShape;
+use geomkit::geom::Curve;
+use geomkit::geom::Surface;
 
 /// A surface that can be drawn: its dimension, parameter domain and a grid evaluator.
 pub trait SurfaceView {
@@ -25,7 +26,7 @@ pub trait SurfaceView {
 }
 
 /// Every surface of the library draws as itself.
-impl<T: SurfaceShape> SurfaceView for T {
+impl<T: Surface> SurfaceView for T {
     fn view_dim(&self) -> usize {
         self.dim()
     }
@@ -136,7 +137,7 @@ impl Projection {
     }
 
     /// `count` uniform samples of a curve on the page.
-    pub fn curve(&self, curve: &dyn ParamCurve, count: usize) -> Vec<[f64; 2]> {
+    pub fn curve(&self, curve: &dyn Curve, count: usize) -> Vec<[f64; 2]> {
         (0..count)
             .map(|k| {
                 let t = k as f64 / (count - 1) as f64;
@@ -191,8 +192,8 @@ pub fn add_polygon(
 pub fn curve_change_svg(
     title: &str,
     subtitle: &str,
-    old: (&dyn ParamCurve, &[Vec<f64>]),
-    new: (Option<&dyn ParamCurve>, &[Vec<f64>]),
+    old: (&dyn Curve, &[Vec<f64>]),
+    new: (Option<&dyn Curve>, &[Vec<f64>]),
 ) -> Result<String> {
     let proj = Projection::for_dim(old.0.dim())?;
     let old_poly = proj.polygon(old.1);

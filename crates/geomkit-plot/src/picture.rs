@@ -5,9 +5,8 @@ use crate::figures::{add_polygon, View};
 use crate::shaded::{Overlay, Scene};
 use crate::svg::{palette, Axes, Figure, Stroke};
 use crate::Result;
-use geomkit::mesh::{
-    tessellate_curve, tessellate_surface, CurveOptions, CurveShape, SurfaceOptions,
-};
+use geomkit::geom::Curve;
+use geomkit::mesh::{tessellate_curve, tessellate_surface, CurveOptions, SurfaceOptions};
 use geomkit_model::shape::{Loaded, Shape};
 
 /// Picture options.
@@ -94,7 +93,7 @@ pub fn picture_svg(
 /// A curve picture: the adaptive polyline, the control polygon with labels, the reference
 /// points. 1-D curves are graphs over the parameter, 3-D ones in the axonometric `view`.
 pub fn curve_svg(
-    curve: &dyn CurveShape,
+    curve: &dyn Curve,
     control: Option<&(Vec<Vec<f64>>, Vec<f64>)>,
     references: &[(f64, Vec<f64>)],
     title: &str,

@@ -1,10 +1,11 @@
 //! The README's library tour (README.md quotes this file between the markers; the test
 //! `tests/readme_tour.rs` runs it and checks that the README's copy is the same text).
 
-use geomkit::bezier::{ApproxOptions, BezierCurve, ParamCurve, ReductionNorm};
+use geomkit::bezier::{ApproxOptions, BezierCurve, ReductionNorm};
 use geomkit::bspline::{interpolate_curve, EndCondition, InterpolationOptions, Parametrization};
 use geomkit::compose::bodies;
 use geomkit::expr::Format;
+use geomkit::geom::Curve;
 use geomkit::mesh::{tessellate_surface, SurfaceOptions};
 use geomkit::pointcalc::{
     optimize, Factor, Goal, Hypersurface, Nodes, OptimizeOptions, PointOptions,

@@ -325,6 +325,17 @@ pub enum Error {
         /// The name given.
         name: String,
     },
+    /// A derivative that a curve or surface type cannot give (see
+    /// [`crate::geom::Curve::derivative_into`] and [`crate::geom::Surface::derivative_into`]).
+    #[error("the derivative of order {order} of {what} is not available: {reason}")]
+    UnsupportedDerivative {
+        /// The type ("point equation", "formula piece", ...).
+        what: &'static str,
+        /// The order asked for: "3" for a curve, "(1, 2)" for ∂³/∂u∂v² of a surface.
+        order: String,
+        /// Why, and what the type can give instead.
+        reason: &'static str,
+    },
     /// An error of the expression engine (parse error with its position, unknown
     /// variable, division by exact zero, ...).
     #[error(transparent)]

@@ -45,7 +45,7 @@ pub(crate) fn check_shape(what: &'static str, dim: usize, data: &[f64]) -> Resul
 pub(crate) fn par_copy(src: &[f64], dst: &mut [f64]) {
     const CHUNK: usize = 1 << 16;
     if src.len() >= 4 * CHUNK {
-        use rayon::prelude::*;
+        use crate::par::*;
         dst.par_chunks_mut(CHUNK)
             .zip(src.par_chunks(CHUNK))
             .for_each(|(d, s)| d.copy_from_slice(s));
@@ -61,7 +61,7 @@ pub(crate) fn first_index(len: usize, pred: impl Fn(usize) -> bool + Sync) -> Op
     if len < 4 * CHUNK {
         return (0..len).find(|&i| pred(i));
     }
-    use rayon::prelude::*;
+    use crate::par::*;
     (0..len.div_ceil(CHUNK))
         .into_par_iter()
         .find_map_first(|k| (k * CHUNK..((k + 1) * CHUNK).min(len)).find(|&i| pred(i)))
@@ -72,7 +72,7 @@ pub(crate) fn first_index(len: usize, pred: impl Fn(usize) -> bool + Sync) -> Op
 pub(crate) fn first_non_finite(data: &[f64]) -> Option<usize> {
     let suspect = |c: &[f64]| c.iter().fold(0.0, |a, x| a + 0.0 * x) != 0.0;
     let any = if data.len() >= 1 << 16 {
-        use rayon::prelude::*;
+        use crate::par::*;
         data.par_chunks(1 << 14).any(suspect)
     } else {
         suspect(data)

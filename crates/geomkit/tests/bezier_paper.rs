@@ -1,10 +1,11 @@
 //! The worked examples of Nikulin (2011), spec/bezier-order.md, reproduced exactly.
 
-use geomkit::bezier::{BezierCurve, BezierSurface, Direction, ParamCurve};
+use geomkit::bezier::{BezierCurve, BezierSurface, Direction};
 use geomkit::exact::{
     degree_change_matrix, elevation_matrix, h_inverse, h_matrix, ExactBezierCurve, ExactMatrix,
     Rational,
 };
+use geomkit::geom::Curve;
 use geomkit::Error;
 
 fn q(p: i64, d: i64) -> Rational {

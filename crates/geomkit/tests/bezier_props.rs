@@ -3,8 +3,9 @@
 mod common;
 
 use common::{max_abs_diff, random_curve, sampled_distance};
-use geomkit::bezier::{ApproxOptions, BezierCurve, ParamCurve, ReductionNorm};
+use geomkit::bezier::{ApproxOptions, BezierCurve, ReductionNorm};
 use geomkit::exact::ExactBezierCurve;
+use geomkit::geom::Curve;
 use proptest::prelude::*;
 
 const EPS: f64 = f64::EPSILON;

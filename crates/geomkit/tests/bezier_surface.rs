@@ -3,7 +3,8 @@
 mod common;
 
 use common::Rng;
-use geomkit::bezier::{BezierSurface, Direction, ParamCurve, RationalBezierCurve};
+use geomkit::bezier::{BezierSurface, Direction, RationalBezierCurve};
+use geomkit::geom::Curve;
 use geomkit::Error;
 
 fn random_surface(n: usize, m: usize, seed: u64) -> BezierSurface {

@@ -3,12 +3,12 @@
 mod common;
 
 use common::Rng;
-use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
     interpolate_curve, interpolate_curve_at, interpolate_curve_flat, paper_dense_inner_points,
     parameters, BsplineCurve, CurveInterpolator, EndCondition, InterpolationOptions,
     Parametrization,
 };
+use geomkit::geom::{BatchOptions, Curve};
 use geomkit::Error;
 
 fn wiggly(n: usize, dim: usize, seed: u64) -> Vec<Vec<f64>> {
@@ -352,7 +352,9 @@ fn batched_evaluation_equals_single_points() {
                 }
                 // The sequential batch runs the same kernels.
                 let mut seq = vec![0.0; ts.len() * dim];
-                fit.curve().eval_many(&ts, &mut seq).unwrap();
+                fit.curve()
+                    .eval_batch(&ts, &mut seq, &BatchOptions::sequential())
+                    .unwrap();
                 assert_eq!(seq, got, "dim {dim} {param:?}");
             }
         }
@@ -390,7 +392,9 @@ fn batched_evaluation_on_uneven_knots() {
                 assert_eq!(g, curve.eval(*t).as_slice(), "t={t} sorted={sorted}");
             }
             let mut seq = vec![0.0; ts.len() * 2];
-            curve.eval_many(&ts, &mut seq).unwrap();
+            curve
+                .eval_batch(&ts, &mut seq, &BatchOptions::sequential())
+                .unwrap();
             assert_eq!(seq, got);
         }
     }

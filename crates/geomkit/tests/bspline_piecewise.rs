@@ -4,11 +4,11 @@
 mod common;
 
 use common::Rng;
-use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
     interpolate_curve, BsplineCurve, EndCondition, InterpolationOptions, Parametrization,
     PiecewiseCurve,
 };
+use geomkit::geom::{BatchOptions, Curve};
 use geomkit::Error;
 
 /// Largest |coordinate| of the control points: the scale of the curve's values.
@@ -26,7 +26,8 @@ fn check(pp: &PiecewiseCurve, curve: &BsplineCurve, ts: &[f64], tol: f64, what: 
     let mut got = vec![0.0; ts.len() * d];
     pp.eval_many_par(ts, &mut got).unwrap();
     let mut seq = vec![0.0; ts.len() * d];
-    pp.eval_many(ts, &mut seq).unwrap();
+    pp.eval_batch(ts, &mut seq, &BatchOptions::sequential())
+        .unwrap();
     assert_eq!(seq, got, "{what}: sequential batch");
     let mut worst = 0.0f64;
     for (t, g) in ts.iter().zip(got.chunks_exact(d)) {
@@ -261,7 +262,7 @@ fn bad_input_is_a_clear_error() {
         other => panic!("{other:?}"),
     }
     assert!(matches!(
-        pp.eval_many(&[4.0, 5.0], &mut out),
+        pp.eval_batch(&[4.0, 5.0], &mut out, &BatchOptions::sequential()),
         Err(Error::BufferSize {
             expected: 4,
             got: 6

@@ -352,12 +352,12 @@ proptest! {
 /// printed formula equal the curve on its domain; interpolating cubics are continuous.
 #[test]
 fn bspline_curves_as_one_formula() {
-    use geomkit::bezier::ParamCurve;
     use geomkit::bspline::{
         interpolate_curve, BsplineCurve, EndCondition, InterpolationOptions, Parametrization,
     };
     use geomkit::compose::Piecewise;
     use geomkit::expr::Format;
+    use geomkit::geom::Curve;
     let mut rng = Rng(99);
     let mut curves: Vec<(String, BsplineCurve)> = Vec::new();
     for dim in [1usize, 2, 3] {

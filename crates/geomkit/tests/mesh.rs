@@ -4,9 +4,8 @@
 use geomkit::bezier::{BezierCurve, BezierSurface, RationalBezierCurve};
 use geomkit::bspline::{interpolate_curve, interpolate_surface, BsplineSurface};
 use geomkit::compose::{bodies, CompositeSurface};
-use geomkit::mesh::{
-    tessellate_curve, tessellate_surface, CurveOptions, SurfaceOptions, SurfaceShape, TriMesh,
-};
+use geomkit::geom::Surface;
+use geomkit::mesh::{tessellate_curve, tessellate_surface, CurveOptions, SurfaceOptions, TriMesh};
 use geomkit::pointcalc::{Nodes, PointEquation, PointSurface, PrintedSurface};
 use proptest::prelude::*;
 use std::f64::consts::PI;
@@ -150,7 +149,7 @@ fn every_model_type_tessellates_onto_its_surface() {
     let pcs = PointSurface::rows_then_across(vec![nodes(), nodes(), nodes()], nodes(), net.clone())
         .unwrap();
     let printed = PrintedSurface::new(net).unwrap();
-    let shapes: [(&str, &dyn SurfaceShape); 5] = [
+    let shapes: [(&str, &dyn Surface); 5] = [
         ("bezier", &bez),
         ("bspline", &bsp),
         ("composite", &comp),

@@ -1,8 +1,8 @@
 //! Method 4 (spec/point-calculus.md): the paper's equations exactly, interpolation properties,
 //! accuracy, surfaces through nine points, k-factor models, shares.
 
-use geomkit::bezier::ParamCurve;
 use geomkit::exact::Rational;
+use geomkit::geom::Curve;
 use geomkit::pointcalc::{
     printed_geomatrix, printed_geomatrix_exact, Factor, Hypersurface, NodePreset, Nodes,
     PointEquation, PointOptions, PointSurface, PrintedSurface,

@@ -1,7 +1,7 @@
 //! Point equations against SciPy's BarycentricInterpolator (values ≤ 1e-14 of the data
 //! scale; derivatives by their conditioning). Reference data: bench/make_reference_pointcalc.py.
 
-use geomkit::bezier::ParamCurve;
+use geomkit::geom::Curve;
 use geomkit::pointcalc::{Nodes, PointEquation};
 use serde_json::Value;
 

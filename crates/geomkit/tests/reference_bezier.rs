@@ -5,8 +5,9 @@
 //! Regenerate the data with `bash bench/make_reference.sh` (pinned versions in
 //! `bench/requirements.txt`; the file records them). The tests never run Python.
 
-use geomkit::bezier::{BezierCurve, ParamCurve};
+use geomkit::bezier::BezierCurve;
 use geomkit::exact::{degree_change_matrix, ExactBezierCurve, Rational};
+use geomkit::geom::{BatchOptions, Curve};
 use serde_json::Value;
 
 const DATA: &str = include_str!("data/bezier_reference.json");
@@ -171,7 +172,7 @@ fn elevation_matches_exact_fractions_and_bezier_package() {
 }
 
 /// Evaluation (Bernstein–Horner in O(n), error O(n·eps) relative to Σ b_i |u_i| <= max|u|)
-/// at the 21 stored parameters, one by one (`eval`) and batched (`eval_many`, blocks of 8),
+/// at the 21 stored parameters, one by one (`eval`) and batched (`eval_batch`, blocks of 8),
 /// against the exact value at the f64 parameter (rounded once) and `bezier`'s
 /// `evaluate_multi` (itself within ~1e-15 of exact).
 #[test]
@@ -186,8 +187,10 @@ fn evaluation_matches_exact_fractions_and_bezier_package() {
         let peer = flat(&c.json["eval_bezier"]);
         let one: Vec<f64> = ts.iter().flat_map(|&t| c.curve.eval(t)).collect();
         let mut many = vec![0.0; ts.len() * dim];
-        c.curve.eval_many(&ts, &mut many).unwrap();
-        for (what, got) in [("eval", &one), ("eval_many", &many)] {
+        c.curve
+            .eval_batch(&ts, &mut many, &BatchOptions::sequential())
+            .unwrap();
+        for (what, got) in [("eval", &one), ("eval_batch", &many)] {
             let d_exact = max_diff(got, &exact) / scale;
             let d_peer = max_diff(got, &peer) / scale;
             eprintln!(

@@ -35,11 +35,11 @@
 //! were 6e-11 and 1e-12 from SciPy; SciPy itself is within 5e-15 and 3e-13 of the exact
 //! rational interpolant there (checked once with Python's fractions).
 
-use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
     interpolate_curve_at, interpolate_curve_flat, interpolate_heights, interpolate_heights_at,
     BsplineCurve, BsplineSurface, EndCondition, InterpolationOptions, Parametrization,
 };
+use geomkit::geom::Curve;
 use serde_json::Value;
 
 const DATA: &str = include_str!("data/bspline_scipy.json");

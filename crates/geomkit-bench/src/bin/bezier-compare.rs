@@ -18,7 +18,8 @@ use std::hint::black_box;
 use std::io::Read;
 use std::time::Instant;
 
-use geomkit::bezier::{paper_formula_f64, BezierCurve, ParamCurve};
+use geomkit::bezier::{paper_formula_f64, BezierCurve};
+use geomkit::geom::{BatchOptions, Curve};
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Deserialize)]
@@ -153,7 +154,7 @@ fn run_case(case: &Case) -> Outcome {
             Some(ts) => {
                 let mut buf = vec![0.0; ts.len() * dim];
                 let (r, med, min, s, i) = time_it(
-                    || curve.eval_many(ts, &mut buf),
+                    || curve.eval_batch(ts, &mut buf, &BatchOptions::sequential()),
                     samples,
                     min_batch,
                     max_seconds,

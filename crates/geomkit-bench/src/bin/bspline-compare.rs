@@ -29,7 +29,7 @@
 //!   builds the curve as `curve_build` does, then times each kind
 //!   `{"kind": "fd" | "par" | "seq" | "pp", "params": "uniform" | "sorted" | "unsorted",
 //!   "count": M, "param_seed": s}`: `fd` = `sample_uniform_fd(M)` (uniform only), `par` =
-//!   `eval_many_par`, `seq` = `ParamCurve::eval_many`, `pp` = `PiecewiseCurve::eval_many_par`
+//!   `eval_many_par`, `seq` = `Curve::eval_batch` on the calling thread, bit exact (the B-spline kernels), `pp` = `PiecewiseCurve::eval_many_par`
 //!   of `to_piecewise()` (built once, untimed; its time is `piecewise_build`); parameters = `linspace` over the
 //!   domain, or [`random_params`] over the domain (sorted or as generated). Reports the
 //!   values at K of the M parameters (every M/K-th).
@@ -51,12 +51,12 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
     interpolate_curve_at, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
     interpolate_heights_at, parameters, BsplineCurve, BsplineSurface, CurveInterpolation,
     CurveInterpolator, EndCondition, InterpolationOptions, Parametrization, TileOptions,
 };
+use geomkit::geom::{BatchOptions, Curve};
 use geomkit_bench::{height_grid, helix_points, linspace, random_params};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -480,12 +480,13 @@ fn curve_eval(case: &Case, timing: Timing) -> Value {
             }
         };
         let mut out = vec![0.0; m * 3];
+        let seq_options = BatchOptions::sequential().with_bit_exact(true);
         let (r, times) = match k.kind.as_str() {
             "fd" if k.params == "uniform" => {
                 time_it(|| curve.sample_uniform_fd(m, &mut out).map(|_| ()), timing)
             }
             "par" => time_it(|| curve.eval_many_par(&ts, &mut out), timing),
-            "seq" => time_it(|| curve.eval_many(&ts, &mut out), timing),
+            "seq" => time_it(|| curve.eval_batch(&ts, &mut out, &seq_options), timing),
             "pp" => time_it(|| pp.eval_many_par(&ts, &mut out), timing),
             other => {
                 results.push(json!({"ok": false, "error": format!("kind {other:?} with params {:?}", k.params)}));

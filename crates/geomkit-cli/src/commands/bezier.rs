@@ -11,7 +11,8 @@ use crate::cli::{
 use crate::model::{read_model, to_json, BezierModel, ErrorReport};
 use crate::output::{write_stdout, Destination};
 use anyhow::{bail, Context, Result};
-use geomkit::bezier::{ApproxOptions, BezierSurface, DegreeReport, ParamCurve, ReductionNorm};
+use geomkit::bezier::{ApproxOptions, BezierSurface, DegreeReport, ReductionNorm};
+use geomkit::geom::Curve;
 use geomkit_plot::figures::{curve_change_svg, surface_svg, Layer};
 use geomkit_plot::svg::{palette, Stroke};
 use std::path::{Path, PathBuf};
@@ -451,7 +452,7 @@ fn change_svg(change: &Change) -> Result<String> {
     }
     match (&change.old, &change.new) {
         (BezierModel::Curve(a), BezierModel::Curve(b)) => {
-            let new_curve: Option<&dyn ParamCurve> = change.error.map(|_| b as &dyn ParamCurve);
+            let new_curve: Option<&dyn Curve> = change.error.map(|_| b as &dyn Curve);
             Ok(curve_change_svg(
                 &title,
                 &subtitle,
@@ -550,7 +551,7 @@ fn eval(args: EvalArgs) -> Result<()> {
     let dest = Destination::from_option(args.output.as_deref());
     match &model {
         BezierModel::Curve(_) | BezierModel::Rational(_) => {
-            let curve: &dyn ParamCurve = match &model {
+            let curve: &dyn Curve = match &model {
                 BezierModel::Curve(c) => c,
                 BezierModel::Rational(r) => r,
                 BezierModel::Surface(_) => unreachable!("matched above"),

@@ -23,7 +23,7 @@ use geomkit::compose::{
     bodies, CompositeSurface, Formula, GridLine, RuledCurve, RuledSurface, SurfaceKind,
 };
 use geomkit::expr::Format;
-use geomkit::mesh::SurfaceShape;
+use geomkit::geom::Surface;
 use geomkit_model::schema::FormulaFile;
 use geomkit_model::{AnyModel, ModelFile};
 use geomkit_model::{Loaded, Sampling, Shape};
@@ -423,7 +423,7 @@ pub fn formula_line(f: &Formula) -> String {
 /// none or .txt the formula, .json the formula in every syntax plus `extra`, .obj/.stl/.ply/
 /// .glb the mesh `geomkit mesh` writes, .png/.svg the shaded picture of `geomkit render`.
 fn write_surface(
-    surface: Box<dyn SurfaceShape>,
+    surface: Box<dyn Surface>,
     f: &Formula,
     what: &str,
     subtitle: &str,

@@ -10,11 +10,9 @@ use crate::output::{Destination, RowSink, TableFormat};
 use crate::progress::Progress;
 use crate::table::{extension, Table};
 use anyhow::{bail, Context, Result};
-use geomkit::bezier::{BezierSurface, ParamCurve};
-use geomkit::bspline::{BsplineCurve, BsplineSurface};
-use geomkit::compose::{CompositeSurface, Piecewise, RuledSurface, SurfaceKind};
-use geomkit::mesh::SurfaceShape;
-use geomkit_model::{PointcalcModel, SampledSurface};
+use geomkit::compose::SurfaceKind;
+use geomkit::geom::{BatchOptions, Curve, Surface};
+use geomkit_model::PointcalcModel;
 use geomkit_plot::figures::linspace;
 use std::path::Path;
 
@@ -23,129 +21,77 @@ const BLOCK: usize = 1 << 16;
 /// Most points of a surface sample grid.
 const MAX_GRID_POINTS: usize = 100_000_000;
 
-/// A model seen as something to evaluate.
+/// A model seen as something to evaluate, with the names of its columns.
 enum Target<'a> {
     Curve {
-        curve: &'a dyn ParamCurve,
-        bspline: Option<&'a BsplineCurve>,
-        domain: (f64, f64),
+        curve: &'a dyn Curve,
         /// The parameter's column.
         param: &'a str,
         /// The coordinates' columns.
         coords: Vec<String>,
     },
-    Surface(SurfaceRef<'a>),
+    Surface {
+        surface: &'a dyn Surface,
+        /// The parameters' columns: x, y for an explicit composite z(x, y).
+        params: [&'static str; 2],
+        /// The coordinates' columns.
+        coords: Vec<String>,
+        /// Whether parameters must lie in the domain: the structural evaluators of `compose`
+        /// extend beyond their knots (formula (9)); the others are defined on it only.
+        checks_domain: bool,
+    },
     /// A point-calculus model: one column per factor, one per response.
     Factors(&'a PointcalcModel),
 }
 
-#[derive(Clone, Copy)]
-enum SurfaceRef<'a> {
-    Bezier(&'a BezierSurface),
-    Bspline(&'a BsplineSurface),
-    Composite(&'a CompositeSurface),
-    Ruled(&'a RuledSurface),
-    Samples(&'a SampledSurface),
-}
-
-impl SurfaceRef<'_> {
-    fn shape(&self) -> &dyn SurfaceShape {
-        match *self {
-            SurfaceRef::Bezier(s) => s,
-            SurfaceRef::Bspline(s) => s,
-            SurfaceRef::Composite(s) => s,
-            SurfaceRef::Ruled(s) => s,
-            SurfaceRef::Samples(s) => s,
-        }
-    }
-
-    /// Names of the parameter columns: x, y for an explicit composite z(x, y).
-    fn params(&self) -> [&'static str; 2] {
-        match self {
-            SurfaceRef::Composite(s) if s.kind() == SurfaceKind::Explicit => ["x", "y"],
-            _ => ["u", "v"],
-        }
-    }
-
-    /// Names of the coordinate columns.
-    fn coordinates(&self) -> Vec<String> {
-        match self {
-            SurfaceRef::Composite(s) if s.kind() == SurfaceKind::Explicit => vec!["z".into()],
-            s => coordinate_names(s.shape().dim()),
-        }
-    }
-
-    /// The structural evaluators of `compose` extend beyond their knots (formula (9)); the
-    /// others are defined on their domain only.
-    fn checks_domain(&self) -> bool {
-        !matches!(self, SurfaceRef::Composite(_) | SurfaceRef::Ruled(_))
-    }
-
-    fn point(&self, u: f64, v: f64, out: &mut [f64]) -> geomkit::Result<()> {
-        match *self {
-            SurfaceRef::Bezier(s) => out.copy_from_slice(&s.eval(u, v)),
-            SurfaceRef::Bspline(s) => s.eval_into(u, v, out),
-            SurfaceRef::Composite(s) => s.eval_many(&[u, v], out)?,
-            SurfaceRef::Ruled(s) => s.eval_into(u, v, out),
-            SurfaceRef::Samples(s) => s.eval_into(u, v, out),
-        }
-        Ok(())
-    }
-}
-
-/// A piecewise function or composite curve as a curve.
-struct Pieces<'a>(&'a Piecewise);
-
-impl ParamCurve for Pieces<'_> {
-    fn dim(&self) -> usize {
-        self.0.dim()
-    }
-    fn eval_into(&self, t: f64, out: &mut [f64]) {
-        self.0.eval_into(t, out)
-    }
-}
-
-fn target<'a>(model: &'a AnyModel, pieces: &'a Option<Pieces<'a>>) -> Result<Target<'a>> {
-    let curve = |curve: &'a dyn ParamCurve, domain| Target::Curve {
+/// A curve named t, x, y, ...
+fn plain_curve(curve: &dyn Curve) -> Target<'_> {
+    Target::Curve {
         curve,
-        bspline: None,
-        domain,
         param: "t",
         coords: coordinate_names(curve.dim()),
-    };
+    }
+}
+
+/// A surface named u, v, x, y, ...
+fn plain_surface(surface: &dyn Surface, checks_domain: bool) -> Target<'_> {
+    Target::Surface {
+        surface,
+        params: ["u", "v"],
+        coords: coordinate_names(surface.dim()),
+        checks_domain,
+    }
+}
+
+fn target(model: &AnyModel) -> Result<Target<'_>> {
     Ok(match model {
-        AnyModel::Bezier(BezierModel::Curve(c)) => curve(c, (0.0, 1.0)),
-        AnyModel::Bezier(BezierModel::Rational(r)) => curve(r, (0.0, 1.0)),
-        AnyModel::Bezier(BezierModel::Surface(s)) => Target::Surface(SurfaceRef::Bezier(s)),
-        AnyModel::BsplineCurve(m) => Target::Curve {
-            curve: &m.curve,
-            bspline: Some(&m.curve),
-            domain: m.curve.domain(),
-            param: "t",
-            coords: coordinate_names(m.curve.dim()),
+        AnyModel::Bezier(BezierModel::Curve(c)) => plain_curve(c),
+        AnyModel::Bezier(BezierModel::Rational(r)) => plain_curve(r),
+        AnyModel::Bezier(BezierModel::Surface(s)) => plain_surface(s, true),
+        AnyModel::BsplineCurve(m) => plain_curve(&m.curve),
+        AnyModel::BsplineSurface(m) => plain_surface(&m.surface, true),
+        AnyModel::Composite(s) if s.kind() == SurfaceKind::Explicit => Target::Surface {
+            surface: s,
+            params: ["x", "y"],
+            coords: vec!["z".into()],
+            checks_domain: false,
         },
-        AnyModel::BsplineSurface(m) => Target::Surface(SurfaceRef::Bspline(&m.surface)),
-        AnyModel::Composite(s) => Target::Surface(SurfaceRef::Composite(s)),
-        AnyModel::Ruled(s) => Target::Surface(SurfaceRef::Ruled(s)),
-        AnyModel::SurfaceSamples(s) => Target::Surface(SurfaceRef::Samples(s)),
-        AnyModel::CurveSamples(c) => curve(c, c.domain()),
-        AnyModel::Piecewise(p) => {
-            let k = p.knots();
-            Target::Curve {
-                curve: pieces.as_ref().expect("made for piecewise models"),
-                bspline: None,
-                domain: (k[0], k[k.len() - 1]),
-                param: p.var(),
-                // A function's values are f, as in its formula.
-                coords: match p.dim() {
-                    1 => vec!["f".to_string()],
-                    d => coordinate_names(d),
-                },
-            }
-        }
+        AnyModel::Composite(s) => plain_surface(s, false),
+        AnyModel::Ruled(s) => plain_surface(s, false),
+        AnyModel::SurfaceSamples(s) => plain_surface(s, true),
+        AnyModel::CurveSamples(c) => plain_curve(c),
+        AnyModel::Piecewise(p) => Target::Curve {
+            curve: p,
+            param: p.var(),
+            // A function's values are f, as in its formula.
+            coords: match p.dim() {
+                1 => vec!["f".to_string()],
+                d => coordinate_names(d),
+            },
+        },
         AnyModel::Pointcalc(m) => Target::Factors(m),
         AnyModel::Formula(f) => match &f.model {
-            Some(m) => target(m, pieces)?,
+            Some(m) => target(m)?,
             None => bail!(
                 "this formula file carries no model (written by an older geomkit): evaluate \
                  the file it was made from"
@@ -169,12 +115,8 @@ pub fn run(args: ModelEvalArgs) -> Result<()> {
         },
     };
     let model = read_any_model(&args.model)?;
-    let pieces = match model.geometry() {
-        Some(AnyModel::Piecewise(p)) => Some(Pieces(p)),
-        _ => None,
-    };
     let name = args.model.display().to_string();
-    let target = target(&model, &pieces).with_context(|| name.clone())?;
+    let target = target(&model).with_context(|| name.clone())?;
     let progress = Progress::start();
     let dest = Destination::from_option(args.output.as_deref());
     match (target, args.samples, args.at.as_deref()) {
@@ -184,8 +126,6 @@ pub fn run(args: ModelEvalArgs) -> Result<()> {
         (
             Target::Curve {
                 curve,
-                bspline,
-                domain,
                 param,
                 coords,
             },
@@ -195,15 +135,13 @@ pub fn run(args: ModelEvalArgs) -> Result<()> {
             if !(2..=MAX_CURVE_SAMPLES).contains(&k) {
                 bail!("--samples must be from 2 to {MAX_CURVE_SAMPLES} (got {k})");
             }
-            let ts = linspace(domain.0, domain.1, k);
-            let columns = (param, &coords[..]);
-            write_curve(&dest, format, curve, bspline, columns, &ts, &progress)
+            let (a, b) = curve.domain();
+            let ts = linspace(a, b, k);
+            write_curve(&dest, format, curve, (param, &coords), &ts, &progress)
         }
         (
             Target::Curve {
                 curve,
-                bspline,
-                domain,
                 param,
                 coords,
             },
@@ -211,19 +149,26 @@ pub fn run(args: ModelEvalArgs) -> Result<()> {
             Some(at),
         ) => {
             let params = read_params(at, 1, "a curve takes one column (t)", &progress)?;
-            check_domain(&params, 0, domain, "t")?;
-            let columns = (param, &coords[..]);
+            check_domain(&params, 0, curve.domain(), "t")?;
             write_curve(
                 &dest,
                 format,
                 curve,
-                bspline,
-                columns,
+                (param, &coords),
                 &params.data,
                 &progress,
             )
         }
-        (Target::Surface(s), Some(Samples(k, l)), _) => {
+        (
+            Target::Surface {
+                surface,
+                params,
+                coords,
+                ..
+            },
+            Some(Samples(k, l)),
+            _,
+        ) => {
             let l = l.unwrap_or(k);
             for c in [k, l] {
                 if !(2..=MAX_SURFACE_SAMPLES).contains(&c) {
@@ -236,22 +181,42 @@ pub fn run(args: ModelEvalArgs) -> Result<()> {
             if k * l > MAX_GRID_POINTS {
                 bail!("--samples {k}x{l} is too many points (at most {MAX_GRID_POINTS})");
             }
-            write_surface_grid(&dest, format, s, (k, l), &progress)
+            let header = header(&params, &coords);
+            write_surface_grid(&dest, format, surface, &header, (k, l), &progress)
         }
-        (Target::Surface(s), None, Some(at)) => {
-            let params = read_params(at, 2, "a surface takes two columns (u, v)", &progress)?;
-            if s.checks_domain() {
-                let (du, dv) = s.shape().domain();
-                check_domain(&params, 0, du, "u")?;
-                check_domain(&params, 1, dv, "v")?;
+        (
+            Target::Surface {
+                surface,
+                params,
+                coords,
+                checks_domain,
+            },
+            None,
+            Some(at),
+        ) => {
+            let table = read_params(at, 2, "a surface takes two columns (u, v)", &progress)?;
+            if checks_domain {
+                let (du, dv) = surface.domain();
+                check_domain(&table, 0, du, "u")?;
+                check_domain(&table, 1, dv, "v")?;
             }
-            write_surface_points(&dest, format, s, &params.data, &progress)
+            let header = header(&params, &coords);
+            write_surface_points(&dest, format, surface, &header, &table.data, &progress)
         }
         (Target::Factors(m), samples, at) => {
             write_factors(&dest, format, m, samples, at, &progress)
         }
         (_, None, None) => bail!("give --samples or --at"),
     }
+}
+
+/// The parameters' then the coordinates' names.
+fn header(params: &[&str], coords: &[String]) -> Vec<String> {
+    params
+        .iter()
+        .map(|p| p.to_string())
+        .chain(coords.iter().cloned())
+        .collect()
 }
 
 /// A point-calculus model at the rows of `--at` (one column per factor) or on a grid of K
@@ -360,8 +325,7 @@ fn check_domain(table: &Table, col: usize, (a, b): (f64, f64), name: &str) -> Re
 fn write_curve(
     dest: &Destination,
     format: TableFormat,
-    curve: &dyn ParamCurve,
-    bspline: Option<&BsplineCurve>,
+    curve: &dyn Curve,
     (param, coords): (&str, &[String]),
     ts: &[f64],
     progress: &Progress,
@@ -370,17 +334,16 @@ fn write_curve(
     let mut header = vec![param.to_string()];
     header.extend_from_slice(coords);
     progress.phase("evaluating", ts.len() as u64);
+    let options = BatchOptions::default();
     dest.write_with(|w| {
         let mut sink = RowSink::start(w, format, &[ts.len(), d + 1], &header)?;
         let mut points = vec![0.0; BLOCK * d];
         let mut rows = Vec::with_capacity(BLOCK * (d + 1));
         for block in ts.chunks(BLOCK) {
             let pts = &mut points[..block.len() * d];
-            match bspline {
-                Some(b) => b.eval_many_par(block, pts),
-                None => curve.eval_many(block, pts),
-            }
-            .map_err(std::io::Error::other)?;
+            curve
+                .eval_batch(block, pts, &options)
+                .map_err(std::io::Error::other)?;
             rows.clear();
             for (t, p) in block.iter().zip(pts.chunks_exact(d)) {
                 rows.push(*t);
@@ -396,25 +359,23 @@ fn write_curve(
 fn write_surface_grid(
     dest: &Destination,
     format: TableFormat,
-    s: SurfaceRef<'_>,
+    s: &dyn Surface,
+    header: &[String],
     (k, l): (usize, usize),
     progress: &Progress,
 ) -> Result<()> {
-    let d = s.shape().dim();
-    let ((u0, u1), (v0, v1)) = s.shape().domain();
+    let d = s.dim();
+    let ((u0, u1), (v0, v1)) = s.domain();
     let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, l));
-    let mut header: Vec<String> = s.params().map(String::from).into();
-    header.extend(s.coordinates());
     progress.phase("evaluating", k as u64);
     let block_rows = (BLOCK / l).max(1);
     dest.write_with(|w| {
-        let mut sink = RowSink::start(w, format, &[k * l, d + 2], &header)?;
+        let mut sink = RowSink::start(w, format, &[k * l, d + 2], header)?;
         let mut points = vec![0.0; block_rows * l * d];
         let mut rows = Vec::with_capacity(block_rows * l * (d + 2));
         for block in us.chunks(block_rows) {
             let pts = &mut points[..block.len() * l * d];
-            s.shape()
-                .eval_grid(block, &vs, pts)
+            s.eval_grid(block, &vs, pts)
                 .map_err(std::io::Error::other)?;
             rows.clear();
             for (a, &u) in block.iter().enumerate() {
@@ -433,25 +394,27 @@ fn write_surface_grid(
 fn write_surface_points(
     dest: &Destination,
     format: TableFormat,
-    s: SurfaceRef<'_>,
+    s: &dyn Surface,
+    header: &[String],
     uv: &[f64],
     progress: &Progress,
 ) -> Result<()> {
-    let d = s.shape().dim();
+    let d = s.dim();
     let n = uv.len() / 2;
-    let mut header: Vec<String> = s.params().map(String::from).into();
-    header.extend(s.coordinates());
     progress.phase("evaluating", n as u64);
+    let options = BatchOptions::default();
     dest.write_with(|w| {
-        let mut sink = RowSink::start(w, format, &[n, d + 2], &header)?;
+        let mut sink = RowSink::start(w, format, &[n, d + 2], header)?;
+        let mut points = vec![0.0; BLOCK * d];
         let mut rows = Vec::with_capacity(BLOCK * (d + 2));
-        let mut p = vec![0.0; d];
         for block in uv.chunks(2 * BLOCK) {
+            let pts = &mut points[..block.len() / 2 * d];
+            s.eval_batch(block, pts, &options)
+                .map_err(std::io::Error::other)?;
             rows.clear();
-            for q in block.chunks_exact(2) {
-                s.point(q[0], q[1], &mut p).map_err(std::io::Error::other)?;
+            for (q, p) in block.chunks_exact(2).zip(pts.chunks_exact(d)) {
                 rows.extend_from_slice(q);
-                rows.extend_from_slice(&p);
+                rows.extend_from_slice(p);
             }
             sink.push(w, &rows)?;
             progress.inc((block.len() / 2) as u64);

@@ -10,9 +10,9 @@ use crate::model::json_number;
 use crate::output::{write_stdout, Destination};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Subcommand};
-use geomkit::bezier::ParamCurve;
 use geomkit::exact::Rational;
 use geomkit::expr::{Format, Graph};
+use geomkit::geom::Curve;
 use geomkit::pointcalc::{
     optimize, Goal, Hypersurface, NodePreset, Nodes, OptimizeOptions, PointEquation, PointOptions,
     PointSurface, PrintedSurface, Warning,

@@ -6,10 +6,10 @@ use super::{sci, Check, Context, Item, Report};
 use crate::model::{BezierModel, ErrorReport};
 use anyhow::{ensure, Result};
 use geomkit::bezier::{
-    paper_formula_f64, ApproxOptions, BezierCurve, BezierSurface, Direction, ParamCurve,
-    ReductionNorm,
+    paper_formula_f64, ApproxOptions, BezierCurve, BezierSurface, Direction, ReductionNorm,
 };
 use geomkit::exact::{degree_change_matrix, rational_from_f64, ExactBezierCurve};
+use geomkit::geom::Curve;
 use geomkit_plot::figures::{curve_change_svg, surface_svg, surface_with_net, Layer};
 use geomkit_plot::svg::{escape, palette, Axes, Figure, Stroke};
 use std::fmt::Write as _;
@@ -132,7 +132,7 @@ fn max_point_distance(a: &[f64], b: &[f64], dim: usize) -> f64 {
 }
 
 /// Largest distance between two curves over `count` uniform parameters, and where.
-fn sampled_distance(a: &dyn ParamCurve, b: &dyn ParamCurve, count: usize) -> (f64, f64) {
+fn sampled_distance(a: &dyn Curve, b: &dyn Curve, count: usize) -> (f64, f64) {
     (0..count)
         .map(|k| {
             let t = k as f64 / (count - 1) as f64;

@@ -9,12 +9,12 @@ use super::{sci, Check, Context, Item, Report};
 use crate::model::{bspline_curve_json, bspline_surface_json};
 use crate::npy::write_npy;
 use anyhow::Result;
-use geomkit::bezier::ParamCurve;
 use geomkit::bspline::{
     interpolate_curve, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
     interpolate_surface, paper_dense_inner_points, paper_fragments_averaged, BsplineCurve,
     EndCondition, InterpolationOptions, Parametrization, SurfaceInterpolationOptions, TileOptions,
 };
+use geomkit::geom::Curve;
 use geomkit_plot::figures::{
     bspline_curve_figure, curve_on_page, heightmap_svg, linspace, surface_svg, Layer, Projection,
     REFERENCE,

@@ -6,8 +6,8 @@
 use super::{sci, Check, Context, Item, Report};
 use crate::commands::pointcalc::{curves_svg, model_json};
 use anyhow::Result;
-use geomkit::bezier::ParamCurve;
 use geomkit::exact::Rational;
+use geomkit::geom::Curve;
 use geomkit::pointcalc::{
     optimize, printed_geomatrix_exact, Goal, Hypersurface, Nodes, OptimizeOptions, PointEquation,
     PointOptions, PointSurface, PrintedSurface,

@@ -2,50 +2,10 @@
 //! Casteljau; the hodograph; conversion to and from the power form (2) with H_n (4), (5).
 
 use crate::exact::ExactBezierCurve;
+use crate::geom::{check_point, BatchOptions, Curve};
 use crate::numeric::{binomial_f64, Dd};
 pub(crate) use crate::points::{check_eval_args, flatten_points, validate_points};
 use crate::Result;
-
-/// A parametric curve that can be evaluated into a caller's buffer.
-pub trait ParamCurve {
-    /// Dimension of the points.
-    fn dim(&self) -> usize;
-
-    /// Writes the point at parameter `t` into `out` (length [`ParamCurve::dim`]).
-    ///
-    /// `out` must have exactly `dim` entries; checked in debug builds. Use
-    /// [`ParamCurve::eval_many`] for a checked batched version.
-    fn eval_into(&self, t: f64, out: &mut [f64]);
-
-    /// The point at `t` as a new vector.
-    fn eval(&self, t: f64) -> Vec<f64> {
-        let mut out = vec![0.0; self.dim()];
-        self.eval_into(t, &mut out);
-        out
-    }
-
-    /// Evaluates at every parameter of `ts`, writing point k to
-    /// `out[k*dim .. (k+1)*dim]`. Errors on a wrong buffer length or a non-finite parameter.
-    fn eval_many(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
-        let d = self.dim();
-        check_eval_args("parameter", ts, ts.len(), d, out)?;
-        for (t, o) in ts.iter().zip(out.chunks_exact_mut(d)) {
-            self.eval_into(*t, o);
-        }
-        Ok(())
-    }
-
-    /// `count` points at uniformly spaced parameters over [0, 1] (count >= 2), row-major.
-    fn sample_uniform(&self, count: usize) -> Vec<f64> {
-        let count = count.max(2);
-        let ts: Vec<f64> = (0..count).map(|k| k as f64 / (count - 1) as f64).collect();
-        let mut out = vec![0.0; count * self.dim()];
-        for (t, o) in ts.iter().zip(out.chunks_exact_mut(self.dim())) {
-            self.eval_into(*t, o);
-        }
-        out
-    }
-}
 
 /// Highest degree evaluated by [`eval_horner`] (its binomials are exact integers in u128 and
 /// its powers stay far from underflow); above it, de Casteljau.
@@ -182,10 +142,12 @@ pub(crate) fn de_casteljau(pts: &[f64], dim: usize, t: f64, work: &mut [f64], ou
 }
 
 /// A Bézier curve p(t) = Σ b_ni(t) u_i, t ∈ [0, 1], with control points u_0..u_n in R^dim
-/// (formula (1)).
+/// (formula (1)). As a [`Curve`]: domain [0, 1], no breaks, derivatives of every order from
+/// the hodographs, batches by the blocked Bernstein–Horner scheme.
 ///
 /// ```
-/// use geomkit::bezier::{BezierCurve, ParamCurve};
+/// use geomkit::bezier::BezierCurve;
+/// use geomkit::geom::Curve;
 /// let c = BezierCurve::new(vec![vec![0.0, 0.0], vec![1.0, 2.0], vec![2.0, 0.0]]).unwrap();
 /// assert_eq!(c.eval(0.5), vec![1.0, 1.0]);
 /// assert_eq!(c.derivative().eval(0.0), vec![2.0, 4.0]);
@@ -348,9 +310,32 @@ pub(crate) fn split_flat(pts: &[f64], dim: usize, t: f64) -> (Vec<f64>, Vec<f64>
     (left, right)
 }
 
-impl ParamCurve for BezierCurve {
+impl BezierCurve {
+    /// Evaluates at every parameter of `ts` on the calling thread by the blocked
+    /// Bernstein–Horner scheme (de Casteljau above degree 60); `ts` and `out` already
+    /// checked.
+    fn eval_many_unchecked(&self, ts: &[f64], out: &mut [f64]) {
+        if self.degree() <= HORNER_MAX_DEGREE {
+            eval_horner_many(&self.points, self.dim, ts, out);
+        } else {
+            let mut work = self.points.clone();
+            for (t, o) in ts.iter().zip(out.chunks_exact_mut(self.dim)) {
+                de_casteljau(&self.points, self.dim, *t, &mut work, o);
+            }
+        }
+    }
+}
+
+/// Formula (1) of spec/bezier-order.md; derivatives of order k from the k-th hodograph
+/// n(n-1)..(n-k+1) Δ^k u_i (zero above the degree).
+impl Curve for BezierCurve {
     fn dim(&self) -> usize {
         self.dim
+    }
+
+    /// [0, 1].
+    fn domain(&self) -> (f64, f64) {
+        (0.0, 1.0)
     }
 
     fn eval_into(&self, t: f64, out: &mut [f64]) {
@@ -363,16 +348,32 @@ impl ParamCurve for BezierCurve {
         }
     }
 
-    fn eval_many(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
+    /// Every order: the k-th hodograph at t (the zero vector above the degree).
+    fn derivative_into(&self, t: f64, order: usize, out: &mut [f64]) -> Result<()> {
+        check_point(&[t], self.dim, out)?;
+        if order > self.degree() {
+            out.fill(0.0);
+            return Ok(());
+        }
+        let mut h = std::borrow::Cow::Borrowed(self);
+        for _ in 0..order {
+            h = std::borrow::Cow::Owned(h.derivative());
+        }
+        h.eval_into(t, out);
+        Ok(())
+    }
+
+    /// The blocked Horner scheme, in parallel chunks for large batches: the values of
+    /// [`Curve::eval_into`], bit for bit.
+    fn eval_batch(&self, ts: &[f64], out: &mut [f64], options: &BatchOptions) -> Result<()> {
         let d = self.dim;
         check_eval_args("parameter", ts, ts.len(), d, out)?;
-        if self.degree() <= HORNER_MAX_DEGREE {
-            eval_horner_many(&self.points, d, ts, out);
+        if options.parallel() && ts.len() > 4096 {
+            crate::par::zip_chunks(true, out, 4096 * d, ts, 4096, |o, t| {
+                self.eval_many_unchecked(t, o)
+            });
         } else {
-            let mut work = self.points.clone();
-            for (t, o) in ts.iter().zip(out.chunks_exact_mut(d)) {
-                de_casteljau(&self.points, d, *t, &mut work, o);
-            }
+            self.eval_many_unchecked(ts, out);
         }
         Ok(())
     }
@@ -403,8 +404,9 @@ mod tests {
             Err(Error::DimensionMismatch { index: 1, .. })
         ));
         let c = BezierCurve::new(vec![vec![0.0], vec![1.0]]).unwrap();
-        assert!(c.eval_many(&[0.5], &mut [0.0; 2]).is_err());
-        assert!(c.eval_many(&[f64::INFINITY], &mut [0.0]).is_err());
+        let o = BatchOptions::default();
+        assert!(c.eval_batch(&[0.5], &mut [0.0; 2], &o).is_err());
+        assert!(c.eval_batch(&[f64::INFINITY], &mut [0.0], &o).is_err());
     }
 
     #[test]

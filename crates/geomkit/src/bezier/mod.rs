@@ -16,7 +16,7 @@ mod rational;
 mod surface;
 
 pub use bound::DeviationBound;
-pub use curve::{BezierCurve, ParamCurve};
+pub use curve::BezierCurve;
 pub use degree::{
     paper_formula_f64, ApproxOptions, ApproxReduction, DegreeReport, ReductionNorm,
     DEFAULT_TOLERANCE,

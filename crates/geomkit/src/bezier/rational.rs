@@ -3,7 +3,8 @@
 //! everything of [`super::degree`] applies unchanged.
 //!
 //! ```
-//! use geomkit::bezier::{ParamCurve, RationalBezierCurve};
+//! use geomkit::bezier::RationalBezierCurve;
+//! use geomkit::geom::Curve;
 //! // A quarter of the unit circle.
 //! let arc = RationalBezierCurve::new(
 //!     vec![vec![1.0, 0.0], vec![1.0, 1.0], vec![0.0, 1.0]],
@@ -13,8 +14,9 @@
 //! assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-15);
 //! ```
 
-use super::curve::{de_casteljau, flatten_points, BezierCurve, ParamCurve};
+use super::curve::{de_casteljau, flatten_points, BezierCurve};
 use super::degree::DegreeReport;
+use crate::geom::{check_point, Curve};
 use crate::{Error, Result};
 
 /// A rational Bézier curve with positive weights.
@@ -120,9 +122,16 @@ impl RationalBezierCurve {
     }
 }
 
-impl ParamCurve for RationalBezierCurve {
+/// p(t) = Σ w_i b_ni(t) u_i / Σ w_i b_ni(t) on [0, 1] (de Casteljau on the homogeneous
+/// points); derivatives of every order by the quotient rule on the homogeneous hodographs.
+impl Curve for RationalBezierCurve {
     fn dim(&self) -> usize {
         self.homogeneous.dim() - 1
+    }
+
+    /// [0, 1].
+    fn domain(&self) -> (f64, f64) {
+        (0.0, 1.0)
     }
 
     fn eval_into(&self, t: f64, out: &mut [f64]) {
@@ -134,6 +143,39 @@ impl ParamCurve for RationalBezierCurve {
         for (o, x) in out.iter_mut().zip(&h[..d - 1]) {
             *o = x / h[d - 1];
         }
+    }
+
+    /// Every order: with A(t) = Σ w_i b_ni(t) u_i and w(t) = Σ w_i b_ni(t) (the
+    /// homogeneous curve and its hodographs), p^(k) = (A^(k) - Σ_(i=1..k) C(k,i) w^(i)
+    /// p^(k-i)) / w.
+    fn derivative_into(&self, t: f64, order: usize, out: &mut [f64]) -> Result<()> {
+        let r = self.dim();
+        check_point(&[t], r, out)?;
+        let hd = r + 1;
+        // Homogeneous derivatives H^(i), i = 0..=order.
+        let mut h = vec![0.0; (order + 1) * hd];
+        for (i, hi) in h.chunks_exact_mut(hd).enumerate() {
+            self.homogeneous.derivative_into(t, i, hi)?;
+        }
+        let w = h[r];
+        // p^(j) for j = 0..=order, each from the lower ones.
+        let mut p = vec![0.0; (order + 1) * r];
+        for j in 0..=order {
+            let mut binom = 1.0;
+            let mut acc = h[j * hd..j * hd + r].to_vec();
+            for i in 1..=j {
+                binom = binom * (j - i + 1) as f64 / i as f64;
+                let wi = h[i * hd + r];
+                for (a, q) in acc.iter_mut().zip(&p[(j - i) * r..(j - i + 1) * r]) {
+                    *a -= binom * wi * q;
+                }
+            }
+            for (o, a) in p[j * r..(j + 1) * r].iter_mut().zip(&acc) {
+                *o = a / w;
+            }
+        }
+        out.copy_from_slice(&p[order * r..]);
+        Ok(())
     }
 }
 

@@ -26,6 +26,7 @@ use super::degree::{
     check_tolerance, elevate_flat, paper_change_flat, real_degree_flat, reduce_least_squares,
     DegreeReport,
 };
+use crate::geom::{check_pairs, check_point, BatchOptions, Surface};
 use crate::numeric::{distance, max_norm};
 use crate::points::{check_eval_args, flatten_grid, unit_normal};
 use crate::{Error, Result};
@@ -431,5 +432,63 @@ impl BezierSurface {
             at,
             upper_bound: max_norm(&diff, self.dim).max(best) + slack,
         })
+    }
+}
+
+/// Formula (11) of spec/bezier-order.md on [0, 1]², by de Casteljau in u then in v.
+impl Surface for BezierSurface {
+    crate::geom::forward_to_inherent!(BezierSurface; dim, eval_grid);
+
+    /// [0, 1]².
+    fn domain(&self) -> ((f64, f64), (f64, f64)) {
+        ((0.0, 1.0), (0.0, 1.0))
+    }
+
+    fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
+        let mut work = vec![0.0; self.net.len()];
+        let mut row = vec![0.0; self.cols * self.dim];
+        self.eval_with(u, v, &mut work, &mut row, out);
+    }
+
+    /// De Casteljau with scratch reused over chunks of points (in parallel for large
+    /// batches): the values of [`Surface::eval_into`], bit for bit.
+    fn eval_batch(&self, uv: &[f64], out: &mut [f64], options: &BatchOptions) -> Result<()> {
+        let d = self.dim;
+        check_pairs(uv, d, out)?;
+        let parallel = options.parallel() && uv.len() / 2 > 1024;
+        crate::par::zip_chunks(parallel, out, 1024 * d, uv, 2048, |o, q| {
+            let mut work = vec![0.0; self.net.len()];
+            let mut row = vec![0.0; self.cols * d];
+            for (p, x) in q.chunks_exact(2).zip(o.chunks_exact_mut(d)) {
+                self.eval_with(p[0], p[1], &mut work, &mut row, x);
+            }
+        });
+        Ok(())
+    }
+
+    /// Every order: the ku-th hodograph in u of the kv-th in v (formula (11) differentiated
+    /// term by term), zero above the degrees.
+    fn derivative_into(
+        &self,
+        u: f64,
+        v: f64,
+        (ku, kv): (usize, usize),
+        out: &mut [f64],
+    ) -> Result<()> {
+        check_point(&[u, v], self.dim, out)?;
+        let (n, m) = self.degrees();
+        if ku > n || kv > m {
+            out.fill(0.0);
+            return Ok(());
+        }
+        let mut s = std::borrow::Cow::Borrowed(self);
+        for _ in 0..ku {
+            s = std::borrow::Cow::Owned(s.derivative(Direction::U));
+        }
+        for _ in 0..kv {
+            s = std::borrow::Cow::Owned(s.derivative(Direction::V));
+        }
+        Surface::eval_into(s.as_ref(), u, v, out);
+        Ok(())
     }
 }

@@ -13,7 +13,7 @@
 //!
 //! ```
 //! use geomkit::bspline::{interpolate_curve, EndCondition, InterpolationOptions, Parametrization};
-//! use geomkit::bezier::ParamCurve;
+//! use geomkit::geom::Curve;
 //! let pts = vec![vec![0., 0.], vec![1., 2.], vec![3., 3.], vec![4., 0.], vec![6., 1.]];
 //! let opts = InterpolationOptions::default().with_end(EndCondition::Natural);
 //! let fit = interpolate_curve(&pts, &opts).unwrap();
@@ -26,9 +26,9 @@
 use super::banded::{BandLu, BandMatrix, CyclicLu};
 use super::curve::{basis_funs, basis_funs_derivs, cubic_basis_at_knot, BsplineCurve};
 use super::tridiag::TridiagSystem;
+use crate::par::*;
 use crate::points::flatten_points;
 use crate::{Error, Result};
-use rayon::prelude::*;
 
 /// How the ends of an open interpolating curve are determined.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -210,7 +210,7 @@ pub fn interpolate_curve_flat(
 ///
 /// ```
 /// use geomkit::bspline::{interpolate_curve_at, EndCondition};
-/// use geomkit::bezier::ParamCurve;
+/// use geomkit::geom::Curve;
 /// let x = [0.0, 0.5, 2.0, 2.5, 4.0];
 /// let y = [1.0, 3.0, 2.0, 0.0, 1.0];
 /// let fit = interpolate_curve_at(1, &y, &x, &EndCondition::NotAKnot).unwrap();
@@ -280,7 +280,7 @@ const PARALLEL_SOLVE: usize = 1 << 16;
 ///
 /// ```
 /// use geomkit::bspline::{BsplineCurve, CurveInterpolator, EndCondition};
-/// use geomkit::bezier::ParamCurve;
+/// use geomkit::geom::Curve;
 /// let solver = CurveInterpolator::uniform(5, &EndCondition::NotAKnot).unwrap();
 /// let mut control = vec![0.0; solver.n_control() * 2];
 /// for frame in 0..3 {

@@ -8,11 +8,11 @@
 
 use super::curve::{domain_spans, BsplineCurve};
 use super::locate::{Prefetcher, BLOCK};
-use crate::bezier::ParamCurve;
+use crate::geom::{check_point, BatchOptions, Curve};
+use crate::par::*;
 use crate::points::check_eval_args;
 use crate::{Error, Result};
 use bytemuck::{Pod, Zeroable};
-use rayon::prelude::*;
 
 /// One cache line of a record (records start on a line: a 3-D cubic's 14 numbers then take
 /// two lines, never three).
@@ -64,7 +64,7 @@ enum Spans {
 ///
 /// # Example
 /// ```
-/// use geomkit::bezier::ParamCurve;
+/// use geomkit::geom::Curve;
 /// use geomkit::bspline::{interpolate_curve, InterpolationOptions, Parametrization};
 ///
 /// let points = vec![vec![0.0, 0.0], vec![1.0, 2.0], vec![3.0, 2.5], vec![4.0, 0.0]];
@@ -106,12 +106,13 @@ impl BsplineCurve {
     /// at many arbitrary parameters. O(spans), in parallel. Errors: degree above 3, more
     /// than 2^32 - 1 spans.
     pub fn to_piecewise(&self) -> Result<PiecewiseCurve> {
-        PiecewiseCurve::from_bspline(self)
+        PiecewiseCurve::build(self, true)
     }
 }
 
 impl PiecewiseCurve {
-    fn from_bspline(curve: &BsplineCurve) -> Result<Self> {
+    /// The form of `curve`, records built on the thread pool when `parallel`.
+    pub(crate) fn build(curve: &BsplineCurve, parallel: bool) -> Result<Self> {
         let (d, p) = (curve.dim(), curve.degree());
         if p > 3 {
             return Err(Error::InvalidOption {
@@ -129,26 +130,34 @@ impl PiecewiseCurve {
         }
         let stride = record_lines(d);
         let mut records = vec![Line::default(); (hi - lo + 1) * stride];
-        records.par_chunks_mut(stride).enumerate().for_each_init(
-            || vec![0.0; 4 * d],
-            |taylor, (i, rec)| {
-                let rec: &mut [f64] = bytemuck::cast_slice_mut(rec);
-                let s = lo + i;
-                let (t0, t1) = (knots[s], knots[s + 1]);
-                rec[0] = t0;
-                rec[1] = t1;
-                // Interior spans of zero width (repeated knots) hold no parameter: zero
-                // coefficients.
-                if t0 < t1 {
-                    curve.span_taylor(s, taylor);
-                    for (c, tc) in taylor.chunks_exact(4).enumerate() {
-                        for (k, v) in tc.iter().enumerate() {
-                            rec[COEFFS + k * d + c] = *v;
-                        }
+        let fill = |taylor: &mut Vec<f64>, (i, rec): (usize, &mut [Line])| {
+            let rec: &mut [f64] = bytemuck::cast_slice_mut(rec);
+            let s = lo + i;
+            let (t0, t1) = (knots[s], knots[s + 1]);
+            rec[0] = t0;
+            rec[1] = t1;
+            // Interior spans of zero width (repeated knots) hold no parameter: zero
+            // coefficients.
+            if t0 < t1 {
+                curve.span_taylor(s, taylor);
+                for (c, tc) in taylor.chunks_exact(4).enumerate() {
+                    for (k, v) in tc.iter().enumerate() {
+                        rec[COEFFS + k * d + c] = *v;
                     }
                 }
-            },
-        );
+            }
+        };
+        if parallel {
+            records
+                .par_chunks_mut(stride)
+                .enumerate()
+                .for_each_init(|| vec![0.0; 4 * d], fill);
+        } else {
+            let mut taylor = vec![0.0; 4 * d];
+            for item in records.chunks_mut(stride).enumerate() {
+                fill(&mut taylor, item);
+            }
+        }
         let spans = match curve.uniform_step() {
             Some(h) => Spans::Uniform {
                 start: knots[lo],
@@ -265,16 +274,26 @@ impl PiecewiseCurve {
     /// Evaluates at arbitrary parameters (sorted or not) into `out` (row-major), in
     /// parallel over chunks of 4096. Block by block, the spans of 64 parameters are found
     /// first and their records requested, so that unsorted parameters' cache misses
-    /// overlap. The values of [`ParamCurve::eval_into`], bit for bit. Errors: wrong buffer
+    /// overlap. The values of [`Curve::eval_into`], bit for bit. Errors: wrong buffer
     /// length, non-finite parameters.
     pub fn eval_many_par(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim;
         check_eval_args("parameter", ts, ts.len(), d, out)?;
-        let kernel = self.kernel();
-        out.par_chunks_mut(4096 * d)
-            .zip(ts.par_chunks(4096))
-            .for_each(|(o, t)| kernel(self, t, o));
+        self.eval_many_with(ts, out, true);
         Ok(())
+    }
+
+    /// The batch kernel over checked arguments, in parallel chunks of 4096 when
+    /// `parallel`.
+    pub(crate) fn eval_many_with(&self, ts: &[f64], out: &mut [f64], parallel: bool) {
+        let kernel = self.kernel();
+        if parallel {
+            out.par_chunks_mut(4096 * self.dim)
+                .zip(ts.par_chunks(4096))
+                .for_each(|(o, t)| kernel(self, t, o));
+        } else {
+            kernel(self, ts, out);
+        }
     }
 
     fn kernel(&self) -> fn(&PiecewiseCurve, &[f64], &mut [f64]) {
@@ -339,9 +358,15 @@ impl PiecewiseCurve {
     }
 }
 
-impl ParamCurve for PiecewiseCurve {
+/// The B-spline's polynomial pieces (power form about each span's left knot); domain and
+/// breaks those of the B-spline.
+impl Curve for PiecewiseCurve {
     fn dim(&self) -> usize {
         self.dim
+    }
+
+    fn domain(&self) -> (f64, f64) {
+        PiecewiseCurve::domain(self)
     }
 
     #[inline]
@@ -349,10 +374,25 @@ impl ParamCurve for PiecewiseCurve {
         self.horner::<0>(self.record(self.piece_of(t)), t, out);
     }
 
-    /// [`PiecewiseCurve::eval_many_par`] on the calling thread: the same bits.
-    fn eval_many(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
+    /// Every order ([`PiecewiseCurve::eval_derivative`]; zero above 3).
+    fn derivative_into(&self, t: f64, order: usize, out: &mut [f64]) -> Result<()> {
+        check_point(&[t], self.dim, out)?;
+        self.eval_derivative(t, order, out);
+        Ok(())
+    }
+
+    /// The ends of the pieces strictly inside the domain.
+    fn breaks(&self) -> Vec<f64> {
+        let mut b: Vec<f64> = (1..=self.last).map(|i| self.piece(i).0).collect();
+        b.dedup();
+        b
+    }
+
+    /// The kernel of [`PiecewiseCurve::eval_many_par`]: the values of
+    /// [`Curve::eval_into`], bit for bit.
+    fn eval_batch(&self, ts: &[f64], out: &mut [f64], options: &BatchOptions) -> Result<()> {
         check_eval_args("parameter", ts, ts.len(), self.dim, out)?;
-        (self.kernel())(self, ts, out);
+        self.eval_many_with(ts, out, options.parallel());
         Ok(())
     }
 }

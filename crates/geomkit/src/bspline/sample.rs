@@ -10,10 +10,10 @@
 
 use super::curve::{basis_funs_derivs, cubic_basis_at_knot, BsplineCurve};
 use super::locate::{with_avx2, CubicLanes, Locator, Prefetcher, BLOCK};
-use crate::bezier::ParamCurve;
+use crate::geom::Curve;
+use crate::par::*;
 use crate::points::check_eval_args;
 use crate::{Error, Result};
-use rayon::prelude::*;
 
 /// Samples first..end fall in knot span `span`.
 #[derive(Debug, Clone, Copy)]
@@ -285,7 +285,7 @@ impl BsplineCurve {
     /// from a bucket table over the domain (built for large batches) or a binary search,
     /// after trying the previous point's span (sorted parameters cost O(1) each). In
     /// parallel over blocks; cubics of dimension 1 to 3 take a specialized kernel. Same
-    /// values, bit for bit, as [`ParamCurve::eval_into`]. Errors: wrong buffer length,
+    /// values, bit for bit, as [`Curve::eval_into`]. Errors: wrong buffer length,
     /// non-finite parameters.
     pub fn eval_many_par(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim();
@@ -299,7 +299,8 @@ impl BsplineCurve {
     }
 
     /// [`BsplineCurve::eval_many_par`] on the calling thread (the curve's
-    /// [`ParamCurve::eval_many`]): the same kernels, the same bits.
+    /// [`Curve::eval_batch`] with [`crate::geom::Parallelism::Sequential`]): the same kernels,
+    /// the same bits.
     pub(crate) fn eval_many_seq(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         check_eval_args("parameter", ts, ts.len(), self.dim(), out)?;
         let locator = self.locator(ts.len());

@@ -18,9 +18,10 @@ use super::curve::{
     uniform_span,
 };
 use super::interpolate::{knots_around, EndCondition, Parametrization, Solver1d};
+use crate::geom::{check_point, BatchOptions, Surface};
+use crate::par::*;
 use crate::points::{check_eval_args, check_knots, flatten_grid, unit_normal, validate_points};
 use crate::{Error, Result};
-use rayon::prelude::*;
 
 mod batch;
 
@@ -781,4 +782,56 @@ pub fn interpolate_heights_at(
     let sys_u = Solver1d::new(knots_around(xs), end, p)?;
     let sys_v = Solver1d::new(knots_around(ys), end, p)?;
     Ok(separable(z, xs.len(), ys.len(), 1, &sys_u, &sys_v)?.surface)
+}
+
+/// The distinct knots strictly inside (a, b).
+fn inner_knots(knots: &[f64], (a, b): (f64, f64)) -> Vec<f64> {
+    let mut k: Vec<f64> = knots.iter().copied().filter(|&x| x > a && x < b).collect();
+    k.dedup();
+    k
+}
+
+/// The tensor-product B-spline surface of spec/bspline-interpolation.md (bicubic on uniform
+/// knots: formula (1) in each direction). Points are evaluated by the batch kernels of
+/// [`BsplineSurface::eval_many_par`], so that [`Surface::eval_into`] and
+/// [`Surface::eval_batch`] agree bit for bit (the inherent [`BsplineSurface::eval_into`]
+/// sums in another order: within a few ulps).
+impl Surface for BsplineSurface {
+    crate::geom::forward_to_inherent!(BsplineSurface; dim, surface_domain, eval_grid);
+
+    fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
+        self.eval_point_batched(u, v, out)
+    }
+
+    /// The kernels of [`BsplineSurface::eval_many_par`] over interleaved pairs.
+    fn eval_batch(&self, uv: &[f64], out: &mut [f64], options: &BatchOptions) -> Result<()> {
+        self.eval_pairs(uv, out, options.parallel())
+    }
+
+    /// Every order ([`BsplineSurface::eval_derivative`], NURBS Book A2.3 in each direction;
+    /// zero above the degrees; at a knot, the span on its right).
+    fn derivative_into(
+        &self,
+        u: f64,
+        v: f64,
+        (ku, kv): (usize, usize),
+        out: &mut [f64],
+    ) -> Result<()> {
+        check_point(&[u, v], self.dim, out)?;
+        if (ku, kv) == (0, 0) {
+            self.eval_point_batched(u, v, out);
+        } else {
+            self.eval_derivative(u, v, ku, kv, out);
+        }
+        Ok(())
+    }
+
+    /// The distinct knots strictly inside the domain, in u and in v.
+    fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
+        let (du, dv) = BsplineSurface::domain(self);
+        (
+            inner_knots(&self.knots_u, du),
+            inner_knots(&self.knots_v, dv),
+        )
+    }
 }

@@ -25,9 +25,9 @@ use super::interpolate::{
     knots_around, knots_around_parameters, CurveInterpolation, EndCondition, InterpolationOptions,
     Params, Solver1d,
 };
+use crate::par::*;
 use crate::points::validate_points;
 use crate::{Error, Result};
-use rayon::prelude::*;
 use std::ops::Range;
 
 /// Tile sizes.

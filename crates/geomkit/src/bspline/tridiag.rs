@@ -21,7 +21,7 @@
 //! decays).
 
 use super::banded::BandMatrix;
-use rayon::prelude::*;
+use crate::par::*;
 
 /// Toeplitz pivots stored explicitly; beyond, they equal the limit to the last bit.
 const STORED: usize = 64;
@@ -288,7 +288,7 @@ impl TridiagSystem {
             } => {
                 let inv = |r| Self::inv(inv_pivot, *inv_limit, r);
                 let chunks = (n * cols / CHUNK).min(n / (8 * HALO));
-                if chunks >= 2 && rayon::current_num_threads() > 1 {
+                if chunks >= 2 && crate::par::current_num_threads() > 1 {
                     return toeplitz_par(b, cols, n, chunks, &inv, &sc);
                 }
                 for r in 1..n {
@@ -434,7 +434,7 @@ impl TridiagSystem {
             }
         };
         let rows = (FUSED_CHUNK / cols).max(8 * HALO);
-        let parallel = n > 2 * rows && rayon::current_num_threads() > 1;
+        let parallel = n > 2 * rows && crate::par::current_num_threads() > 1;
         let chunk = if parallel { rows } else { n };
         let finite = out
             .par_chunks_mut(chunk * cols)
@@ -487,7 +487,9 @@ impl TridiagSystem {
                 }
                 finite
             })
-            .reduce(|| true, |a, b| a && b);
+            .filter(|&finite| !finite)
+            .count()
+            == 0;
         self.correct(out, cols);
         finite && self.ends_finite(out, cols)
     }
@@ -578,7 +580,7 @@ impl TridiagSystem {
             }
         };
         let rows = (FUSED_CHUNK / cols).max(64);
-        let chunks = if rayon::current_num_threads() > 1 {
+        let chunks = if crate::par::current_num_threads() > 1 {
             (n / rows).max(1)
         } else {
             1
@@ -980,7 +982,9 @@ fn toeplitz_par(
             }
             finite
         })
-        .reduce(|| true, |a, b| a && b)
+        .filter(|&finite| !finite)
+        .count()
+        == 0
 }
 
 #[cfg(test)]

@@ -228,6 +228,32 @@ impl ExprPatch {
         Ok(out)
     }
 
+    /// The `order`-th derivative of a patch in one variable (a curve piece), by the engine's
+    /// symbolic derivative ([`crate::expr::Graph::diff`]), as a patch on the same domain.
+    /// Errors: [`Error::Expression`] if the derivative does not compile.
+    pub(crate) fn derivative(&self, order: usize) -> Result<ExprPatch> {
+        let var = self.vars[0].clone();
+        let mut graph = self.graph.clone();
+        let mut roots = self.roots.clone();
+        for _ in 0..order {
+            roots = roots.iter().map(|&r| graph.diff(r, &var)).collect();
+        }
+        let vars: Vec<&str> = self.vars.iter().map(String::as_str).collect();
+        let texts = self
+            .texts
+            .iter()
+            .map(|t| format!("d^{order}/d{var}^{order} ({t})"))
+            .collect();
+        ExprPatch::new(
+            graph,
+            roots,
+            self.names.clone(),
+            texts,
+            &vars,
+            self.domain.clone(),
+        )
+    }
+
     /// Evaluates at local coordinates (each in [0, 1], mapped linearly onto `domain`):
     /// `locals[k][i]` is local variable k at point i; `out` receives `dim` numbers per point.
     pub(crate) fn eval_local_many(

@@ -24,6 +24,7 @@ use super::ramp::ramp;
 use super::surface::{ramps, ContinuityReport, GridLine, Jump};
 use crate::exact::Rational;
 use crate::expr::Graph;
+use crate::geom::{check_point, Curve};
 use crate::{Error, Result};
 
 /// A piecewise function (one coordinate, variable x) or composite curve (2 or more
@@ -445,6 +446,72 @@ fn breakpoint_report<'a>(
         max_jump: jumps.iter().fold(0.0f64, |m, j| m.max(j.max_jump)),
         jumps,
         tolerance: 64.0 * f64::EPSILON * scale.max(f64::MIN_POSITIVE),
+    }
+}
+
+/// The structural evaluator of the single formula of spec/composite-surfaces.md §5, on
+/// [x_0, x_n] (beyond the knots the ends are held).
+impl Curve for Piecewise {
+    fn dim(&self) -> usize {
+        self.names.len()
+    }
+
+    /// [x_0, x_n].
+    fn domain(&self) -> (f64, f64) {
+        let k = self.axis.knots();
+        (k[0], k[k.len() - 1])
+    }
+
+    fn eval_into(&self, t: f64, out: &mut [f64]) {
+        Piecewise::eval_into(self, t, out)
+    }
+
+    /// The derivative of the piece holding x (the one on the right at a knot; zero beyond
+    /// the ends, where the formula holds them; the shifts of §5 are constants). Polylines:
+    /// the slope (p_(i+1) - p_i)/(x_(i+1) - x_i), zero from order 2 on. Formula pieces:
+    /// the engine's symbolic derivative in the piece's own variable, times
+    /// (Δ own / Δx)^order for pieces on a domain of their own. Errors:
+    /// [`Error::Expression`] if a symbolic derivative does not compile.
+    fn derivative_into(&self, t: f64, order: usize, out: &mut [f64]) -> Result<()> {
+        check_point(&[t], self.dim(), out)?;
+        if order == 0 {
+            self.eval_into(t, out);
+            return Ok(());
+        }
+        let k = self.axis.knots();
+        if t < k[0] || t > k[k.len() - 1] {
+            out.fill(0.0);
+            return Ok(());
+        }
+        let (i, s) = self.axis.locate(t);
+        match &self.pieces {
+            Pieces::Linear { values } => {
+                for (c, o) in out.iter_mut().enumerate() {
+                    *o = if order > 1 {
+                        0.0
+                    } else {
+                        (values[i + 1][c] - values[i][c]) / (k[i + 1] - k[i])
+                    };
+                }
+            }
+            Pieces::Expr {
+                pieces, domains, ..
+            } => {
+                let (a, b) = domains[i];
+                pieces[i]
+                    .derivative(order)?
+                    .eval_local_many(&[domains[i]], &[&[s]], out);
+                let scale = ((b - a) / (k[i + 1] - k[i])).powi(order as i32);
+                out.iter_mut().for_each(|x| *x *= scale);
+            }
+        }
+        Ok(())
+    }
+
+    /// The inner knots x_1..x_(n-1).
+    fn breaks(&self) -> Vec<f64> {
+        let k = self.axis.knots();
+        k[1..k.len() - 1].to_vec()
     }
 }
 

@@ -164,6 +164,32 @@ impl PolyPatch {
         }
     }
 
+    /// The partial derivative ∂^(ks+kt) r / ∂s^ks ∂t^kt at (s, t) into `out` (length dim):
+    /// Σ_(a>=ks, b>=kt) a!/(a-ks)! b!/(b-kt)! c_ab s^(a-ks) t^(b-kt), Horner in t inside
+    /// Horner in s; zero above the degrees.
+    pub(crate) fn partial_into(&self, s: f64, t: f64, (ks, kt): (usize, usize), out: &mut [f64]) {
+        let (p, q) = self.degree;
+        let d = self.dim;
+        out[..d].fill(0.0);
+        if ks > p || kt > q {
+            return;
+        }
+        // a!/(a-k)! as a float (exact for the small degrees of patches).
+        let falling = |a: usize, k: usize| ((a - k + 1)..=a).map(|x| x as f64).product::<f64>();
+        for k in 0..d {
+            let mut acc = 0.0;
+            for a in (ks..=p).rev() {
+                let row = &self.coef[a * (q + 1) * d..];
+                let mut r = 0.0;
+                for b in (kt..=q).rev() {
+                    r = r * t + falling(b, kt) * row[b * d + k];
+                }
+                acc = acc * s + falling(a, ks) * r;
+            }
+            out[k] = acc;
+        }
+    }
+
     /// r(s, t).
     pub fn eval(&self, s: f64, t: f64) -> Vec<f64> {
         let mut out = vec![0.0; self.dim];

@@ -23,6 +23,7 @@ use super::grid::{check_increasing, Axis};
 use super::linear::{exact, AbsSum};
 use crate::exact::Rational;
 use crate::expr::{Const, Graph, Id};
+use crate::geom::{check_point, Curve, Surface};
 use crate::{Error, Result};
 use num_traits::One;
 
@@ -477,6 +478,138 @@ impl RuledSurface {
                 Coord::Expr(e)
             }
         })
+    }
+}
+
+impl RuledCurve {
+    /// The `order`-th derivative with respect to the curve's own parameter τ: points have
+    /// none (zero), circles every order (r (cos, sin)(τ + kπ/2), 0), polylines the slope of
+    /// the edge holding τ (the edge on the right at a vertex, zero beyond the ends where τ
+    /// is clamped) and zero from order 2 on, formula curves the engine's symbolic
+    /// derivative. Errors: [`Error::Expression`] if that does not compile.
+    fn derivative(&self, tau: f64, order: usize) -> Result<[f64; 3]> {
+        if order == 0 {
+            return Ok(self.eval(tau));
+        }
+        match self {
+            RuledCurve::Point(_) => Ok([0.0; 3]),
+            RuledCurve::Circle { radius, .. } => {
+                let phase = tau + order as f64 * std::f64::consts::FRAC_PI_2;
+                Ok([radius * phase.cos(), radius * phase.sin(), 0.0])
+            }
+            RuledCurve::Polyline { .. } => {
+                let v = self.vertices_closed();
+                let last = (v.len() - 1) as f64;
+                if order > 1 || !(0.0..=last).contains(&tau) {
+                    return Ok([0.0; 3]);
+                }
+                let k = (tau.floor() as usize).min(v.len() - 2);
+                Ok([0, 1, 2].map(|c| v[k + 1][c] - v[k][c]))
+            }
+            RuledCurve::Expr(e) => {
+                let p = e.derivative(order)?.eval(&[tau])?;
+                Ok([p[0], p[1], p[2]])
+            }
+        }
+    }
+}
+
+/// One curve of a ruled surface (spec/composite-surfaces.md formula (2)) on its own
+/// parameter interval.
+impl Curve for RuledCurve {
+    /// 3.
+    fn dim(&self) -> usize {
+        3
+    }
+
+    /// [`RuledCurve::interval`].
+    fn domain(&self) -> (f64, f64) {
+        self.interval()
+    }
+
+    fn eval_into(&self, t: f64, out: &mut [f64]) {
+        out.copy_from_slice(&self.eval(t));
+    }
+
+    /// Points: zero; circles: every order; polylines: the edge's slope, then zero; formula
+    /// curves: the symbolic derivative. Errors: [`Error::Expression`] if that does not
+    /// compile.
+    fn derivative_into(&self, t: f64, order: usize, out: &mut [f64]) -> Result<()> {
+        check_point(&[t], 3, out)?;
+        out.copy_from_slice(&self.derivative(t, order)?);
+        Ok(())
+    }
+
+    /// The inner vertices of polylines (their parameters 1, 2, ...).
+    fn breaks(&self) -> Vec<f64> {
+        match self {
+            RuledCurve::Polyline { .. } => {
+                let (_, t1) = self.interval();
+                (1..t1 as usize).map(|k| k as f64).collect()
+            }
+            _ => Vec::new(),
+        }
+    }
+}
+
+/// Formula (2) of spec/composite-surfaces.md by its structural evaluator.
+impl Surface for RuledSurface {
+    /// 3.
+    fn dim(&self) -> usize {
+        3
+    }
+
+    crate::geom::forward_to_inherent!(RuledSurface; surface_domain, surface_eval_into, eval_grid);
+
+    /// With S = a(u) + λ(v)(b(u) - a(u)) between the curves a, b around v:
+    /// ∂^ku a/∂u^ku = a^(ku)(τ) (dτ/du)^ku, then kv = 0: a + λ(b - a), kv = 1:
+    /// (b - a)/Δv, kv >= 2: zero (at a curve, the strip above it). Errors: those of the
+    /// curves' derivatives.
+    fn derivative_into(
+        &self,
+        u: f64,
+        v: f64,
+        (ku, kv): (usize, usize),
+        out: &mut [f64],
+    ) -> Result<()> {
+        check_point(&[u, v], 3, out)?;
+        if kv >= 2 {
+            out.fill(0.0);
+            return Ok(());
+        }
+        let (p, lambda) = self.v.locate(v);
+        let (u0, u1) = self.u_range;
+        let side = |k: usize| -> Result<[f64; 3]> {
+            let (t0, t1) = self.curves[k].interval();
+            let scale = ((t1 - t0) / (u1 - u0)).powi(ku as i32);
+            let d = self.curves[k].derivative(self.tau(k, u), ku)?;
+            Ok(d.map(|x| x * scale))
+        };
+        let (a, b) = (side(p)?, side(p + 1)?);
+        let vk = self.v.knots();
+        for c in 0..3 {
+            out[c] = if kv == 0 {
+                a[c] + lambda * (b[c] - a[c])
+            } else {
+                (b[c] - a[c]) / (vk[p + 1] - vk[p])
+            };
+        }
+        Ok(())
+    }
+
+    /// The v of every curve, and the u of every polyline vertex (each curve is mapped
+    /// linearly onto the common u range).
+    fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
+        let ((u0, u1), _) = RuledSurface::domain(self);
+        let mut bu = Vec::new();
+        for c in self.curves() {
+            if let RuledCurve::Polyline { .. } = c {
+                let (t0, t1) = c.interval();
+                let segments = (t1 - t0).round() as usize;
+                bu.extend((0..=segments).map(|k| u0 + (u1 - u0) * k as f64 / segments as f64));
+            }
+        }
+        (bu, self.v_values().to_vec())
     }
 }
 

@@ -32,9 +32,10 @@ use super::ramp::ramp;
 use crate::bezier::BezierSurface;
 use crate::bspline::BsplineSurface;
 use crate::expr::{Const, Graph, Id, Tape};
+use crate::geom::{check_pairs, check_point, unsupported_partial, BatchOptions, Surface};
+use crate::par::*;
 use crate::points::check_eval_args;
 use crate::{Error, Result};
-use rayon::prelude::*;
 
 /// Samples per shared edge in the continuity report (both corners included).
 pub const EDGE_SAMPLES: usize = 65;
@@ -480,39 +481,29 @@ impl CompositeSurface {
     }
 
     /// Evaluates at the pairs `uv = [u0, v0, u1, v1, ...]` into `out` (dim numbers per
-    /// point), in parallel for large batches. Errors: odd `uv`, wrong buffer length,
-    /// non-finite parameters.
+    /// point), in parallel for large batches (the [`Surface::eval_batch`] of the surface).
+    /// Errors: odd `uv`, wrong buffer length, non-finite parameters.
     pub fn eval_many(&self, uv: &[f64], out: &mut [f64]) -> Result<()> {
-        if !uv.len().is_multiple_of(2) {
-            return Err(Error::BufferSize {
-                expected: uv.len() + 1,
-                got: uv.len(),
-            });
-        }
+        self.eval_pairs(uv, out, true)
+    }
+
+    /// [`Self::eval_many`], on the thread pool only when `parallel`.
+    fn eval_pairs(&self, uv: &[f64], out: &mut [f64], parallel: bool) -> Result<()> {
         let d = self.dim;
-        check_eval_args("parameter", uv, uv.len() / 2, d, out)?;
+        check_pairs(uv, d, out)?;
         if let Cells::Expr { effective, .. } = &self.cells {
-            self.eval_expr_points(effective, uv, out);
+            self.eval_expr_points(effective, uv, out, parallel);
             return Ok(());
         }
-        let run = |(pts, o): (&[f64], &mut [f64])| {
-            for (q, p) in pts.chunks_exact(2).zip(o.chunks_exact_mut(d)) {
-                self.eval_into(q[0], q[1], p);
-            }
-        };
-        if uv.len() / 2 > PAR_CHUNK {
-            uv.par_chunks(2 * PAR_CHUNK)
-                .zip(out.par_chunks_mut(d * PAR_CHUNK))
-                .for_each(run);
-        } else {
-            run((uv, out));
-        }
+        crate::geom::for_each_point(parallel, uv, 2, out, d, |q, p| {
+            self.eval_into(q[0], q[1], p)
+        });
         Ok(())
     }
 
     /// Formula patches: the points grouped by cell, each cell's tape run once over its
-    /// points (cells in parallel).
-    fn eval_expr_points(&self, effective: &[Tape], uv: &[f64], out: &mut [f64]) {
+    /// points (cells in parallel when `parallel`).
+    fn eval_expr_points(&self, effective: &[Tape], uv: &[f64], out: &mut [f64], parallel: bool) {
         let d = self.dim;
         let m = self.v.cells();
         let mut by_cell: Vec<Vec<(usize, f64, f64)>> = vec![Vec::new(); effective.len()];
@@ -521,19 +512,24 @@ impl CompositeSurface {
             let (j, t) = self.v.locate(q[1]);
             by_cell[i * m + j].push((idx, s, t));
         }
-        let results: Vec<Vec<Vec<f64>>> = by_cell
-            .par_iter()
-            .zip(effective.par_iter())
-            .map(|(pts, tape)| {
-                let ss: Vec<f64> = pts.iter().map(|p| p.1).collect();
-                let ts: Vec<f64> = pts.iter().map(|p| p.2).collect();
-                let mut cols = vec![vec![0.0; pts.len()]; d];
-                let mut refs: Vec<&mut [f64]> = cols.iter_mut().map(Vec::as_mut_slice).collect();
-                tape.eval_batch(&[&ss, &ts], &mut refs)
-                    .expect("inputs and outputs of equal length");
-                cols
-            })
-            .collect();
+        let cell = |(pts, tape): (&Vec<(usize, f64, f64)>, &Tape)| {
+            let ss: Vec<f64> = pts.iter().map(|p| p.1).collect();
+            let ts: Vec<f64> = pts.iter().map(|p| p.2).collect();
+            let mut cols = vec![vec![0.0; pts.len()]; d];
+            let mut refs: Vec<&mut [f64]> = cols.iter_mut().map(Vec::as_mut_slice).collect();
+            tape.eval_batch(&[&ss, &ts], &mut refs)
+                .expect("inputs and outputs of equal length");
+            cols
+        };
+        let results: Vec<Vec<Vec<f64>>> = if parallel {
+            by_cell
+                .par_iter()
+                .zip(effective.par_iter())
+                .map(cell)
+                .collect()
+        } else {
+            by_cell.iter().zip(effective).map(cell).collect()
+        };
         for (pts, cols) in by_cell.iter().zip(&results) {
             for (r, &(idx, _, _)) in pts.iter().enumerate() {
                 for k in 0..d {
@@ -565,7 +561,7 @@ impl CompositeSurface {
                     .iter()
                     .flat_map(|&u| vs.iter().flat_map(move |&v| [u, v]))
                     .collect();
-                self.eval_expr_points(effective, &uv, out);
+                self.eval_expr_points(effective, &uv, out, true);
                 return Ok(());
             }
         };
@@ -962,4 +958,54 @@ fn monomials(g: &mut Graph, p: &PolyPatch, k: usize, (a0, b0): (usize, usize), s
         }
     }
     g.lin(&terms)
+}
+
+/// Formula (9) (explicit surfaces: (11)) of spec/composite-surfaces.md by its structural
+/// evaluator, over the knots' rectangle.
+impl Surface for CompositeSurface {
+    crate::geom::forward_to_inherent!(CompositeSurface; dim, surface_domain, surface_eval_into, eval_grid);
+
+    /// [`CompositeSurface::eval_many`]: the values of [`Surface::eval_into`], bit for bit.
+    fn eval_batch(&self, uv: &[f64], out: &mut [f64], options: &BatchOptions) -> Result<()> {
+        self.eval_pairs(uv, out, options.parallel())
+    }
+
+    /// Polynomial patches: every order, the cell's polynomial (patch plus the shifts of
+    /// formula (9)) differentiated in its local coordinates s = (u - u_i)/Δu_i,
+    /// t = (v - v_j)/Δv_j and scaled by 1/Δu_i^ku · 1/Δv_j^kv (at a knot, the cell on the
+    /// right; inside the domain). Errors: [`Error::UnsupportedDerivative`] for orders
+    /// above (0, 0) of formula patches.
+    fn derivative_into(
+        &self,
+        u: f64,
+        v: f64,
+        (ku, kv): (usize, usize),
+        out: &mut [f64],
+    ) -> Result<()> {
+        check_point(&[u, v], self.dim, out)?;
+        if (ku, kv) == (0, 0) {
+            self.eval_into(u, v, out);
+            return Ok(());
+        }
+        let Cells::Poly { effective, .. } = &self.cells else {
+            return Err(unsupported_partial(
+                "a composite surface of formula patches",
+                (ku, kv),
+                "differentiate the printed formula symbolically (geomkit::expr)",
+            ));
+        };
+        let (i, s) = self.u.locate(u);
+        let (j, t) = self.v.locate(v);
+        effective[i * self.v.cells() + j].partial_into(s, t, (ku, kv), out);
+        let (uk, vk) = self.knots();
+        let scale = (uk[i + 1] - uk[i]).powi(-(ku as i32)) * (vk[j + 1] - vk[j]).powi(-(kv as i32));
+        out.iter_mut().for_each(|x| *x *= scale);
+        Ok(())
+    }
+
+    /// The knots in u and v.
+    fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
+        let (ku, kv) = self.knots();
+        (ku.to_vec(), kv.to_vec())
+    }
 }

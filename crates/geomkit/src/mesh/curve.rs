@@ -1,48 +1,8 @@
 //! Curves to polylines, sampled adaptively to a tolerance.
 
-use super::surface::{linspace, with_breaks};
-use crate::bezier::{BezierCurve, ParamCurve, RationalBezierCurve};
-use crate::bspline::BsplineCurve;
-use crate::pointcalc::PointEquation;
+use super::surface::with_breaks;
+use crate::geom::{linspace, Curve};
 use crate::{Error, Result};
-
-/// A parametric curve that can be tessellated: a [`ParamCurve`] with a parameter domain and
-/// break points (knots, where the curve may have a corner).
-pub trait CurveShape: ParamCurve {
-    /// The parameter interval.
-    fn domain(&self) -> (f64, f64);
-    /// Parameters that every polyline includes. Default: none.
-    fn breaks(&self) -> Vec<f64> {
-        Vec::new()
-    }
-}
-
-impl CurveShape for BezierCurve {
-    fn domain(&self) -> (f64, f64) {
-        (0.0, 1.0)
-    }
-}
-
-impl CurveShape for RationalBezierCurve {
-    fn domain(&self) -> (f64, f64) {
-        (0.0, 1.0)
-    }
-}
-
-impl CurveShape for BsplineCurve {
-    fn domain(&self) -> (f64, f64) {
-        BsplineCurve::domain(self)
-    }
-    fn breaks(&self) -> Vec<f64> {
-        self.knots().to_vec()
-    }
-}
-
-impl CurveShape for PointEquation {
-    fn domain(&self) -> (f64, f64) {
-        PointEquation::domain(self)
-    }
-}
 
 /// Options of [`tessellate_curve`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -162,7 +122,7 @@ fn distance_to_segment(p: &[f64], a: &[f64], b: &[f64]) -> f64 {
 /// // A parabola of curvature 1 at the top: segments of about sqrt(8e-4).
 /// assert!(p.len() > 40 && p.len() < 200, "{}", p.len());
 /// ```
-pub fn tessellate_curve(curve: &dyn CurveShape, options: &CurveOptions) -> Result<Polyline> {
+pub fn tessellate_curve(curve: &dyn Curve, options: &CurveOptions) -> Result<Polyline> {
     let d = curve.dim();
     let (a, b) = curve.domain();
     let eval = |t: f64, index: usize| -> Result<Vec<f64>> {
@@ -246,6 +206,7 @@ pub fn tessellate_curve(curve: &dyn CurveShape, options: &CurveOptions) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bezier::BezierCurve;
 
     #[test]
     fn polyline_is_within_tolerance_at_dense_samples() {

@@ -3,12 +3,14 @@
 //! and both are written to any [`std::io::Write`] as OBJ, STL (binary and ASCII), binary PLY
 //! or glTF binary (`.glb`).
 //!
-//! Every model type of the library tessellates through two small traits: [`CurveShape`]
-//! (Bézier, rational Bézier, B-spline curves and point equations) and [`SurfaceShape`]
-//! (Bézier, B-spline, composite (9)/(11) and piecewise-ruled (2) surfaces of
-//! spec/composite-surfaces.md, point-calculus surfaces). Grid lines always include the
-//! surface's break lines (knots, cell boundaries, the vertices of ruled polygons), so creases
-//! such as the cube's edges are kept exactly.
+//! Every model type of the library tessellates through the shared traits of
+//! [`crate::geom`]: [`tessellate_curve`] takes any `&dyn` [`Curve`](crate::geom::Curve)
+//! (Bézier, rational Bézier, B-spline and piecewise curves, point equations, composite
+//! curves) and [`tessellate_surface`] any `&dyn` [`Surface`](crate::geom::Surface) (Bézier,
+//! B-spline, composite (9)/(11) and piecewise-ruled (2) surfaces of
+//! spec/composite-surfaces.md, point-calculus surfaces). Polylines include the curve's
+//! breaks and grid lines the surface's break lines (knots, cell boundaries, the vertices of
+//! ruled polygons), so corners and creases such as the cube's edges are kept exactly.
 //!
 //! Closed bodies come out watertight: coincident vertices (the seam u0 = u1, the poles where a
 //! ruled surface starts at a point) are welded within a tolerance scaled to the size of the
@@ -34,8 +36,8 @@ mod surface;
 mod trimesh;
 mod write;
 
-pub use curve::{tessellate_curve, CurveOptions, CurveShape, Polyline};
-pub use surface::{tessellate_surface, Sampling, SurfaceOptions, SurfaceShape};
+pub use curve::{tessellate_curve, CurveOptions, Polyline};
+pub use surface::{tessellate_surface, Sampling, SurfaceOptions};
 pub use trimesh::TriMesh;
 pub use write::{
     write_glb, write_glb_polyline, write_obj, write_obj_polyline, write_ply, write_ply_polyline,

@@ -2,109 +2,8 @@
 //! surface lies within a tolerance of the triangles; break lines always included.
 
 use super::trimesh::{bounding_box, norm, sub, TriMesh};
-use crate::bezier::BezierSurface;
-use crate::bspline::BsplineSurface;
-use crate::compose::{CompositeSurface, RuledCurve, RuledSurface};
-use crate::pointcalc::{PointSurface, PrintedSurface};
+use crate::geom::{linspace, Surface};
 use crate::{Error, Result};
-
-/// A parametric surface that can be tessellated: its dimension, domain, a grid evaluator and
-/// its break lines.
-///
-/// Points of dimension 3 are used as they are, dimension 2 get z = 0, and dimension 1 is a
-/// height field drawn as (u, v, z(u, v)).
-pub trait SurfaceShape {
-    /// Dimension of the points (1, 2 or 3 can be meshed).
-    fn dim(&self) -> usize;
-    /// ((u0, u1), (v0, v1)).
-    fn domain(&self) -> ((f64, f64), (f64, f64));
-    /// Points on the grid `us` × `vs`, point (a, b) at `out[(a * vs.len() + b) * dim ..]`.
-    fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()>;
-    /// Parameters in u and in v where the surface may have a crease (knots, cell
-    /// boundaries); every tessellation has grid lines there. Default: none.
-    fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
-        (Vec::new(), Vec::new())
-    }
-}
-
-macro_rules! shape {
-    ($t:ty, $domain:expr, $breaks:expr) => {
-        impl SurfaceShape for $t {
-            fn dim(&self) -> usize {
-                <$t>::dim(self)
-            }
-            fn domain(&self) -> ((f64, f64), (f64, f64)) {
-                #[allow(clippy::redundant_closure_call)]
-                ($domain)(self)
-            }
-            fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
-                <$t>::eval_grid(self, us, vs, out)
-            }
-            fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
-                #[allow(clippy::redundant_closure_call)]
-                ($breaks)(self)
-            }
-        }
-    };
-}
-
-shape!(
-    BezierSurface,
-    |_: &BezierSurface| ((0.0, 1.0), (0.0, 1.0)),
-    |_: &BezierSurface| (Vec::new(), Vec::new())
-);
-shape!(
-    BsplineSurface,
-    |s: &BsplineSurface| s.domain(),
-    |s: &BsplineSurface| {
-        let (ku, kv) = s.knots();
-        (ku.to_vec(), kv.to_vec())
-    }
-);
-shape!(
-    CompositeSurface,
-    |s: &CompositeSurface| s.domain(),
-    |s: &CompositeSurface| {
-        let (ku, kv) = s.knots();
-        (ku.to_vec(), kv.to_vec())
-    }
-);
-shape!(
-    PointSurface,
-    |s: &PointSurface| s.domain(),
-    |_: &PointSurface| (Vec::new(), Vec::new())
-);
-shape!(
-    PrintedSurface,
-    |_: &PrintedSurface| ((0.0, 1.0), (0.0, 1.0)),
-    |_: &PrintedSurface| (Vec::new(), Vec::new())
-);
-
-impl SurfaceShape for RuledSurface {
-    fn dim(&self) -> usize {
-        3
-    }
-    fn domain(&self) -> ((f64, f64), (f64, f64)) {
-        RuledSurface::domain(self)
-    }
-    fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
-        RuledSurface::eval_grid(self, us, vs, out)
-    }
-    /// The v of every curve, and the u of every polyline vertex (each curve is mapped
-    /// linearly onto the common u range).
-    fn breaks(&self) -> (Vec<f64>, Vec<f64>) {
-        let ((u0, u1), _) = RuledSurface::domain(self);
-        let mut bu = Vec::new();
-        for c in self.curves() {
-            if let RuledCurve::Polyline { .. } = c {
-                let (t0, t1) = c.interval();
-                let segments = (t1 - t0).round() as usize;
-                bu.extend((0..=segments).map(|k| u0 + (u1 - u0) * k as f64 / segments as f64));
-            }
-        }
-        (bu, self.v_values().to_vec())
-    }
-}
 
 /// How a surface is sampled.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -172,20 +71,6 @@ impl SurfaceOptions {
     }
 }
 
-/// Values from `a` to `b` in `count` equal steps (both ends exact).
-pub(crate) fn linspace(a: f64, b: f64, count: usize) -> Vec<f64> {
-    let last = (count.max(2) - 1) as f64;
-    (0..count.max(2))
-        .map(|k| {
-            if k as f64 == last {
-                b
-            } else {
-                a + (b - a) * (k as f64 / last)
-            }
-        })
-        .collect()
-}
-
 /// Sorted union of `values` and the `breaks` inside [a, b]; values closer than a tiny
 /// fraction of the range to a break are replaced by it.
 pub(crate) fn with_breaks(mut values: Vec<f64>, breaks: &[f64], (a, b): (f64, f64)) -> Vec<f64> {
@@ -204,7 +89,7 @@ pub(crate) fn with_breaks(mut values: Vec<f64>, breaks: &[f64], (a, b): (f64, f6
 }
 
 /// The surface's points on a grid, lifted to R^3.
-fn grid3(s: &dyn SurfaceShape, us: &[f64], vs: &[f64]) -> Result<Vec<[f64; 3]>> {
+fn grid3(s: &dyn Surface, us: &[f64], vs: &[f64]) -> Result<Vec<[f64; 3]>> {
     let d = s.dim();
     let mut raw = vec![0.0; us.len() * vs.len() * d];
     s.eval_grid(us, vs, &mut raw)?;
@@ -244,7 +129,7 @@ fn mid(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// Refines `us` and `vs` until the surface at the midpoints of every cell's edges and at
 /// its centre lies within `tol` of the linear interpolation of the corners.
 fn adaptive_grid(
-    s: &dyn SurfaceShape,
+    s: &dyn Surface,
     mut us: Vec<f64>,
     mut vs: Vec<f64>,
     tol: f64,
@@ -331,7 +216,7 @@ fn adaptive_grid(
 /// assert_eq!((m.positions().len(), m.triangles().len()), (25, 32));
 /// assert_eq!(m.boundary_edge_count(), 16);
 /// ```
-pub fn tessellate_surface(s: &dyn SurfaceShape, options: &SurfaceOptions) -> Result<TriMesh> {
+pub fn tessellate_surface(s: &dyn Surface, options: &SurfaceOptions) -> Result<TriMesh> {
     let d = s.dim();
     if !(1..=3).contains(&d) {
         return Err(Error::WrongDimension {

@@ -6,7 +6,7 @@
 //! source point A_i in the point M(t).
 //!
 //! ```
-//! use geomkit::bezier::ParamCurve;
+//! use geomkit::geom::Curve;
 //! use geomkit::pointcalc::{Nodes, PointEquation};
 //! // Equation (2): C at t = 1/3.
 //! let eq = PointEquation::new(Nodes::paper_third(), vec![
@@ -18,8 +18,8 @@
 //! ```
 
 use super::nodes::Nodes;
-use crate::bezier::ParamCurve;
 use crate::exact::Rational;
+use crate::geom::{check_point, unsupported, BatchOptions, Curve};
 use crate::points::{check_eval_args, flatten_points, validate_points};
 use crate::{Error, Result};
 
@@ -255,9 +255,15 @@ impl PointEquation {
     }
 }
 
-impl ParamCurve for PointEquation {
+/// M(t) = Σ f_i(t) A_i of spec/point-calculus.md §2 over the node interval.
+impl Curve for PointEquation {
     fn dim(&self) -> usize {
         self.dim
+    }
+
+    /// The node interval.
+    fn domain(&self) -> (f64, f64) {
+        PointEquation::domain(self)
     }
 
     /// M(t) = Σ f_i(t) A_i; at a node exactly its source point.
@@ -271,6 +277,39 @@ impl ParamCurve for PointEquation {
             let l = self.nodes.basis(t);
             self.combine(&l, out);
         }
+    }
+
+    /// Orders 0 to 2 ([`PointEquation::derivatives`], barycentric formulas), and the zero
+    /// vector from order n on (the equation is a polynomial of degree n - 1 over n nodes).
+    /// Errors: [`Error::UnsupportedDerivative`] for orders 3 to n - 1.
+    fn derivative_into(&self, t: f64, order: usize, out: &mut [f64]) -> Result<()> {
+        check_point(&[t], self.dim, out)?;
+        match order {
+            0 => self.eval_into(t, out),
+            1 | 2 => out.copy_from_slice(&self.derivatives(t)[order]),
+            k if k >= self.nodes.len() => out.fill(0.0),
+            k => {
+                return Err(unsupported(
+                    "a point equation",
+                    k,
+                    "the barycentric formulas give orders 0 to 2 (and the zero vector from \
+                     the number of nodes on)",
+                ))
+            }
+        }
+        Ok(())
+    }
+
+    /// [`PointEquation::eval_params`] (the basis buffer reused), in parallel chunks for
+    /// large batches: the values of [`Curve::eval_into`], bit for bit.
+    fn eval_batch(&self, ts: &[f64], out: &mut [f64], options: &BatchOptions) -> Result<()> {
+        check_eval_args("parameter", ts, ts.len(), self.dim, out)?;
+        let parallel = options.parallel() && ts.len() > 4096;
+        crate::par::zip_chunks(parallel, out, 4096 * self.dim, ts, 4096, |o, t| {
+            self.eval_params(t, o)
+                .expect("checked parameters and buffer")
+        });
+        Ok(())
     }
 }
 

@@ -27,8 +27,8 @@
 use super::equation::{check_lebesgue, PointOptions, Warning};
 use super::kernel::{self, Buffers, EvalPoints, Grid, LANES};
 use super::nodes::Nodes;
+use crate::par::*;
 use crate::{Error, Result};
-use rayon::prelude::*;
 
 /// A factor of a multi-factor model: its name and its nodes (the levels).
 #[derive(Debug, Clone, PartialEq)]

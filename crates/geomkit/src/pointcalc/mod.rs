@@ -18,7 +18,7 @@
 //!
 //! ```
 //! use geomkit::pointcalc::{Nodes, PointEquation};
-//! use geomkit::bezier::ParamCurve;
+//! use geomkit::geom::Curve;
 //! // Equation (1): M = A t̄(1 - 2t) + C 4tt̄ + B t(2t - 1).
 //! let eq = PointEquation::new(Nodes::paper_half(), vec![vec![0.0], vec![1.0], vec![0.0]]).unwrap();
 //! assert_eq!(eq.eval(0.25)[0], 0.75); // 4 · 0.25 · 0.75

@@ -24,8 +24,8 @@
 
 use super::equation::{check_lebesgue, PointEquation, PointOptions, Warning};
 use super::nodes::Nodes;
-use crate::bezier::ParamCurve;
 use crate::exact::Rational;
+use crate::geom::{check_point, unsupported_partial, Curve, Surface};
 use crate::points::flatten_grid;
 use crate::{Error, Result};
 
@@ -326,16 +326,26 @@ impl PrintedSurface {
         self.dim
     }
 
-    /// M(u, v) = Σ a_ij(u, v) A_ij with the printed a_ij.
-    pub fn eval(&self, u: f64, v: f64) -> Vec<f64> {
-        let a = printed_geomatrix(u, v);
-        let mut out = vec![0.0; self.dim];
+    /// M(u, v) = Σ a_ij(u, v) A_ij with the printed a_ij, into `out` (length dim).
+    pub fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
+        self.combine(&printed_geomatrix(u, v), out);
+    }
+
+    /// Σ a_ij A_ij into `out`.
+    fn combine(&self, a: &[[f64; 3]; 3], out: &mut [f64]) {
+        out.fill(0.0);
         for (k, p) in self.net.chunks_exact(self.dim).enumerate() {
             let w = a[k / 3][k % 3];
             for (o, x) in out.iter_mut().zip(p) {
                 *o += w * x;
             }
         }
+    }
+
+    /// M(u, v) = Σ a_ij(u, v) A_ij with the printed a_ij.
+    pub fn eval(&self, u: f64, v: f64) -> Vec<f64> {
+        let mut out = vec![0.0; self.dim];
+        self.eval_into(u, v, &mut out);
         out
     }
 
@@ -345,9 +355,97 @@ impl PrintedSurface {
         check_grid_args(us, vs, d, out)?;
         for (a, &u) in us.iter().enumerate() {
             for (b, &v) in vs.iter().enumerate() {
-                out[(a * vs.len() + b) * d..][..d].copy_from_slice(&self.eval(u, v));
+                self.eval_into(u, v, &mut out[(a * vs.len() + b) * d..][..d]);
             }
         }
+        Ok(())
+    }
+}
+
+/// The k-th derivatives of the cardinal functions of `nodes` at t: orders 0 to 2 by the
+/// barycentric formulas ([`Nodes::basis_derivatives`]), zero from the number of nodes on
+/// (polynomials of degree n - 1); `None` for the orders between.
+fn basis_derivative(nodes: &Nodes, t: f64, k: usize) -> Option<Vec<f64>> {
+    let n = nodes.len();
+    match k {
+        0 => Some(nodes.basis(t)),
+        1 | 2 => {
+            let (mut l, mut d1, mut d2) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            nodes.basis_derivatives(t, &mut l, &mut d1, Some(&mut d2));
+            Some(if k == 1 { d1 } else { d2 })
+        }
+        k if k >= n => Some(vec![0.0; n]),
+        _ => None,
+    }
+}
+
+/// Why a point-calculus surface has no derivative of some order.
+const POINT_DERIVATIVES: &str =
+    "the barycentric formulas give orders 0 to 2 in each direction (and zero from the number \
+     of nodes on)";
+
+/// "Rows first, then across" of spec/point-calculus.md §3.
+impl Surface for PointSurface {
+    crate::geom::forward_to_inherent!(PointSurface; dim, surface_domain, surface_eval_into, eval_grid);
+
+    /// Σ_i L_i^(kv)(v) M_i^(ku)(u), orders 0 to 2 in each direction (zero from the number
+    /// of nodes on). Errors: [`Error::UnsupportedDerivative`] for the orders between.
+    fn derivative_into(
+        &self,
+        u: f64,
+        v: f64,
+        (ku, kv): (usize, usize),
+        out: &mut [f64],
+    ) -> Result<()> {
+        check_point(&[u, v], self.dim, out)?;
+        let unsupported = || unsupported_partial("a point surface", (ku, kv), POINT_DERIVATIVES);
+        let lv = basis_derivative(&self.across, v, kv).ok_or_else(unsupported)?;
+        let mut row = vec![0.0; self.dim];
+        out.fill(0.0);
+        for (w, eq) in lv.iter().zip(&self.rows) {
+            if *w == 0.0 {
+                continue;
+            }
+            eq.derivative_into(u, ku, &mut row)
+                .map_err(|_| unsupported())?;
+            for (o, x) in out.iter_mut().zip(&row) {
+                *o += w * x;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The printed geomatrix (9) of spec/point-calculus.md over its 3×3 net, on [0, 1]².
+impl Surface for PrintedSurface {
+    crate::geom::forward_to_inherent!(PrintedSurface; dim, surface_eval_into, eval_grid);
+
+    /// [0, 1]².
+    fn domain(&self) -> ((f64, f64), (f64, f64)) {
+        ((0.0, 1.0), (0.0, 1.0))
+    }
+
+    /// Σ U_ij^(ku)(u) V_ij^(kv)(v) A_ij: every order (the b-functions are quadratics).
+    fn derivative_into(
+        &self,
+        u: f64,
+        v: f64,
+        (ku, kv): (usize, usize),
+        out: &mut [f64],
+    ) -> Result<()> {
+        check_point(&[u, v], self.dim, out)?;
+        let p = printed_placements();
+        let unsupported =
+            || unsupported_partial("the printed surface", (ku, kv), POINT_DERIVATIVES);
+        let mut bu = Vec::with_capacity(3);
+        let mut bv = Vec::with_capacity(3);
+        for n in &p {
+            bu.push(basis_derivative(n, u, ku).ok_or_else(unsupported)?);
+            bv.push(basis_derivative(n, v, kv).ok_or_else(unsupported)?);
+        }
+        let a: [[f64; 3]; 3] =
+            std::array::from_fn(|i| std::array::from_fn(|j| bu[i][j] * bv[j][i]));
+        self.combine(&a, out);
         Ok(())
     }
 }

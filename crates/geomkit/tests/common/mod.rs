@@ -1,8 +1,9 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code, missing_docs)]
 
-use geomkit::bezier::{BezierCurve, ParamCurve};
+use geomkit::bezier::BezierCurve;
 use geomkit::bspline::Parametrization;
+use geomkit::geom::Curve;
 
 /// Every parametrization of interpolation, for tests that loop over them.
 pub const PARAMETRIZATIONS: [Parametrization; 3] = [
@@ -32,7 +33,7 @@ pub fn random_curve(n: usize, dim: usize, seed: u64) -> BezierCurve {
 }
 
 /// max over `count` uniform parameters of |a(t) - b(t)|.
-pub fn sampled_distance(a: &impl ParamCurve, b: &impl ParamCurve, count: usize) -> f64 {
+pub fn sampled_distance(a: &impl Curve, b: &impl Curve, count: usize) -> f64 {
     let pa = a.sample_uniform(count);
     let pb = b.sample_uniform(count);
     let d = a.dim();

@@ -11,7 +11,7 @@
 
 use super::BsplineSurface;
 use crate::bspline::locate::{with_avx2, CubicLanes, Locator, Prefetcher, BLOCK};
-use rayon::prelude::*;
+use crate::par::*;
 
 /// Scattered points on nets larger than this (a core's L2 cache) touch what they read
 /// before evaluating.
@@ -89,17 +89,11 @@ impl BsplineSurface {
         crate::points::check_eval_args("parameter v", vs, vs.len(), d, out)?;
         let n = us.len();
         let (lu, lv) = self.locators(n);
-        let net_bytes = std::mem::size_of_val(&self.control[..]);
-        // Reading ahead every row of the net pays when each span in u has enough points.
-        if n >= GROUPED_MIN_POINTS && n >= 32 * self.n_u && net_bytes >= GROUPED_MIN_NET_BYTES {
+        if self.grouped(n) {
             self.eval_grouped(&lu, &lv, us, vs, out);
             return Ok(());
         }
-        let touch = if net_bytes > PIECES_MIN_NET_BYTES {
-            Touch::Pieces
-        } else {
-            Touch::Nothing
-        };
+        let touch = self.scattered_touch();
         out.par_chunks_mut(4096 * d)
             .zip(us.par_chunks(4096).zip(vs.par_chunks(4096)))
             .for_each(|(o, (us, vs))| {
@@ -108,6 +102,65 @@ impl BsplineSurface {
                 self.eval_run(&lu, &lv, pts, o.chunks_exact_mut(d), &mut touch);
             });
         Ok(())
+    }
+
+    /// Whether a batch of `n` points is grouped by span: reading ahead every row of the net
+    /// pays when each span in u has enough points.
+    fn grouped(&self, n: usize) -> bool {
+        let net_bytes = std::mem::size_of_val(&self.control[..]);
+        n >= GROUPED_MIN_POINTS && n >= 32 * self.n_u && net_bytes >= GROUPED_MIN_NET_BYTES
+    }
+
+    /// How scattered points touch the net before evaluating.
+    fn scattered_touch(&self) -> Touch {
+        if std::mem::size_of_val(&self.control[..]) > PIECES_MIN_NET_BYTES {
+            Touch::Pieces
+        } else {
+            Touch::Nothing
+        }
+    }
+
+    /// [`BsplineSurface::eval_many_par`] at interleaved pairs `uv = [u0, v0, u1, v1, ...]`
+    /// (the [`crate::geom::Surface::eval_batch`] of the surface), on the thread pool only
+    /// when `parallel`: the same kernels, the same bits. Errors: as
+    /// [`crate::geom::Surface::eval_batch`].
+    pub(crate) fn eval_pairs(
+        &self,
+        uv: &[f64],
+        out: &mut [f64],
+        parallel: bool,
+    ) -> crate::Result<()> {
+        let d = self.dim;
+        crate::geom::check_pairs(uv, d, out)?;
+        let n = uv.len() / 2;
+        if parallel && self.grouped(n) {
+            let (us, vs): (Vec<f64>, Vec<f64>) = uv.chunks_exact(2).map(|q| (q[0], q[1])).unzip();
+            let (lu, lv) = self.locators(n);
+            self.eval_grouped(&lu, &lv, &us, &vs, out);
+            return Ok(());
+        }
+        let (lu, lv) = self.locators(n);
+        let touch = self.scattered_touch();
+        let run = |o: &mut [f64], q: &[f64]| {
+            let pts = q.chunks_exact(2).map(|p| [p[0], p[1]]);
+            let mut touch = touch;
+            self.eval_run(&lu, &lv, pts, o.chunks_exact_mut(d), &mut touch);
+        };
+        crate::par::zip_chunks(parallel && n > 4096, out, 4096 * d, uv, 8192, run);
+        Ok(())
+    }
+
+    /// S(u, v) by the batch kernel (the value every batch gives at this point).
+    pub(crate) fn eval_point_batched(&self, u: f64, v: f64, out: &mut [f64]) {
+        let (lu, lv) = self.locators(1);
+        let mut touch = Touch::Nothing;
+        self.eval_run(
+            &lu,
+            &lv,
+            std::iter::once([u, v]),
+            std::iter::once(out),
+            &mut touch,
+        );
     }
 
     /// Span locators in u and v for `count` points: the spans of
@@ -184,7 +237,7 @@ impl BsplineSurface {
                 rest = tail;
             }
         }
-        let target = n.div_ceil(8 * rayon::current_num_threads()).max(1);
+        let target = n.div_ceil(8 * crate::par::current_num_threads()).max(1);
         let mut runs = Vec::new();
         let mut first = 0;
         while !per_group.is_empty() {
