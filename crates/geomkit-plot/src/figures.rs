@@ -15,27 +15,22 @@ use geomkit::bspline::{BsplineCurve, BsplineSurface};
 use geomkit::geom::Curve;
 use geomkit::geom::Surface;
 
-/// A surface that can be drawn: its dimension, parameter domain and a grid evaluator.
-pub trait SurfaceView {
-    /// Dimension of its points.
-    fn view_dim(&self) -> usize;
-    /// ((u0, u1), (v0, v1)).
-    fn view_domain(&self) -> ((f64, f64), (f64, f64));
-    /// Points on the grid `us` × `vs`, row-major.
-    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()>;
-}
-
-/// Every surface of the library draws as itself.
-impl<T: Surface> SurfaceView for T {
-    fn view_dim(&self) -> usize {
-        self.dim()
+/// Points of `surface` on the grid `us` × `vs` (row-major) as drawn: heights z(u, v) (1-D
+/// points) become (u, v, z); 2- and 3-D points stay. Returns (points, their dimension).
+fn drawn_grid(surface: &dyn Surface, us: &[f64], vs: &[f64]) -> Result<(Vec<f64>, usize)> {
+    let d = surface.dim();
+    let mut grid = vec![0.0; us.len() * vs.len() * d];
+    surface.eval_grid(us, vs, &mut grid)?;
+    if d != 1 {
+        return Ok((grid, d));
     }
-    fn view_domain(&self) -> ((f64, f64), (f64, f64)) {
-        self.domain()
-    }
-    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
-        self.eval_grid(us, vs, out)
-    }
+    let lifted = us
+        .iter()
+        .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+        .zip(&grid)
+        .flat_map(|((u, v), &z)| [u, v, z])
+        .collect();
+    Ok((lifted, 3))
 }
 
 /// `count` >= 2 equally spaced values from `a` to `b` (both included exactly).
@@ -281,7 +276,7 @@ pub enum Layer<'a> {
     /// Wireframe of `count` u- and v-iso-curves, 64 samples each.
     Wireframe {
         /// The surface.
-        surface: &'a dyn SurfaceView,
+        surface: &'a dyn Surface,
         /// Iso-curves per direction.
         count: usize,
         /// Line style.
@@ -322,6 +317,26 @@ pub enum Layer<'a> {
     },
 }
 
+/// The wireframe of one surface (`lines` iso-curves each way, heights drawn as (u, v, z)) in
+/// the fixed axonometric view: the picture of a structural evaluator.
+pub fn wireframe_svg(
+    surface: &dyn Surface,
+    title: &str,
+    subtitle: &str,
+    lines: usize,
+) -> Result<String> {
+    surface_svg(
+        title,
+        subtitle,
+        &[Layer::Wireframe {
+            surface,
+            count: lines,
+            stroke: palette::CURVE.with_opacity(0.8),
+            legend: "structural evaluator".into(),
+        }],
+    )
+}
+
 /// A picture of surfaces in the fixed axonometric view (azimuth 35°, elevation 25°).
 /// Surfaces must be 2- or 3-D.
 pub fn surface_svg(title: &str, subtitle: &str, layers: &[Layer<'_>]) -> Result<String> {
@@ -329,7 +344,11 @@ pub fn surface_svg(title: &str, subtitle: &str, layers: &[Layer<'_>]) -> Result<
     let mut fig = Figure::new(title, Axes::Bare).subtitle(subtitle);
     for layer in layers {
         let dim = match layer {
-            Layer::Wireframe { surface, .. } => surface.view_dim(),
+            // Heights are drawn as (u, v, z).
+            Layer::Wireframe { surface, .. } => match surface.dim() {
+                1 => 3,
+                d => d,
+            },
             Layer::Net { surface, .. } => surface.dim(),
             Layer::Points { dim, .. } => *dim,
         };
@@ -348,21 +367,18 @@ pub fn surface_svg(title: &str, subtitle: &str, layers: &[Layer<'_>]) -> Result<
                 legend,
             } => {
                 let k = 64;
-                let ((u0, u1), (v0, v1)) = surface.view_domain();
+                let ((u0, u1), (v0, v1)) = surface.domain();
                 let (fine_u, fine_v) = (linspace(u0, u1, k), linspace(v0, v1, k));
                 let (iso_u, iso_v) = (linspace(u0, u1, *count), linspace(v0, v1, *count));
-                let iso = &iso_u;
-                let d = surface.view_dim();
-                let mut grid = vec![0.0; iso.len() * k * d];
                 // u-iso-curves (u fixed, v running) and v-iso-curves.
-                surface.view_grid(&iso_u, &fine_v, &mut grid)?;
+                let (grid, d) = drawn_grid(*surface, &iso_u, &fine_v)?;
                 for line in grid.chunks_exact(k * d) {
                     fig.line(
                         line.chunks_exact(d).map(|p| view.project(p)).collect(),
                         *stroke,
                     );
                 }
-                surface.view_grid(&fine_u, &iso_v, &mut grid)?;
+                let (grid, d) = drawn_grid(*surface, &fine_u, &iso_v)?;
                 for b in 0..iso_v.len() {
                     let pts = (0..k)
                         .map(|a| {

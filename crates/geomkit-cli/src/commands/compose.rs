@@ -27,8 +27,7 @@ use geomkit::geom::Surface;
 use geomkit_model::schema::FormulaFile;
 use geomkit_model::{AnyModel, ModelFile};
 use geomkit_model::{Loaded, Sampling, Shape};
-use geomkit_plot::figures::{linspace, surface_svg, GridEval, Layer, SurfaceView};
-use geomkit_plot::svg::palette;
+use geomkit_plot::figures::linspace;
 use geomkit_plot::svg_to_png;
 use geomkit_plot::{picture_svg, PictureOptions};
 use serde_json::{json, Value};
@@ -324,67 +323,6 @@ pub fn formula_json(
         continuity,
         model: model.map(Box::new),
     }))
-}
-
-/// Evaluations on a grid, for pictures and meshes (structural evaluators).
-pub struct GridView<'a> {
-    dim: usize,
-    domain: ((f64, f64), (f64, f64)),
-    grid: Box<GridEval<'a>>,
-}
-
-impl SurfaceView for GridView<'_> {
-    fn view_dim(&self) -> usize {
-        self.dim.max(2)
-    }
-    fn view_domain(&self) -> ((f64, f64), (f64, f64)) {
-        self.domain
-    }
-    fn view_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> geomkit::Result<()> {
-        if self.dim == 1 {
-            // Heights z(x, y) drawn as (x, y, z).
-            let mut z = vec![0.0; us.len() * vs.len()];
-            (self.grid)(us, vs, &mut z)?;
-            for (a, &u) in us.iter().enumerate() {
-                for (b, &v) in vs.iter().enumerate() {
-                    let k = a * vs.len() + b;
-                    out[k * 3..k * 3 + 3].copy_from_slice(&[u, v, z[k]]);
-                }
-            }
-            return Ok(());
-        }
-        (self.grid)(us, vs, out)
-    }
-}
-
-pub fn ruled_view(s: &RuledSurface) -> GridView<'_> {
-    GridView {
-        dim: 3,
-        domain: s.domain(),
-        grid: Box::new(|us, vs, out| s.eval_grid(us, vs, out)),
-    }
-}
-
-pub fn composite_view(s: &CompositeSurface) -> GridView<'_> {
-    GridView {
-        dim: s.dim(),
-        domain: s.domain(),
-        grid: Box::new(|us, vs, out| s.eval_grid(us, vs, out)),
-    }
-}
-
-/// A wireframe picture.
-pub fn picture(view: &GridView<'_>, title: &str, subtitle: &str, lines: usize) -> Result<String> {
-    Ok(surface_svg(
-        title,
-        subtitle,
-        &[Layer::Wireframe {
-            surface: view,
-            count: lines,
-            stroke: palette::CURVE.with_opacity(0.8),
-            legend: "structural evaluator".into(),
-        }],
-    )?)
 }
 
 fn run_body(args: BodyArgs) -> Result<()> {

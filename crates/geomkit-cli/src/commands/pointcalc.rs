@@ -13,12 +13,13 @@ use clap::{Args, Subcommand};
 use geomkit::exact::Rational;
 use geomkit::expr::{Format, Graph};
 use geomkit::geom::Curve;
+use geomkit::geom::Surface;
 use geomkit::pointcalc::{
     optimize, Goal, Hypersurface, NodePreset, Nodes, OptimizeOptions, PointEquation, PointOptions,
     PointSurface, PrintedSurface, Warning,
 };
 use geomkit_model::{AnyModel, PointcalcModel};
-use geomkit_plot::figures::{linspace, surface_svg, Layer, Projection, SurfaceView};
+use geomkit_plot::figures::{linspace, surface_svg, Layer, Projection};
 use geomkit_plot::svg::{palette, Axes, Figure, Stroke};
 use serde::Deserialize;
 use std::io::Write as _;
@@ -751,7 +752,7 @@ pub enum AnySurface {
 }
 
 impl AnySurface {
-    fn view(&self) -> &dyn SurfaceView {
+    fn view(&self) -> &dyn Surface {
         match self {
             AnySurface::Rows(s) => s,
             AnySurface::Printed(s) => s,
@@ -808,7 +809,7 @@ fn surface(args: SurfaceArgs) -> Result<()> {
     let k = check_samples(args.samples, 21)?;
     let dest = Destination::from_option(args.output.as_deref());
     let view = surface.view();
-    let dim = view.view_dim();
+    let dim = view.dim();
     if args
         .output
         .as_deref()
@@ -843,10 +844,10 @@ fn surface(args: SurfaceArgs) -> Result<()> {
         )?;
         return dest.write(svg.as_bytes());
     }
-    let ((u0, u1), (v0, v1)) = view.view_domain();
+    let ((u0, u1), (v0, v1)) = view.domain();
     let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, k));
     let mut out = vec![0.0; k * k * dim];
-    view.view_grid(&us, &vs, &mut out)?;
+    view.eval_grid(&us, &vs, &mut out)?;
     let pts: Vec<String> = out
         .chunks_exact(dim)
         .map(|p| {

@@ -4,13 +4,13 @@
 //! and the formula-vs-structural agreement.
 
 use super::{Check, Context, Item, Report};
-use crate::commands::compose::{composite_view, picture, ruled_view};
 use crate::commands::piecewise;
 use anyhow::Result;
 use geomkit::bspline::{interpolate_surface, SurfaceInterpolationOptions};
 use geomkit::compose::{bodies, CompositeSurface, ExprPatch, Piecewise, RuledSurface, SurfaceKind};
 use geomkit::expr::Format;
 use geomkit_plot::figures::linspace;
+use geomkit_plot::figures::wireframe_svg;
 use geomkit_plot::svg::escape;
 
 /// The items, in order.
@@ -102,8 +102,8 @@ fn expr_patches(ctx: &Context) -> Result<Report> {
         SurfaceKind::Parametric,
     )?;
     let f = s.formula()?;
-    let svg = picture(
-        &composite_view(&s),
+    let svg = wireframe_svg(
+        &s,
         "formula patches",
         &format!("3×2 patches, {} DAG operations", f.op_count()),
         13,
@@ -234,12 +234,7 @@ fn body_item(
 ) -> Result<()> {
     let f = s.formula()?;
     let text = f.print(Format::Maple);
-    let svg = picture(
-        &ruled_view(s),
-        name,
-        text.lines().next().unwrap_or_default(),
-        16,
-    )?;
+    let svg = wireframe_svg(s, name, text.lines().next().unwrap_or_default(), 16)?;
     r.picture(
         ctx,
         file,
@@ -357,8 +352,8 @@ fn bicubic(ctx: &Context) -> Result<Report> {
     let s = CompositeSurface::from_bspline(&fit.surface)?;
     let f = s.formula()?;
     let (n, m) = s.cells();
-    let svg = picture(
-        &composite_view(&s),
+    let svg = wireframe_svg(
+        &s,
         "composite of bicubic patches",
         &format!("{n}×{m} patches, {} DAG operations", f.op_count()),
         25,

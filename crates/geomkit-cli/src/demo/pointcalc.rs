@@ -171,7 +171,7 @@ fn bsurface9(ctx: &Context) -> Result<Report> {
          Rows first (row i with its own placement along u), then across (nodes {0, 1/2, 1} \
          along v) keeps Σ a_ij = 1 and passes through all nine points.",
     );
-    let layers = |s: &dyn geomkit_plot::figures::SurfaceView, legend: &str| -> Result<String> {
+    let layers = |s: &dyn geomkit::geom::Surface, legend: &str| -> Result<String> {
         Ok(surface_svg(
             legend,
             "nine source points (orange)",
