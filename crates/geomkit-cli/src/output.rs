@@ -6,7 +6,9 @@
 //! appears at all.
 
 use crate::npy::NpyWriter;
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
+use geomkit::mesh;
+use geomkit_model::Tessellation;
 use std::fs;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -236,6 +238,55 @@ pub fn is_broken_pipe(error: &anyhow::Error) -> bool {
         e.downcast_ref::<io::Error>()
             .is_some_and(|io| io.kind() == io::ErrorKind::BrokenPipe)
     })
+}
+
+/// Column names of points of dimension `dim`: x, y, z (x1..xd above 3).
+pub fn coordinate_names(dim: usize) -> Vec<String> {
+    if dim <= 3 {
+        ["x", "y", "z"][..dim]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    } else {
+        (1..=dim).map(|k| format!("x{k}")).collect()
+    }
+}
+
+/// "OUT: V vertices, T triangles, closed, volume X" (or the polyline's size).
+pub fn mesh_summary(path: &Path, t: &Tessellation) -> String {
+    match t {
+        Tessellation::Mesh(m) => format!(
+            "{}: {} vertices, {} triangles{}",
+            path.display(),
+            m.positions().len(),
+            m.triangles().len(),
+            if m.is_watertight() {
+                format!(", closed, volume {}", m.volume())
+            } else {
+                String::new()
+            }
+        ),
+        Tessellation::Polyline(p) => format!("{}: polyline of {} points", path.display(), p.len()),
+    }
+}
+
+/// Writes a tessellation in the format named by `ext`.
+pub fn write_mesh(t: &Tessellation, ext: &str, ascii: bool, w: &mut Vec<u8>) -> Result<()> {
+    match (t, ext) {
+        (Tessellation::Mesh(m), "obj") => mesh::write_obj(m, w)?,
+        (Tessellation::Mesh(m), "stl") if ascii => mesh::write_stl_ascii(m, w)?,
+        (Tessellation::Mesh(m), "stl") => mesh::write_stl_binary(m, w)?,
+        (Tessellation::Mesh(m), "ply") => mesh::write_ply(m, w)?,
+        (Tessellation::Mesh(m), "glb") => mesh::write_glb(m, w)?,
+        (Tessellation::Polyline(p), "obj") => mesh::write_obj_polyline(p, w)?,
+        (Tessellation::Polyline(p), "ply") => mesh::write_ply_polyline(p, w)?,
+        (Tessellation::Polyline(p), "glb") => mesh::write_glb_polyline(p, w)?,
+        (Tessellation::Polyline(_), "stl") => {
+            bail!("STL holds triangles only: write a curve as .obj, .ply or .glb")
+        }
+        (_, other) => bail!("unknown mesh format .{other}"),
+    }
+    Ok(())
 }
 
 #[cfg(test)]

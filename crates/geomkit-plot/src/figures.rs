@@ -12,8 +12,10 @@ use crate::svg::{palette, Axes, Cell, Figure, Label, Placement, Stroke};
 use crate::Result;
 use geomkit::bezier::BezierSurface;
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
+use geomkit::compose::Piecewise;
 use geomkit::geom::Curve;
 use geomkit::geom::Surface;
+use geomkit::pointcalc::PointEquation;
 
 /// Points of `surface` on the grid `us` × `vs` (row-major) as drawn: heights z(u, v) (1-D
 /// points) become (u, v, z); 2- and 3-D points stay. Returns (points, their dimension).
@@ -766,6 +768,86 @@ pub fn heightmap_figure(
 fn short_number(x: f64) -> String {
     let v: f64 = format!("{x:.3e}").parse().unwrap_or(x);
     format!("{v}")
+}
+
+/// The SVG of point-equation curves (dimension 1-3) through their source points.
+pub fn point_curves_svg(
+    title: &str,
+    subtitle: &str,
+    curves: &[(&PointEquation, String)],
+) -> Result<String> {
+    let dim = curves.first().map_or(2, |c| c.0.dim());
+    let proj = Projection::for_dim(dim)?;
+    let axes = if dim == 2 {
+        Axes::Equal
+    } else if dim == 1 {
+        Axes::Chart {
+            x: "t".into(),
+            y: "x".into(),
+        }
+    } else {
+        Axes::Bare
+    };
+    let mut fig = Figure::new(title, axes).subtitle(subtitle);
+    for (k, (eq, legend)) in curves.iter().enumerate() {
+        let (a, b) = eq.domain();
+        let pts: Vec<[f64; 2]> = linspace(a, b, 400)
+            .into_iter()
+            .map(|t| proj.point(t, &eq.eval(t)))
+            .collect();
+        let stroke = Stroke::solid(palette::SERIES[k % palette::SERIES.len()], 2.2);
+        fig.line(pts, stroke);
+        fig.legend(stroke, None, legend.clone());
+    }
+    if let Some((eq, _)) = curves.first() {
+        let dots: Vec<[f64; 2]> = (0..eq.nodes().len())
+            .map(|i| proj.point(eq.nodes().values()[i], eq.point(i)))
+            .collect();
+        fig.dots(dots, 4.0, palette::OLD_VERTEX);
+    }
+    Ok(fig.render())
+}
+
+/// An SVG plot: the formula (through the tape) as a line, the breakpoints (structural
+/// evaluator) as dots; a function as (x, f(x)) on a chart, a curve as (x(t), y(t)).
+pub fn piecewise_svg(p: &Piecewise, title: &str, subtitle: &str) -> Result<String> {
+    let f = p.formula()?;
+    let k = p.knots();
+    let (a, b) = (k[0], k[k.len() - 1]);
+    let function = p.dim() == 1;
+    let ts = if function {
+        linspace(a - (b - a) / 8.0, b + (b - a) / 8.0, 801)
+    } else {
+        linspace(a, b, 801)
+    };
+    let d = p.dim();
+    let mut out = vec![0.0; ts.len() * d];
+    f.eval_batch(&[&ts], &mut out)?;
+    let page = |t: f64, q: &[f64]| if function { [t, q[0]] } else { [q[0], q[1]] };
+    let line: Vec<[f64; 2]> = ts
+        .iter()
+        .zip(out.chunks_exact(d))
+        .map(|(&t, q)| page(t, q))
+        .collect();
+    let dots: Vec<[f64; 2]> = k.iter().map(|&t| page(t, &p.eval(t))).collect();
+    let axes = if function {
+        Axes::Chart {
+            x: p.var().into(),
+            y: "f".into(),
+        }
+    } else {
+        Axes::Equal
+    };
+    let mut fig = Figure::new(title, axes).subtitle(subtitle);
+    fig.line(line, palette::CURVE);
+    fig.legend(palette::CURVE, None, "the single formula");
+    fig.dots(dots, 3.5, palette::NEW_VERTEX);
+    fig.legend(
+        palette::NEW_POLYGON,
+        Some(palette::NEW_VERTEX),
+        "breakpoints (structural evaluator)",
+    );
+    Ok(fig.render())
 }
 
 #[cfg(test)]

@@ -6,9 +6,10 @@
 
 use crate::cli::{
     BezierCommand, ChangeArgs, Continuity, DegreeArgs, Degrees, ElevateArgs, EvalArgs, Norm,
-    ReduceArgs,
+    ReduceArgs, MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES,
 };
 use crate::model::{read_model, to_json, BezierModel, ErrorReport};
+use crate::output::coordinate_names;
 use crate::output::{write_stdout, Destination};
 use anyhow::{bail, Context, Result};
 use geomkit::bezier::{ApproxOptions, BezierSurface, DegreeReport, ReductionNorm};
@@ -511,23 +512,6 @@ fn surface_change_svg(
 
 // ---------------------------------------------------------------------------------------------
 // eval
-
-/// Column names of points of dimension `dim`: x, y, z (x1..xd above 3).
-pub fn coordinate_names(dim: usize) -> Vec<String> {
-    if dim <= 3 {
-        ["x", "y", "z"][..dim]
-            .iter()
-            .map(|s| s.to_string())
-            .collect()
-    } else {
-        (1..=dim).map(|k| format!("x{k}")).collect()
-    }
-}
-
-/// Most samples of a curve (rows of the CSV).
-pub const MAX_CURVE_SAMPLES: usize = 100_000_000;
-/// Most samples per direction of a surface (the CSV has the square of it).
-pub const MAX_SURFACE_SAMPLES: usize = 10_000;
 
 /// A number for CSV: shortest round-trip form, exponent only for very large or small values.
 fn csv_number(x: f64) -> String {

@@ -3,9 +3,10 @@
 //! models and samples) evaluated on uniform samples of its parameter domain or at parameters
 //! read from a file. One output row per point: the parameter(s), then the coordinates.
 
-use super::bezier::{coordinate_names, MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::cli::{ModelEvalArgs, Samples};
+use crate::cli::{MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::model::{read_any_model, AnyModel, BezierModel};
+use crate::output::coordinate_names;
 use crate::output::{Destination, RowSink, TableFormat};
 use crate::progress::Progress;
 use crate::table::{extension, Table};

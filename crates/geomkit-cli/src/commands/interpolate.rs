@@ -6,10 +6,11 @@
 //! one exception to "compute first" is the streaming tile solve, which writes as it goes into
 //! temporary files that are renamed into place only when everything succeeded.
 
-use super::bezier::{coordinate_names, MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::cli::{CurveArgs, EndArg, InterpolateCommand, ParamArg, Samples, SurfaceArgs};
+use crate::cli::{MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::model::{knots_sibling, write_bspline_curve_json, write_bspline_surface_json};
 use crate::npy::NpyReader;
+use crate::output::coordinate_names;
 use crate::output::{AtomicFile, Destination, RowSink, TableFormat};
 use crate::progress::Progress;
 use crate::table::{extension, is_npy, Table};

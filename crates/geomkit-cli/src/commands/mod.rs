@@ -3,6 +3,7 @@
 pub mod bezier;
 pub mod compose;
 pub mod eval;
+pub mod formula;
 pub mod interpolate;
 pub mod mesh;
 pub mod piecewise;

@@ -11,16 +11,14 @@
 //! - `{"type":"bspline_curve",...}` (a saved model, e.g. from `geomkit interpolate curve
 //!   -o fit.json`): one polynomial piece per knot span ([`Piecewise::from_bspline`]).
 
-use super::compose::{
-    format_of, formula_json, formula_line, formula_text, FormulaOutput, PiecewiseArgs,
-};
+use super::formula::{format_of, formula_json, formula_line, formula_text};
+use crate::cli::{FormulaOutput, PiecewiseArgs};
 use crate::output::Destination;
 use crate::table::extension;
 use anyhow::{bail, Context, Result};
 use geomkit::compose::Piecewise;
 use geomkit_model::{AnyModel, ModelFile};
-use geomkit_plot::figures::linspace;
-use geomkit_plot::svg::{palette, Axes, Figure};
+use geomkit_plot::figures::piecewise_svg;
 use serde_json::{json, Value};
 use std::io::Write;
 use std::path::Path;
@@ -63,68 +61,6 @@ pub fn report_json(p: &Piecewise) -> Value {
     })
 }
 
-/// Largest difference between the printed formula (through the engine's tape) and the
-/// structural evaluator at `count` points spread over the knots widened by a quarter on
-/// each side, plus every knot.
-pub fn formula_vs_structural(p: &Piecewise, count: usize) -> Result<f64> {
-    let f = p.formula()?;
-    let k = p.knots();
-    let (a, b) = (k[0], k[k.len() - 1]);
-    let mut xs = linspace(a - (b - a) / 4.0, b + (b - a) / 4.0, count);
-    xs.extend_from_slice(k);
-    let d = p.dim();
-    let mut out = vec![0.0; xs.len() * d];
-    f.eval_batch(&[&xs], &mut out)?;
-    let mut worst = 0.0f64;
-    for (x, q) in xs.iter().zip(out.chunks_exact(d)) {
-        let s = p.eval(*x);
-        worst = (0..d).fold(worst, |w, c| w.max((s[c] - q[c]).abs()));
-    }
-    Ok(worst)
-}
-
-/// An SVG plot: the formula (through the tape) as a line, the breakpoints (structural
-/// evaluator) as dots; a function as (x, f(x)) on a chart, a curve as (x(t), y(t)).
-pub fn plot(p: &Piecewise, title: &str, subtitle: &str) -> Result<String> {
-    let f = p.formula()?;
-    let k = p.knots();
-    let (a, b) = (k[0], k[k.len() - 1]);
-    let function = p.dim() == 1;
-    let ts = if function {
-        linspace(a - (b - a) / 8.0, b + (b - a) / 8.0, 801)
-    } else {
-        linspace(a, b, 801)
-    };
-    let d = p.dim();
-    let mut out = vec![0.0; ts.len() * d];
-    f.eval_batch(&[&ts], &mut out)?;
-    let page = |t: f64, q: &[f64]| if function { [t, q[0]] } else { [q[0], q[1]] };
-    let line: Vec<[f64; 2]> = ts
-        .iter()
-        .zip(out.chunks_exact(d))
-        .map(|(&t, q)| page(t, q))
-        .collect();
-    let dots: Vec<[f64; 2]> = k.iter().map(|&t| page(t, &p.eval(t))).collect();
-    let axes = if function {
-        Axes::Chart {
-            x: p.var().into(),
-            y: "f".into(),
-        }
-    } else {
-        Axes::Equal
-    };
-    let mut fig = Figure::new(title, axes).subtitle(subtitle);
-    fig.line(line, palette::CURVE);
-    fig.legend(palette::CURVE, None, "the single formula");
-    fig.dots(dots, 3.5, palette::NEW_VERTEX);
-    fig.legend(
-        palette::NEW_POLYGON,
-        Some(palette::NEW_VERTEX),
-        "breakpoints (structural evaluator)",
-    );
-    Ok(fig.render())
-}
-
 /// Runs `geomkit compose piecewise`.
 pub fn run(args: PiecewiseArgs) -> Result<()> {
     let (p, file) = read_pieces(&args.pieces)?;
@@ -154,7 +90,7 @@ pub fn run(args: PiecewiseArgs) -> Result<()> {
             dest.write(json.as_bytes())?
         }
         Some(Some(e)) if e == "svg" => {
-            dest.write(plot(&p, &what, &formula_line(&f))?.as_bytes())?
+            dest.write(piecewise_svg(&p, &what, &formula_line(&f))?.as_bytes())?
         }
         _ => bail!(
             "cannot tell the output format of {}: name it .json, .svg or .txt",

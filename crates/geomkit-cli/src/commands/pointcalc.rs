@@ -6,12 +6,15 @@
 //! (atomically): a failing command leaves no output file. Warnings (a large Lebesgue
 //! constant) go to standard error as `warning: ...` lines.
 
+use crate::cli::{
+    FitArgs, FormulaArgs, OptimizeArgs, PcCurveArgs, PcEvalArgs, PcSurfaceArgs, PointcalcCommand,
+    SharesArgs,
+};
 use crate::model::json_number;
 use crate::output::{write_stdout, Destination};
 use anyhow::{anyhow, bail, Context, Result};
-use clap::{Args, Subcommand};
 use geomkit::exact::Rational;
-use geomkit::expr::{Format, Graph};
+use geomkit::expr::Graph;
 use geomkit::geom::Curve;
 use geomkit::geom::Surface;
 use geomkit::pointcalc::{
@@ -19,179 +22,11 @@ use geomkit::pointcalc::{
     PointSurface, PrintedSurface, Warning,
 };
 use geomkit_model::{AnyModel, PointcalcModel};
-use geomkit_plot::figures::{linspace, surface_svg, Layer, Projection};
-use geomkit_plot::svg::{palette, Axes, Figure, Stroke};
+use geomkit_plot::figures::{linspace, point_curves_svg, surface_svg, Layer};
+use geomkit_plot::svg::{palette, Stroke};
 use serde::Deserialize;
 use std::io::Write as _;
-use std::path::{Path, PathBuf};
-
-/// `geomkit pointcalc ...`
-#[derive(Debug, Subcommand)]
-pub enum PointcalcCommand {
-    /// Fit a k-factor model through experimental points (a CSV grid of factor levels).
-    #[command(long_about = FIT_ABOUT)]
-    Fit(FitArgs),
-    /// Evaluate a model at the factor values of a CSV file (prints them with the response).
-    Eval(PcEvalArgs),
-    /// The share of every experimental point in the modeled point at given factor values.
-    Shares(SharesArgs),
-    /// The largest or smallest modeled response over the factors' box (global, certified).
-    Optimize(OptimizeArgs),
-    /// The model (or a curve from POINTS.json) as one formula per response.
-    Formula(FormulaArgs),
-    /// A point-equation curve through source points (JSON), as SVG or JSON samples.
-    Curve(CurveArgs),
-    /// A point-equation surface through a net of source points (JSON), as SVG or JSON.
-    Surface(SurfaceArgs),
-}
-
-const FIT_ABOUT: &str = "\
-Fit a k-factor model through experimental points (spec/point-calculus.md §4).
-
-EXPERIMENTS.csv has a header line naming the columns (commas, semicolons or tabs), then one
-experiment per line. The factor columns (--factors) must take a full grid of levels: every
-combination of the levels present, exactly once. Each factor's levels are its nodes; the
-model passes through every experimental point (no system is solved).
-
---nodes a=0,1/3,1;b=... gives the nodes of some factors explicitly: exact rationals (kept
-exact in formulas) or presets (cheb1:N:LO:HI, cheb2:N:LO:HI, equi:N:LO:HI); the data levels
-are matched to them within 1e-9 of their span.";
-
-/// Arguments of `pointcalc fit`.
-#[derive(Debug, Args)]
-pub struct FitArgs {
-    /// Experiments: CSV with a header.
-    #[arg(value_name = "EXPERIMENTS.csv")]
-    pub input: PathBuf,
-    /// Factor columns, comma-separated.
-    #[arg(long, value_name = "A,B,..", value_delimiter = ',', required = true)]
-    pub factors: Vec<String>,
-    /// Response column(s), comma-separated (several make a vector response).
-    #[arg(long, value_name = "Y", value_delimiter = ',', required = true)]
-    pub response: Vec<String>,
-    /// Explicit nodes of some factors: "a=0,1/3,1;b=cheb2:5:0:1".
-    #[arg(long, value_name = "SPEC")]
-    pub nodes: Option<String>,
-    /// Fail (instead of warning) when a factor's Lebesgue constant is large.
-    #[arg(long)]
-    pub strict: bool,
-    /// Output model (JSON); default: standard output.
-    #[arg(short, long, value_name = "MODEL.json")]
-    pub output: Option<PathBuf>,
-}
-
-/// Arguments of `pointcalc eval`.
-#[derive(Debug, Args)]
-pub struct PcEvalArgs {
-    /// The model (from `pointcalc fit`).
-    #[arg(value_name = "MODEL.json")]
-    pub model: PathBuf,
-    /// Factor values: CSV with a header naming the factor columns.
-    #[arg(value_name = "AT.csv")]
-    pub at: PathBuf,
-    /// Output CSV; default: standard output.
-    #[arg(short, long, value_name = "OUT.csv")]
-    pub output: Option<PathBuf>,
-}
-
-/// Arguments of `pointcalc shares`.
-#[derive(Debug, Args)]
-pub struct SharesArgs {
-    /// The model.
-    #[arg(value_name = "MODEL.json")]
-    pub model: PathBuf,
-    /// The factor values: "a=1.5,b=2,c=0.3" (every factor).
-    #[arg(long, value_name = "A=X,..", allow_hyphen_values = true)]
-    pub at: String,
-}
-
-/// Arguments of `pointcalc optimize`.
-#[derive(Debug, Args)]
-#[command(group(clap::ArgGroup::new("goal").required(true).args(["max", "min"])))]
-pub struct OptimizeArgs {
-    /// The model (scalar response).
-    #[arg(value_name = "MODEL.json")]
-    pub model: PathBuf,
-    /// The largest response.
-    #[arg(long)]
-    pub max: bool,
-    /// The smallest response.
-    #[arg(long)]
-    pub min: bool,
-    /// Relative tolerance of the certified gap (to the range of the data) [default: 1e-9].
-    #[arg(long, value_name = "T")]
-    pub tolerance: Option<f64>,
-}
-
-/// Arguments of `pointcalc formula`.
-#[derive(Debug, Args)]
-pub struct FormulaArgs {
-    /// A model from `pointcalc fit`, or source points of a curve (POINTS.json, with --nodes).
-    #[arg(value_name = "MODEL.json")]
-    pub model: PathBuf,
-    /// Target syntax: maple, mathematica, sympy, numpy, matlab, latex, c, rust, glsl, js,
-    /// desmos.
-    #[arg(long, value_name = "FORMAT", value_parser = parse_format)]
-    pub format: Format,
-    /// For a curve: the nodes (as for `pointcalc curve`).
-    #[arg(long, value_name = "SPEC")]
-    pub nodes: Option<String>,
-}
-
-/// Arguments of `pointcalc curve`.
-#[derive(Debug, Args)]
-pub struct CurveArgs {
-    /// Source points: JSON array of points ([[x,y],...]) or {"points": [...]}.
-    #[arg(value_name = "POINTS.json")]
-    pub input: PathBuf,
-    /// Nodes: "0,1/3,1", "cheb1:N[:LO:HI]", "cheb2:N", "equi:N", "half", "third",
-    /// "two-thirds" [default: equally spaced j/(n-1), exact].
-    #[arg(long, value_name = "SPEC")]
-    pub nodes: Option<String>,
-    /// Fail (instead of warning) when the Lebesgue constant is large.
-    #[arg(long)]
-    pub strict: bool,
-    /// Samples over the node interval for JSON and SVG output [default: 201].
-    #[arg(long, value_name = "K")]
-    pub samples: Option<usize>,
-    /// Output: .svg (a picture) or .json (nodes, Lebesgue constant, samples); default: JSON
-    /// to standard output.
-    #[arg(short, long, value_name = "OUT")]
-    pub output: Option<PathBuf>,
-}
-
-/// Arguments of `pointcalc surface`.
-#[derive(Debug, Args)]
-pub struct SurfaceArgs {
-    /// Net of source points: JSON [[[x,y,z],...],...] (rows of points) or {"net": ...}.
-    #[arg(value_name = "POINTS.json")]
-    pub input: PathBuf,
-    /// Nodes along every row [default: equally spaced, exact].
-    #[arg(long, value_name = "SPEC", conflicts_with = "row_nodes")]
-    pub nodes: Option<String>,
-    /// Nodes of each row, separated by ';' ("third;half;two-thirds").
-    #[arg(long, value_name = "SPEC;SPEC;..")]
-    pub row_nodes: Option<String>,
-    /// Nodes across the rows [default: equally spaced, exact].
-    #[arg(long, value_name = "SPEC")]
-    pub across: Option<String>,
-    /// The paper's geomatrix (9) exactly as printed (3×3 nets only; not affine invariant).
-    #[arg(long, conflicts_with_all = ["nodes", "row_nodes", "across"])]
-    pub printed: bool,
-    /// Samples per direction for JSON output [default: 21].
-    #[arg(long, value_name = "K")]
-    pub samples: Option<usize>,
-    /// Output: .svg or .json (a K×K grid of points); default: JSON to standard output.
-    #[arg(short, long, value_name = "OUT")]
-    pub output: Option<PathBuf>,
-}
-
-fn parse_format(s: &str) -> Result<Format, String> {
-    Format::from_name(s).ok_or_else(|| {
-        let names: Vec<&str> = Format::ALL.iter().map(|f| f.name()).collect();
-        format!("unknown format '{s}' (one of {})", names.join(", "))
-    })
-}
+use std::path::Path;
 
 /// Runs a `pointcalc` subcommand.
 pub fn run(command: PointcalcCommand) -> Result<()> {
@@ -661,45 +496,7 @@ fn check_samples(samples: Option<usize>, default: usize) -> Result<usize> {
     Ok(k)
 }
 
-/// The SVG of point-equation curves (dimension 1-3) through their source points.
-pub fn curves_svg(
-    title: &str,
-    subtitle: &str,
-    curves: &[(&PointEquation, String)],
-) -> Result<String> {
-    let dim = curves.first().map_or(2, |c| c.0.dim());
-    let proj = Projection::for_dim(dim)?;
-    let axes = if dim == 2 {
-        Axes::Equal
-    } else if dim == 1 {
-        Axes::Chart {
-            x: "t".into(),
-            y: "x".into(),
-        }
-    } else {
-        Axes::Bare
-    };
-    let mut fig = Figure::new(title, axes).subtitle(subtitle);
-    for (k, (eq, legend)) in curves.iter().enumerate() {
-        let (a, b) = eq.domain();
-        let pts: Vec<[f64; 2]> = linspace(a, b, 400)
-            .into_iter()
-            .map(|t| proj.point(t, &eq.eval(t)))
-            .collect();
-        let stroke = Stroke::solid(palette::SERIES[k % palette::SERIES.len()], 2.2);
-        fig.line(pts, stroke);
-        fig.legend(stroke, None, legend.clone());
-    }
-    if let Some((eq, _)) = curves.first() {
-        let dots: Vec<[f64; 2]> = (0..eq.nodes().len())
-            .map(|i| proj.point(eq.nodes().values()[i], eq.point(i)))
-            .collect();
-        fig.dots(dots, 4.0, palette::OLD_VERTEX);
-    }
-    Ok(fig.render())
-}
-
-fn curve(args: CurveArgs) -> Result<()> {
+fn curve(args: PcCurveArgs) -> Result<()> {
     let eq = read_curve(&args.input, args.nodes.as_deref(), args.strict)?;
     warn(eq.warnings());
     let k = check_samples(args.samples, 201)?;
@@ -710,7 +507,7 @@ fn curve(args: CurveArgs) -> Result<()> {
         .and_then(|p| p.extension())
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
     {
-        let svg = curves_svg(
+        let svg = point_curves_svg(
             "Point-equation curve",
             &format!("{} source points", eq.nodes().len()),
             &[(&eq, format!("M(t), nodes {:?}", eq.nodes().values()))],
@@ -760,7 +557,7 @@ impl AnySurface {
     }
 }
 
-fn build_surface(args: &SurfaceArgs, net: Vec<Vec<Vec<f64>>>) -> Result<AnySurface> {
+fn build_surface(args: &PcSurfaceArgs, net: Vec<Vec<Vec<f64>>>) -> Result<AnySurface> {
     if args.printed {
         return Ok(AnySurface::Printed(PrintedSurface::new(net)?));
     }
@@ -798,7 +595,7 @@ fn build_surface(args: &SurfaceArgs, net: Vec<Vec<Vec<f64>>>) -> Result<AnySurfa
     Ok(AnySurface::Rows(s))
 }
 
-fn surface(args: SurfaceArgs) -> Result<()> {
+fn surface(args: PcSurfaceArgs) -> Result<()> {
     let net = match read_json::<NetFile>(&args.input, "a JSON net of points")? {
         NetFile::Bare(n) | NetFile::Wrapped { net: n } => n,
     };

@@ -4,13 +4,12 @@
 //! and the formula-vs-structural agreement.
 
 use super::{Check, Context, Item, Report};
-use crate::commands::piecewise;
 use anyhow::Result;
 use geomkit::bspline::{interpolate_surface, SurfaceInterpolationOptions};
 use geomkit::compose::{bodies, CompositeSurface, ExprPatch, Piecewise, RuledSurface, SurfaceKind};
 use geomkit::expr::Format;
 use geomkit_plot::figures::linspace;
-use geomkit_plot::figures::wireframe_svg;
+use geomkit_plot::figures::{piecewise_svg, wireframe_svg};
 use geomkit_plot::svg::escape;
 
 /// The items, in order.
@@ -170,12 +169,12 @@ fn piecewise(ctx: &Context) -> Result<Report> {
     let p = Piecewise::function(vec![-2.0, -1.0, 0.0, 1.0, 2.0], &pieces)?;
     let f = p.formula()?;
     let text = f.print(Format::Maple);
-    let svg = piecewise::plot(&p, "piecewise function", "four pieces, one formula")?;
+    let svg = piecewise_svg(&p, "piecewise function", "four pieces, one formula")?;
     r.picture(ctx, "compose-piecewise.svg", &svg, text.trim())?;
     r.html.push_str(&format!("<pre>{}</pre>\n", escape(&text)));
     r.check(Check::at_most(
         "formula vs piecewise evaluation (2001 points and every breakpoint, also outside)",
-        piecewise::formula_vs_structural(&p, 2001)?,
+        p.formula_deviation(2001)?,
         1e-14,
     ));
     let direct = |x: f64| match x {

@@ -4,9 +4,9 @@
 //! them) and Dolya's closed bodies shaded and meshed watertight.
 
 use super::{Check, Context, Item, Report};
-use crate::commands::mesh::write_mesh;
 use crate::model::load_shape as load;
 use crate::model::BezierModel;
+use crate::output::write_mesh;
 use anyhow::Result;
 use geomkit::bezier::BezierSurface;
 use geomkit::compose::{bodies, RuledSurface};

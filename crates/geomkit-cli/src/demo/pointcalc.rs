@@ -4,7 +4,6 @@
 //! built-in data set with its shares and certified optimum.
 
 use super::{sci, Check, Context, Item, Report};
-use crate::commands::pointcalc::{curves_svg, model_json};
 use anyhow::Result;
 use geomkit::exact::Rational;
 use geomkit::geom::Curve;
@@ -12,6 +11,8 @@ use geomkit::pointcalc::{
     optimize, printed_geomatrix_exact, Goal, Hypersurface, Nodes, OptimizeOptions, PointEquation,
     PointOptions, PointSurface, PrintedSurface,
 };
+use geomkit_model::PointcalcModel;
+use geomkit_plot::figures::point_curves_svg;
 use geomkit_plot::figures::{heightmap_figure, linspace, surface_svg, HeightField, Layer};
 use geomkit_plot::svg::{palette, Axes, Stroke};
 use std::fmt::Write as _;
@@ -74,7 +75,7 @@ fn bcurves(ctx: &Context) -> Result<Report> {
         .zip(&placements)
         .map(|(e, (name, _))| (e, format!("equation {name}")))
         .collect();
-    let svg = curves_svg(
+    let svg = point_curves_svg(
         "The b-curves (1), (2), (3) through A, C, B",
         "C placed at t = 1/2, 1/3, 2/3",
         &labelled,
@@ -292,7 +293,7 @@ fn factors3(ctx: &Context) -> Result<Report> {
     r.file(
         ctx,
         "factors3_model.json",
-        model_json(&model, &["yield".to_string()]).as_bytes(),
+        geomkit_model::to_json(&PointcalcModel::file_of(&model, &["yield".to_string()])).as_bytes(),
         "the model (geomkit pointcalc eval/shares/optimize/formula read it)",
     )?;
     let worst = records

@@ -515,6 +515,37 @@ impl Curve for Piecewise {
     }
 }
 
+impl Piecewise {
+    /// Largest difference between the single formula (evaluated by the engine's tape) and the
+    /// structural evaluator ([`Piecewise::eval`]) at `count` points spread over the knots
+    /// widened by a quarter on each side (where the ramps of §5 must hold the end pieces),
+    /// plus every knot: the check that the printed formula is the piecewise function.
+    ///
+    /// Errors: the formula's own errors ([`Piecewise::formula`]).
+    ///
+    /// ```
+    /// use geomkit::compose::Piecewise;
+    /// let hat = Piecewise::function(vec![0.0, 1.0, 2.0], &["x", "2 - x"]).unwrap();
+    /// assert!(hat.formula_deviation(101).unwrap() < 1e-15);
+    /// ```
+    pub fn formula_deviation(&self, count: usize) -> Result<f64> {
+        let f = self.formula()?;
+        let k = self.knots();
+        let (a, b) = (k[0], k[k.len() - 1]);
+        let mut xs = crate::geom::linspace(a - (b - a) / 4.0, b + (b - a) / 4.0, count);
+        xs.extend_from_slice(k);
+        let d = self.dim();
+        let mut out = vec![0.0; xs.len() * d];
+        f.eval_batch(&[&xs], &mut out)?;
+        let mut worst = 0.0f64;
+        for (x, q) in xs.iter().zip(out.chunks_exact(d)) {
+            let s = self.eval(*x);
+            worst = (0..d).fold(worst, |w, c| w.max((s[c] - q[c]).abs()));
+        }
+        Ok(worst)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,8 +1,21 @@
 //! The command line: clap derive types. Each method adds a subcommand group here and its
 //! implementation in `commands/`.
 
+mod compose;
+mod pointcalc;
+mod render;
+
+pub use compose::*;
+pub use pointcalc::*;
+pub use render::*;
+
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
+
+/// Most samples of a curve (rows of the CSV).
+pub const MAX_CURVE_SAMPLES: usize = 100_000_000;
+/// Most samples per direction of a surface (the CSV has the square of it).
+pub const MAX_SURFACE_SAMPLES: usize = 10_000;
 
 /// geomkit: geometric modeling of curves and surfaces.
 #[derive(Debug, Parser)]
@@ -28,17 +41,17 @@ pub enum Command {
     /// Point equations (point BN-calculus): k-factor models through experimental points with
     /// shares and optimum; curves and surfaces through source points.
     #[command(subcommand)]
-    Pointcalc(crate::commands::pointcalc::PointcalcCommand),
+    Pointcalc(PointcalcCommand),
     /// Single analytic formulas (spec/composite-surfaces.md): closed bodies and composite
     /// surfaces as one formula in Maple, Mathematica, SymPy, ... syntax.
     #[command(subcommand)]
-    Compose(crate::commands::compose::ComposeCommand),
+    Compose(ComposeCommand),
     /// A picture of any model: PNG or SVG (shaded 3-D view of surfaces with the control net,
     /// curves with control polygon and reference points).
-    Render(crate::commands::render::RenderArgs),
+    Render(RenderArgs),
     /// A mesh of any model: OBJ, STL, PLY or glTF binary (surfaces as triangles with
     /// normals, closed bodies watertight; curves as polylines).
-    Mesh(crate::commands::mesh::MeshArgs),
+    Mesh(MeshArgs),
     /// Run every method's demo: pictures, model files, index.html and a table of checks.
     Demo(DemoArgs),
 }

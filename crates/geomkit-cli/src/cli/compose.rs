@@ -1,0 +1,154 @@
+//! Arguments of `geomkit compose`.
+
+use clap::{Args, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// `geomkit compose ...`
+#[derive(Debug, Subcommand)]
+pub enum ComposeCommand {
+    /// A closed body as one formula (the paper's cube, and box, pyramid, cone, cylinder,
+    /// prism, frustum): formula text, or OUT .json (formulas and model), a watertight mesh
+    /// (.obj, .stl, .ply, .glb) or a shaded picture (.png, .svg).
+    Body(BodyArgs),
+    /// A composite surface of patches (SCENE.json) as one formula (9)/(11), with its
+    /// continuity report: formula text, or OUT like `compose body`.
+    Patches(PatchesArgs),
+    /// A piecewise-ruled surface over curves (CURVES.json) as one formula (2), with its
+    /// consistency checks: formula text, or OUT like `compose body`.
+    Ruled(RuledArgs),
+    /// A piecewise function, composite curve or saved B-spline curve (PIECES.json) as one
+    /// formula (spec §5), with the continuity report at its breakpoints; OUT .svg plots it.
+    Piecewise(PiecewiseArgs),
+}
+
+/// The bodies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum BodyKind {
+    /// The paper's cube with vertices (±1, ±1, ±1).
+    Cube,
+    /// A box of sizes --size A,B,C centred at the origin.
+    Box,
+    /// A pyramid of height --height over a square of side --side (or a regular --ngon of
+    /// circumradius --radius).
+    Pyramid,
+    /// A cone of base --radius and --height, base included.
+    Cone,
+    /// A cylinder of --radius and --height with both caps.
+    Cylinder,
+    /// A prism of --height over a regular --ngon of circumradius --radius (or --polygon).
+    Prism,
+    /// A frustum of bottom --radius, top --top-radius and --height with both caps.
+    Frustum,
+}
+
+/// Arguments of `compose body`.
+#[derive(Debug, Args)]
+pub struct BodyArgs {
+    /// Which body.
+    #[arg(value_enum)]
+    pub body: BodyKind,
+    /// Box sizes A,B,C [default: 2,2,2].
+    #[arg(long, value_name = "A,B,C", allow_hyphen_values = true)]
+    pub size: Option<String>,
+    /// Height [default: 2].
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    pub height: Option<f64>,
+    /// Radius (circumradius of a regular polygon) [default: 1].
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    pub radius: Option<f64>,
+    /// Top radius of a frustum [default: radius/2].
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    pub top_radius: Option<f64>,
+    /// Base side of a square pyramid [default: 2].
+    #[arg(long, value_name = "A", allow_negative_numbers = true)]
+    pub side: Option<f64>,
+    /// Regular polygon with N vertices as the base of a prism or pyramid.
+    #[arg(long, value_name = "N")]
+    pub ngon: Option<usize>,
+    /// Polygon "x,y;x,y;..." as the base of a prism or pyramid.
+    #[arg(
+        long,
+        value_name = "X,Y;...",
+        allow_hyphen_values = true,
+        conflicts_with = "ngon"
+    )]
+    pub polygon: Option<String>,
+    /// Output options.
+    #[command(flatten)]
+    pub out: SurfaceOutput,
+}
+
+/// Arguments of `compose patches`.
+#[derive(Debug, Args)]
+pub struct PatchesArgs {
+    /// The scene (JSON), or a saved B-spline surface ({"type":"bspline_surface",...}, e.g.
+    /// from `geomkit interpolate surface -o fit.json`: one patch per knot cell).
+    pub scene: PathBuf,
+    /// Print the continuity report as JSON {"max_jump":..,"jumps":[..]} instead of the formula.
+    #[arg(long)]
+    pub report_json: bool,
+    /// Output options, as for `compose body`.
+    #[command(flatten)]
+    pub out: SurfaceOutput,
+}
+
+/// Arguments of `compose ruled`.
+#[derive(Debug, Args)]
+pub struct RuledArgs {
+    /// The curves (JSON): {"type":"ruled","curves":[C,...],"v":[...],"u":[u0,u1]} with C
+    /// {"x":"expr","y":"expr","z":"expr","t":[t0,t1]} (formulas in t), {"point":[x,y,z]},
+    /// {"polygon":[[x,y,z],...]}, {"polyline":[[x,y,z],...]} or
+    /// {"circle":{"center":[x,y,z],"radius":r}}; "u" defaults to [0,1].
+    pub curves: PathBuf,
+    /// Output options, as for `compose body`.
+    #[command(flatten)]
+    pub out: SurfaceOutput,
+}
+
+/// Arguments of `compose piecewise`.
+#[derive(Debug, Args)]
+pub struct PiecewiseArgs {
+    /// The pieces (JSON): {"type":"piecewise","knots":[x0,...,xn],"pieces":["f0(x)",...]}
+    /// for a function, pieces {"x":"expr","y":"expr"[,"z":..][,"domain":[t0,t1]]} in t
+    /// for a composite curve, {"type":"polyline"|"polygon","points":[[x,y],...]
+    /// [,"knots":[...]]}, or a saved B-spline curve ({"type":"bspline_curve",...}, e.g. from
+    /// `geomkit interpolate curve -o fit.json`: one polynomial piece per knot span).
+    pub pieces: PathBuf,
+    /// Print the continuity report as JSON instead of the formula.
+    #[arg(long)]
+    pub report_json: bool,
+    /// Output options: OUT .json (formula in every syntax and the report), .svg (a plot of
+    /// the function or the curve), .txt (the formula).
+    #[command(flatten)]
+    pub out: FormulaOutput,
+}
+
+/// Formula syntax and output file of every `compose` command.
+#[derive(Debug, Args)]
+pub struct FormulaOutput {
+    /// Syntax of the formula.
+    #[arg(long, value_name = "F", default_value = "maple")]
+    pub format: String,
+    /// Print with common subexpressions in temporaries.
+    #[arg(long)]
+    pub program: bool,
+    /// Output file, its format by its extension (see the command's help); default: the
+    /// formula on stdout.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: Option<PathBuf>,
+}
+
+/// Output options of the surface commands (`compose body`, `ruled`, `patches`): OUT .json
+/// (the formula in every syntax and the model, which `geomkit mesh`, `render` and `eval`
+/// read back), a watertight mesh where the surface is closed (.obj, .stl, .ply, .glb, as
+/// `geomkit mesh` writes them), a shaded picture (.png, .svg) or .txt (the formula).
+#[derive(Debug, Args)]
+pub struct SurfaceOutput {
+    /// Formula syntax and output file.
+    #[command(flatten)]
+    pub formula: FormulaOutput,
+    /// A mesh on a uniform KxL sample grid (break lines added) [default: adaptive, within
+    /// 1/1000 of the size].
+    #[arg(long, value_name = "KxL")]
+    pub samples: Option<String>,
+}
