@@ -24,6 +24,10 @@ use crate::{Error, Result};
 pub struct RationalBezierCurve {
     /// Homogeneous control points (w_i u_i, w_i), dimension r + 1.
     homogeneous: BezierCurve,
+    /// The Cartesian control points u_i as given (row-major, dimension r): kept, so that
+    /// [`RationalBezierCurve::points`] gives back the very numbers a curve was made from
+    /// (u_i w_i / w_i may differ from u_i in the last bit).
+    points: Vec<f64>,
 }
 
 fn check_weights(weights: &[f64]) -> Result<()> {
@@ -54,6 +58,7 @@ impl RationalBezierCurve {
         }
         Ok(RationalBezierCurve {
             homogeneous: BezierCurve::from_flat(dim + 1, h)?,
+            points: flat,
         })
     }
 
@@ -70,7 +75,15 @@ impl RationalBezierCurve {
         let d = h.dim();
         let weights: Vec<f64> = h.points_flat().chunks_exact(d).map(|p| p[d - 1]).collect();
         check_weights(&weights)?;
-        Ok(RationalBezierCurve { homogeneous: h })
+        let points = h
+            .points_flat()
+            .chunks_exact(d)
+            .flat_map(|p| p[..d - 1].iter().map(move |x| x / p[d - 1]))
+            .collect();
+        Ok(RationalBezierCurve {
+            homogeneous: h,
+            points,
+        })
     }
 
     /// Formal degree.
@@ -93,14 +106,12 @@ impl RationalBezierCurve {
             .collect()
     }
 
-    /// The (Cartesian) control points.
+    /// The (Cartesian) control points: those the curve was made from by
+    /// [`RationalBezierCurve::new`], bit for bit; (w_i u_i) / w_i for a curve made from
+    /// homogeneous points.
     pub fn points(&self) -> Vec<Vec<f64>> {
-        let d = self.homogeneous.dim();
-        self.homogeneous
-            .points_flat()
-            .chunks_exact(d)
-            .map(|p| p[..d - 1].iter().map(|x| x / p[d - 1]).collect())
-            .collect()
+        let d = self.homogeneous.dim() - 1;
+        self.points.chunks_exact(d).map(<[f64]>::to_vec).collect()
     }
 
     /// Elevation to n' >= n (closed form (8) on homogeneous points): the curve is unchanged.
