@@ -631,7 +631,7 @@ fn large_uneven_curves_interpolate_every_point() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(12))]
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
 
     /// Uneven parameters over many parallel chunks: every point is interpolated to rounding
     /// (steps varying up to 400-fold), and where the system is well conditioned (steps

@@ -99,7 +99,7 @@ fn smooth_surface_split_into_cells_is_reproduced() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(12))]
+    #![proptest_config(ProptestConfig::with_cases(256))]
     /// Random (discontinuous) biquadratic patches as formulas, n, m from 1 to 6: the formula
     /// shifts them by (9); formula patches agree with the same polynomials as PolyPatch.
     #[test]
@@ -317,7 +317,7 @@ fn formula_curves_in_ruled_surfaces_match_the_built_in_circle() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(24))]
+    #![proptest_config(ProptestConfig::with_cases(256))]
     /// Random discontinuous quadratic pieces: the printed formula, the literal formula (§5)
     /// and the structural evaluator agree at every knot, inside and outside.
     #[test]

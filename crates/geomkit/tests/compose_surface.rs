@@ -63,10 +63,10 @@ fn max_diff(s: &CompositeSurface, us: &[f64], vs: &[f64]) -> (f64, f64) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(24))]
-    /// Random knots, random (discontinuous) bicubic patches, n and m from 1 to 20.
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    /// Random knots, random (discontinuous) bicubic patches, n and m from 1 to 10.
     #[test]
-    fn structural_equals_formula_everywhere(n in 1usize..=20, m in 1usize..=20, seed in 1u64..u64::MAX) {
+    fn structural_equals_formula_everywhere(n in 1usize..=10, m in 1usize..=10, seed in 1u64..u64::MAX) {
         let mut rng = Rng(seed | 1);
         let uk = random_knots(&mut rng, n);
         let vk = random_knots(&mut rng, m);

@@ -418,7 +418,7 @@ fn curves_of_every_type() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(24))]
+    #![proptest_config(ProptestConfig::with_cases(256))]
 
     /// Boxes of any size are watertight with volume a·b·c and area 2(ab + bc + ca), on any
     /// grid.
