@@ -66,11 +66,11 @@ fn smooth_surface_split_into_cells_is_reproduced() {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
-    /// Random (discontinuous) biquadratic patches as formulas, n, m from 1 to 6: the formula
+    /// Random (discontinuous) biquadratic patches as formulas, n, m from 1 to 4: the formula
     /// shifts them by (9); formula patches agree with the same polynomials as PolyPatch.
     #[test]
     fn shifted_formula_patches_match_the_formula_and_the_polynomial_path(
-        n in 1usize..=6, m in 1usize..=6, seed in 1u64..u64::MAX
+        n in 1usize..=4, m in 1usize..=4, seed in 1u64..u64::MAX
     ) {
         let mut rng = Rng(seed | 1);
         let (uk, vk) = (random_knots(&mut rng, n), random_knots(&mut rng, m));
