@@ -14,7 +14,8 @@
 #    with Graph::eval's values at 200 points: the printer_cases example of crates/geomkit.
 # 3. check.mjs: the JavaScript printer's output (inline, definitions, program) run by node
 #    against Graph::eval (1e-13 relative); every LaTeX and Desmos text rendered by KaTeX with
-#    throwOnError. mathematica.py: every Mathematica text parsed by SymPy's
+#    throwOnError and evaluated from KaTeX's parse tree against Graph::eval (1e-13; braces
+#    group nothing, as on the page). mathematica.py: every Mathematica text parsed by SymPy's
 #    parse_mathematica and evaluated (mpmath, 30 digits) against Graph::eval (1e-13).
 #    Maple: no free parser exists; its printer is covered by the snapshots only.
 #

@@ -6,7 +6,7 @@
 //!   cargo run --release -p geomkit --example printer_cases -- OUT.json
 //!
 //! tests/printers/check.mjs runs the JavaScript in node against those values and renders
-//! the LaTeX and Desmos text with KaTeX; tests/printers/mathematica.py parses the Mathematica
+//! the LaTeX and Desmos text with KaTeX (and evaluates its parse tree); tests/printers/mathematica.py parses the Mathematica
 //! text with SymPy's `parse_mathematica` and evaluates it against them.
 
 use geomkit::bspline::interpolate_surface;
