@@ -1,13 +1,14 @@
 //! The printed formulas that tests/printers/ checks with independent tools: every formula of a
-//! representative set (the cube, a cylinder, a composite of interpolated patches, a piecewise
-//! function and curve, random expressions, every function) in JavaScript, LaTeX, Desmos and Mathematica, with
-//! `Graph::eval`'s values at 200 points of each.
+//! representative set (the cube, a cylinder, a frustum, a composite of interpolated patches, a
+//! piecewise function and curve, random expressions, every function) in JavaScript, LaTeX,
+//! Desmos and Mathematica, with `Graph::eval`'s values at 200 points of each.
 //!
 //!   cargo run --release -p geomkit --example printer_cases -- OUT.json
 //!
-//! tests/printers/check.mjs runs the JavaScript in node against those values and renders
-//! the LaTeX and Desmos text with KaTeX (and evaluates its parse tree); tests/printers/mathematica.py parses the Mathematica
-//! text with SymPy's `parse_mathematica` and evaluates it against them.
+//! tests/printers/check.mjs runs the JavaScript in node against those values, renders the
+//! LaTeX and Desmos text with KaTeX and evaluates KaTeX's parse tree against them;
+//! tests/printers/mathematica.py parses the Mathematica text with SymPy's
+//! `parse_mathematica` and evaluates it against them.
 
 use geomkit::bspline::interpolate_surface;
 use geomkit::compose::{bodies, CompositeSurface, Formula, Piecewise};
