@@ -95,9 +95,13 @@ fn svg_surface_has_shaded_faces_net_and_view() {
 
 /// The control net of `SURFACE`, row by row.
 fn net_points() -> Vec<[f64; 3]> {
-    let z = [[0.0, 0.5, 0.0], [0.5, 2.0, 0.5], [0.0, 0.5, 0.0]];
-    (0..3)
-        .flat_map(|i| (0..3).map(move |j| [i as f64, j as f64, z[i][j]]))
+    let model: serde_json::Value = serde_json::from_str(SURFACE).unwrap();
+    let xyz = |p: &serde_json::Value| [0, 1, 2].map(|k| p[k].as_f64().unwrap());
+    model["net"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|row| row.as_array().unwrap().iter().map(xyz))
         .collect()
 }
 
