@@ -22,34 +22,9 @@ here=$root/tests/e2e
 out=${E2E_OUT:-$root/target/e2e}
 chromium=${CHROMIUM:-/usr/bin/chromium}
 
-say() { printf 'e2e: %s\n' "$*" >&2; }
-die() {
-    say "FAILED: $*"
-    exit 1
-}
-
-# Runs a command as root (directly, or through sudo when available).
-as_root() {
-    if [ "$(id -u)" = 0 ]; then
-        "$@"
-    elif command -v sudo >/dev/null; then
-        sudo -n "$@"
-    else
-        die "need root (or sudo) to run: $*"
-    fi
-}
-
-apt_updated=
-apt_install() {
-    if [ -z "$apt_updated" ]; then
-        say "apt-get update"
-        as_root apt-get update -qq || die "apt-get update failed"
-        apt_updated=1
-    fi
-    say "apt-get install $*"
-    as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$@" \
-        >/dev/null || die "apt-get install $* failed"
-}
+tag=e2e
+# shellcheck source=../lib.sh
+source "$root/tests/lib.sh"
 
 # --- 1. tools -----------------------------------------------------------------------------
 if [ ! -x "$chromium" ]; then
@@ -57,9 +32,7 @@ if [ ! -x "$chromium" ]; then
     apt_install chromium
     [ -x "$chromium" ] || die "chromium was installed but $chromium is missing"
 fi
-if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
-    apt_install nodejs npm
-fi
+need_node
 node_major=$(node -p 'process.versions.node.split(".")[0]')
 if [ "$node_major" -lt 20 ]; then
     die "Node.js $(node --version) is too old for playwright-core (its package.json asks for 20 or newer)"

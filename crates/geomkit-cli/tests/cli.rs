@@ -1,10 +1,11 @@
 //! End-to-end tests of the `geomkit` binary: run it in temporary directories and check its
 //! output, exit codes, error lines and the files it leaves (or does not leave) behind.
 
+mod common;
+
+use common::{fails, geomkit, max_abs_diff, ok, stderr, stdout, write};
 use serde_json::Value;
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 /// The paper's Example 2: formal degree 5, real degree 3.
 const EXAMPLE2: &str =
@@ -17,39 +18,6 @@ const BICUBIC: &str = r#"{"type":"bezier_surface","net":[
     [[2,0,1],[2.3,2,3],[2.6,4,2.6],[2.9,6,1.4]],
     [[4,0,0.6],[4.3,2,2.8],[4.6,4,3.2],[4.9,6,1]],
     [[6,0,0.2],[6.3,2,0.8],[6.6,4,1.4],[6.9,6,0.4]]]}"#;
-
-fn geomkit(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_geomkit"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the geomkit binary runs")
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    fs::write(&path, text).unwrap();
-    path
-}
-
-fn stdout(out: &Output) -> String {
-    String::from_utf8(out.stdout.clone()).unwrap()
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8(out.stderr.clone()).unwrap()
-}
-
-/// Runs a command that must succeed and returns its stdout.
-fn ok(dir: &Path, args: &[&str]) -> String {
-    let out = geomkit(dir, args);
-    assert!(
-        out.status.success(),
-        "geomkit {args:?} failed: {}",
-        stderr(&out)
-    );
-    stdout(&out)
-}
 
 fn points(json: &Value) -> Vec<Vec<f64>> {
     json["points"]
@@ -64,14 +32,6 @@ fn points(json: &Value) -> Vec<Vec<f64>> {
                 .collect()
         })
         .collect()
-}
-
-fn max_diff(a: &[Vec<f64>], b: &[[f64; 2]]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter()
-        .zip(b)
-        .flat_map(|(p, q)| p.iter().zip(q).map(|(x, y)| (x - y).abs()))
-        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -176,20 +136,20 @@ fn elevate_and_reduce_round_trip() {
         [8.0, 12.0],
         [20.0, 0.0],
     ];
-    assert!(max_diff(&points(&quintic), &example2) < 1e-13);
+    assert!(max_abs_diff(&points(&quintic).concat(), &example2.concat()) < 1e-13);
     let back: Value = serde_json::from_str(&ok(
         dir.path(),
         &["bezier", "reduce", "q.json", "--to", "3"],
     ))
     .unwrap();
-    assert!(max_diff(&points(&back), &EXAMPLE2_CUBIC) < 1e-13);
+    assert!(max_abs_diff(&points(&back).concat(), &EXAMPLE2_CUBIC.concat()) < 1e-13);
     // The unified command goes both ways.
     let via_change: Value = serde_json::from_str(&ok(
         dir.path(),
         &["bezier", "change", "q.json", "--to", "3"],
     ))
     .unwrap();
-    assert!(max_diff(&points(&via_change), &EXAMPLE2_CUBIC) < 1e-13);
+    assert!(max_abs_diff(&points(&via_change).concat(), &EXAMPLE2_CUBIC.concat()) < 1e-13);
 }
 
 #[test]
@@ -209,8 +169,8 @@ fn approximate_reduction_reports_its_error() {
         assert!(l2 > 0.0 && linf >= l2, "l2 {l2}, linf {linf}");
         if extra.first() == Some(&"--continuity") {
             let p = points(&json);
-            assert!(max_diff(&p[..1], &[[10.0, 0.0]]) < 1e-12);
-            assert!(max_diff(&p[2..], &[[20.0, 0.0]]) < 1e-12);
+            assert!(max_abs_diff(&p[..1].concat(), &[10.0, 0.0]) < 1e-12);
+            assert!(max_abs_diff(&p[2..].concat(), &[20.0, 0.0]) < 1e-12);
         }
     }
     // The output with its error report reads back as a curve.
@@ -286,21 +246,6 @@ fn svg_output_draws_both_polygons() {
     );
     let svg = fs::read_to_string(dir.path().join("s.svg")).unwrap();
     assert!(svg.contains("new net, degrees (4, 5)"));
-}
-
-/// Runs a failing command and returns its one error line; checks that `-o` left no file.
-fn fails(dir: &Path, args: &[&str], output: Option<&str>) -> String {
-    let out = geomkit(dir, args);
-    assert!(!out.status.success(), "geomkit {args:?} succeeded");
-    assert_eq!(out.status.code(), Some(1), "geomkit {args:?}");
-    let err = stderr(&out);
-    assert_eq!(err.lines().count(), 1, "not one line: {err:?}");
-    assert!(err.starts_with("error: "), "{err:?}");
-    if let Some(o) = output {
-        assert!(!dir.join(o).exists(), "{o} was created by {args:?}");
-    }
-    assert_eq!(stdout(&out), "", "stdout of a failing {args:?}");
-    err.trim_end().to_string()
 }
 
 #[test]

@@ -1,27 +1,11 @@
 //! End-to-end tests of `geomkit compose` and `geomkit eval` on composite scenes.
 
+mod common;
+
+use common::{fails, geomkit, ok, run_ok, text, write};
 use serde_json::Value;
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn geomkit(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_geomkit"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the geomkit binary runs")
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    fs::write(&path, text).unwrap();
-    path
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8(b.to_vec()).unwrap()
-}
+use std::path::Path;
 
 /// Runs `geomkit compose SUB FILE -o OUT` on each (file text, wanted message): one line
 /// `error: ...` containing the message, non-zero exit, no OUT left behind.
@@ -29,12 +13,12 @@ fn assert_bad_inputs<S: AsRef<str>>(dir: &Path, sub: &str, out_file: &str, cases
     for (k, (json, want)) in cases.iter().enumerate() {
         let name = format!("bad{k}.json");
         write(dir, &name, json.as_ref());
-        let out = geomkit(dir, &["compose", sub, &name, "-o", out_file]);
-        assert!(!out.status.success());
-        let err = text(&out.stderr);
-        assert_eq!(err.lines().count(), 1, "{err}");
-        assert!(err.starts_with("error: ") && err.contains(want), "{err}");
-        assert!(!dir.join(out_file).exists());
+        let err = fails(
+            dir,
+            &["compose", sub, &name, "-o", out_file],
+            Some(out_file),
+        );
+        assert!(err.contains(want), "{err}");
     }
 }
 
@@ -51,8 +35,7 @@ fn scene(jump: f64) -> String {
 fn cube_formula_snapshot_in_three_syntaxes() {
     let dir = tempfile::tempdir().unwrap();
     for f in ["maple", "mathematica", "latex"] {
-        let out = geomkit(dir.path(), &["compose", "body", "cube", "--format", f]);
-        assert!(out.status.success(), "{}", text(&out.stderr));
+        let out = run_ok(dir.path(), &["compose", "body", "cube", "--format", f]);
         insta::assert_snapshot!(format!("cube_{f}"), text(&out.stdout));
     }
 }
@@ -61,7 +44,7 @@ fn cube_formula_snapshot_in_three_syntaxes() {
 fn bodies_write_meshes_pictures_and_json() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let out = geomkit(
+    let out = run_ok(
         d,
         &[
             "compose",
@@ -77,7 +60,6 @@ fn bodies_write_meshes_pictures_and_json() {
             "9x5",
         ],
     );
-    assert!(out.status.success(), "{}", text(&out.stderr));
     // The welded mesh of `geomkit mesh`: 9 angles (the seam welded: 8) on 5 rows, the two
     // cap centres single vertices; closed, its volume the inscribed octagonal prism's.
     let obj = fs::read_to_string(d.join("c.obj")).unwrap();
@@ -106,16 +88,14 @@ fn bodies_write_meshes_pictures_and_json() {
             "{l}"
         );
     }
-    let out = geomkit(d, &["compose", "body", "pyramid", "-o", "p.svg"]);
-    assert!(out.status.success());
+    run_ok(d, &["compose", "body", "pyramid", "-o", "p.svg"]);
     assert!(fs::read_to_string(d.join("p.svg"))
         .unwrap()
         .contains("<svg"));
-    let out = geomkit(
+    run_ok(
         d,
         &["compose", "body", "prism", "--ngon", "5", "-o", "p.json"],
     );
-    assert!(out.status.success());
     let v: Value = serde_json::from_str(&fs::read_to_string(d.join("p.json")).unwrap()).unwrap();
     assert_eq!(v["formulas"].as_object().unwrap().len(), 11);
     assert!(v["op_count"].as_u64().unwrap() > 0);
@@ -128,23 +108,23 @@ fn bodies_write_meshes_pictures_and_json() {
 fn body_files_mesh_render_and_evaluate() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    ok(d, &["compose", "body", "cube", "-o", "cube.json"]);
-    let out = ok(d, &["mesh", "cube.json", "-o", "cube.stl"]);
+    run_ok(d, &["compose", "body", "cube", "-o", "cube.json"]);
+    let out = run_ok(d, &["mesh", "cube.json", "-o", "cube.stl"]);
     let err = text(&out.stderr);
     assert!(err.contains("closed, volume 8"), "{err}");
     for file in ["direct.stl", "direct.ply", "direct.glb"] {
-        let out = ok(d, &["compose", "body", "cube", "-o", file]);
+        let out = run_ok(d, &["compose", "body", "cube", "-o", file]);
         assert!(text(&out.stderr).contains("closed, volume 8"), "{file}");
     }
     for file in ["cube.png", "cube.svg"] {
-        ok(d, &["render", "cube.json", "-o", file]);
-        ok(d, &["compose", "body", "cone", "-o", file]);
+        run_ok(d, &["render", "cube.json", "-o", file]);
+        run_ok(d, &["compose", "body", "cone", "-o", file]);
     }
     assert!(fs::read(d.join("cube.png"))
         .unwrap()
         .starts_with(b"\x89PNG"));
     // The structural evaluator on a 5×4 grid: every point on the cube, the poles included.
-    let out = ok(d, &["eval", "cube.json", "--samples", "5x4"]);
+    let out = run_ok(d, &["eval", "cube.json", "--samples", "5x4"]);
     let rows: Vec<Vec<f64>> = text(&out.stdout)
         .lines()
         .skip(1)
@@ -169,14 +149,10 @@ fn body_files_mesh_render_and_evaluate() {
         "f.json",
         r#"{"type":"piecewise","knots":[0,1,2],"pieces":["x","2 - x"]}"#,
     );
-    ok(d, &["compose", "piecewise", "f.json", "-o", "pf.json"]);
+    run_ok(d, &["compose", "piecewise", "f.json", "-o", "pf.json"]);
     let out = ok(d, &["eval", "pf.json", "--samples", "5"]);
-    assert!(
-        text(&out.stdout).starts_with("x,f\n"),
-        "{}",
-        text(&out.stdout)
-    );
-    let rows: Vec<Vec<f64>> = text(&out.stdout)
+    assert!(out.starts_with("x,f\n"), "{out}");
+    let rows: Vec<Vec<f64>> = out
         .lines()
         .skip(1)
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
@@ -197,12 +173,10 @@ fn body_files_mesh_render_and_evaluate() {
     let mut bare = formula.as_object().unwrap().clone();
     bare.remove("model");
     write(d, "bare.json", &Value::Object(bare).to_string());
-    let out = geomkit(d, &["mesh", "bare.json", "-o", "pf.obj"]);
-    assert!(!out.status.success());
+    let err = fails(d, &["mesh", "bare.json", "-o", "pf.obj"], Some("pf.obj"));
     assert!(
-        text(&out.stderr).contains("carries no model"),
-        "{}",
-        text(&out.stderr)
+        err.contains("bare.json: this formula file carries no model"),
+        "{err}"
     );
 }
 
@@ -212,16 +186,14 @@ fn patches_formula_report_and_eval() {
     let d = dir.path();
     write(d, "ok.json", &scene(0.0));
     write(d, "jump.json", &scene(0.5));
-    let out = geomkit(d, &["compose", "patches", "ok.json"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    let out = run_ok(d, &["compose", "patches", "ok.json"]);
     let formula = text(&out.stdout);
     assert!(
         formula.starts_with("x := (u, v) -> ") && formula.contains("abs(u - 1)"),
         "{formula}"
     );
     assert!(text(&out.stderr).contains("continuous"));
-    let out = geomkit(d, &["compose", "patches", "jump.json", "--report-json"]);
-    assert!(out.status.success());
+    let out = run_ok(d, &["compose", "patches", "jump.json", "--report-json"]);
     let r: Value = serde_json::from_str(&text(&out.stdout)).unwrap();
     assert_eq!(r["max_jump"].as_f64().unwrap(), 0.5);
     assert_eq!(r["continuous"], Value::Bool(false));
@@ -229,8 +201,7 @@ fn patches_formula_report_and_eval() {
     assert!(r["statement"].as_str().unwrap().contains("shifts"));
     // geomkit eval: the structural evaluator, equal to the formula (the second patch shifted
     // down by the jump 0.5 at v = 0).
-    let out = geomkit(d, &["eval", "jump.json", "--samples", "3x2"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    let out = run_ok(d, &["eval", "jump.json", "--samples", "3x2"]);
     let rows: Vec<Vec<f64>> = text(&out.stdout)
         .lines()
         .skip(1)
@@ -283,13 +254,6 @@ fn bad_input_is_one_line_and_leaves_no_file() {
     assert!(text(&out.stderr).contains("unknown --format"));
 }
 
-/// Runs geomkit in `dir` and asserts success.
-fn ok(dir: &Path, args: &[&str]) -> Output {
-    let out = geomkit(dir, args);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    out
-}
-
 /// A smooth patch next to one on its own domain, and an explicit scene that jumps.
 const EXPR_SCENE: &str = r#"{"type":"composite_surface","u_knots":[0,1,2],"v_knots":[0,1],"patches":[
     [{"x":"u","y":"v","z":"u*v"}],
@@ -300,7 +264,7 @@ fn expression_patches_formula_report_and_eval() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     write(d, "s.json", EXPR_SCENE);
-    let out = ok(d, &["compose", "patches", "s.json"]);
+    let out = run_ok(d, &["compose", "patches", "s.json"]);
     insta::assert_snapshot!("expr_patches_maple", text(&out.stdout));
     assert!(
         text(&out.stderr).contains("NOT continuous"),
@@ -309,7 +273,7 @@ fn expression_patches_formula_report_and_eval() {
     );
     // The second patch, on its own domain [0,1]², starts at z = 4v where the first ends at
     // z = v: a jump of 3 at v = 1, which (9) removes by shifting the second patch by -3v.
-    let out = ok(d, &["compose", "patches", "s.json", "--report-json"]);
+    let out = run_ok(d, &["compose", "patches", "s.json", "--report-json"]);
     let r: Value = serde_json::from_str(&text(&out.stdout)).unwrap();
     assert_eq!(r["max_jump"].as_f64().unwrap(), 3.0);
     let out = geomkit(d, &["eval", "s.json", "--samples", "3x2"]);
@@ -323,10 +287,10 @@ fn expression_patches_formula_report_and_eval() {
     assert_eq!(rows[3], vec![1.0, 1.0, 1.0, 1.0, 1.0]);
     let explicit = r#"{"type":"composite_explicit","x_knots":[0,1],"y_knots":[0,0.5,1],"patches":[["x + y", {"z":"x + y"}]]}"#;
     write(d, "e.json", explicit);
-    let out = ok(d, &["compose", "patches", "e.json", "--format", "sympy"]);
+    let out = run_ok(d, &["compose", "patches", "e.json", "--format", "sympy"]);
     insta::assert_snapshot!("expr_explicit_sympy", text(&out.stdout));
     assert!(text(&out.stderr).contains("continuous: "));
-    ok(
+    run_ok(
         d,
         &[
             "compose",
@@ -360,7 +324,7 @@ fn ruled_formula_outputs_and_report() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     write(d, "r.json", RULED);
-    let out = ok(d, &["compose", "ruled", "r.json"]);
+    let out = run_ok(d, &["compose", "ruled", "r.json"]);
     insta::assert_snapshot!("ruled_maple", text(&out.stdout));
     let err = text(&out.stderr);
     assert!(err.contains("both ends points: a closed body"), "{err}");
@@ -373,7 +337,7 @@ fn ruled_formula_outputs_and_report() {
         ("r.svg", "<svg"),
         ("r.json", "\"op_count\""),
     ] {
-        ok(
+        run_ok(
             d,
             &["compose", "ruled", "r.json", "-o", file, "--samples", "9x4"],
         );
@@ -381,20 +345,20 @@ fn ruled_formula_outputs_and_report() {
     }
     // The curves file itself is a model for `mesh`, `render` and `eval`; a circle given as
     // {"circle":..} is the same surface as the formula circle.
-    let out = ok(d, &["mesh", "r.json", "-o", "r.stl"]);
+    let out = run_ok(d, &["mesh", "r.json", "-o", "r.stl"]);
     assert!(
         text(&out.stderr).contains("closed, volume"),
         "{}",
         text(&out.stderr)
     );
-    ok(d, &["render", "r.json", "-o", "r.png"]);
+    run_ok(d, &["render", "r.json", "-o", "r.png"]);
     let circle = RULED.replace(
         r#"{"x":"cos(t)","y":"sin(t)","z":"1","t":[0,6.283185307179586]}"#,
         r#"{"circle":{"center":[0,0,1],"radius":1}}"#,
     );
     write(d, "c.json", &circle);
-    let a = ok(d, &["eval", "r.json", "--samples", "7x7"]).stdout;
-    let b = ok(d, &["eval", "c.json", "--samples", "7x7"]).stdout;
+    let a = run_ok(d, &["eval", "r.json", "--samples", "7x7"]).stdout;
+    let b = run_ok(d, &["eval", "c.json", "--samples", "7x7"]).stdout;
     let parse = |o: &[u8]| -> Vec<f64> {
         text(o)
             .lines()
@@ -446,10 +410,10 @@ fn piecewise_functions_polygons_and_curves() {
         "f.json",
         r#"{"type":"piecewise","knots":[-1,0,1],"pieces":["-x","x^2"]}"#,
     );
-    let out = ok(d, &["compose", "piecewise", "f.json"]);
+    let out = run_ok(d, &["compose", "piecewise", "f.json"]);
     insta::assert_snapshot!("piecewise_maple", text(&out.stdout));
     assert!(text(&out.stderr).contains("continuous: "));
-    ok(d, &["compose", "piecewise", "f.json", "-o", "f.svg"]);
+    run_ok(d, &["compose", "piecewise", "f.json", "-o", "f.svg"]);
     assert!(fs::read_to_string(d.join("f.svg"))
         .unwrap()
         .contains("<svg"));
@@ -458,7 +422,7 @@ fn piecewise_functions_polygons_and_curves() {
         "sq.json",
         r#"{"type":"polygon","points":[[1,1],[-1,1],[-1,-1],[1,-1]]}"#,
     );
-    let out = ok(
+    let out = run_ok(
         d,
         &["compose", "piecewise", "sq.json", "--format", "mathematica"],
     );
@@ -468,11 +432,10 @@ fn piecewise_functions_polygons_and_curves() {
         "c.json",
         r#"{"type":"piecewise","knots":[0,1,2],"pieces":[{"x":"t","y":"0"},{"x":"1 + t","y":"t","domain":[0,1]}]}"#,
     );
-    let out = ok(d, &["compose", "piecewise", "c.json", "--report-json"]);
+    let out = run_ok(d, &["compose", "piecewise", "c.json", "--report-json"]);
     let r: Value = serde_json::from_str(&text(&out.stdout)).unwrap();
     assert_eq!(r["continuous"], Value::Bool(true));
-    let out = geomkit(d, &["compose", "piecewise", "c.json", "-o", "c.json.json"]);
-    assert!(out.status.success());
+    run_ok(d, &["compose", "piecewise", "c.json", "-o", "c.json.json"]);
     let v: Value =
         serde_json::from_str(&fs::read_to_string(d.join("c.json.json")).unwrap()).unwrap();
     assert_eq!(v["variables"], serde_json::json!(["t"]));
@@ -505,8 +468,8 @@ fn interpolated_curve_as_one_formula() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     write(d, "pts.csv", "0,0\n1,2\n3,3\n4,0\n6,1\n");
-    ok(d, &["interpolate", "curve", "pts.csv", "-o", "fit.json"]);
-    let out = ok(d, &["compose", "piecewise", "fit.json", "--report-json"]);
+    run_ok(d, &["interpolate", "curve", "pts.csv", "-o", "fit.json"]);
+    let out = run_ok(d, &["compose", "piecewise", "fit.json", "--report-json"]);
     let r: Value = serde_json::from_str(&text(&out.stdout)).unwrap();
     assert_eq!(r["continuous"], Value::Bool(true));
     let fit: Value =
@@ -528,14 +491,14 @@ fn interpolated_curve_as_one_formula() {
         params[1..params.len() - 1],
         "breakpoints = inner parameters"
     );
-    ok(
+    run_ok(
         d,
         &["compose", "piecewise", "fit.json", "-o", "fit.formula.json"],
     );
     let v: Value =
         serde_json::from_str(&fs::read_to_string(d.join("fit.formula.json")).unwrap()).unwrap();
     assert_eq!(v["variables"], serde_json::json!(["t"]));
-    let out = ok(
+    let out = run_ok(
         d,
         &[
             "compose",
@@ -565,7 +528,7 @@ fn interpolated_surface_as_one_formula() {
         .map(|r| r.map(|z| z.to_string()).join(",") + "\n")
         .collect();
     write(d, "h.csv", &csv);
-    ok(
+    run_ok(
         d,
         &[
             "interpolate",
@@ -580,17 +543,17 @@ fn interpolated_surface_as_one_formula() {
             "fit.json",
         ],
     );
-    let out = ok(d, &["compose", "patches", "fit.json", "--report-json"]);
+    let out = run_ok(d, &["compose", "patches", "fit.json", "--report-json"]);
     let r: Value = serde_json::from_str(&text(&out.stdout)).unwrap();
     assert_eq!(r["continuous"], Value::Bool(true));
-    let out = ok(d, &["compose", "patches", "fit.json", "--format", "maple"]);
+    let out = run_ok(d, &["compose", "patches", "fit.json", "--format", "maple"]);
     assert!(text(&out.stdout).starts_with("z := (x, y) -> "));
-    ok(d, &["compose", "patches", "fit.json", "-o", "f.json"]);
+    run_ok(d, &["compose", "patches", "fit.json", "-o", "f.json"]);
     let nodes: String = (0..3)
         .flat_map(|i| (0..4).map(move |j| format!("{},{}\n", 0.5 * i as f64, j)))
         .collect();
     write(d, "at.csv", &nodes);
-    let out = ok(d, &["eval", "f.json", "--at", "at.csv"]);
+    let out = run_ok(d, &["eval", "f.json", "--at", "at.csv"]);
     let lines: Vec<String> = text(&out.stdout).lines().map(String::from).collect();
     assert_eq!(lines[0], "x,y,z");
     for (k, line) in lines[1..].iter().enumerate() {

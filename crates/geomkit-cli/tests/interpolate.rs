@@ -2,65 +2,12 @@
 //! output format read back, bad inputs (one line naming the place, no file left behind), the
 //! streaming tile solve against the in-memory one, surfaces from heights and from points.
 
+mod common;
+
+use common::{fails, max_abs_diff, ok, write};
 use serde_json::Value;
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn geomkit(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_geomkit"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the geomkit binary runs")
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    fs::write(&path, text).unwrap();
-    path
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8(out.stderr.clone()).unwrap()
-}
-
-/// Runs a command that must succeed and returns its stdout.
-fn ok(dir: &Path, args: &[&str]) -> String {
-    let out = geomkit(dir, args);
-    assert!(
-        out.status.success(),
-        "geomkit {args:?} failed: {}",
-        stderr(&out)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
-/// Runs a failing command; returns its one error line after checking that `output` (if
-/// given) was not created and no temporary file was left in `dir`.
-fn fails(dir: &Path, args: &[&str], output: Option<&str>) -> String {
-    let before = fs::read_dir(dir).unwrap().count();
-    let out = geomkit(dir, args);
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "geomkit {args:?}: {}",
-        stderr(&out)
-    );
-    let err = stderr(&out);
-    assert_eq!(err.lines().count(), 1, "not one line: {err:?}");
-    assert!(err.starts_with("error: "), "{err:?}");
-    assert!(out.stdout.is_empty(), "stdout of a failing {args:?}");
-    if let Some(o) = output {
-        assert!(!dir.join(o).exists(), "{o} was created by {args:?}");
-    }
-    assert_eq!(
-        fs::read_dir(dir).unwrap().count(),
-        before,
-        "files left by {args:?}"
-    );
-    err.trim_end().to_string()
-}
+use std::path::Path;
 
 /// A float64 C-order .npy file, written by hand.
 fn npy_bytes(shape: &[usize], data: &[f64]) -> Vec<u8> {
@@ -131,14 +78,6 @@ fn numbers(v: &Value) -> Vec<f64> {
         .iter()
         .map(|x| x.as_f64().unwrap())
         .collect()
-}
-
-fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
 }
 
 /// Six points of a plane trajectory, as CSV with a header.

@@ -1,35 +1,9 @@
 //! `geomkit render` and `geomkit mesh` on every model type: PNG size and content, SVG layers,
 //! mesh counts per format, errors without half-written files.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
 
-fn geomkit(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_geomkit"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("runs")
-}
-
-fn ok(dir: &Path, args: &[&str]) -> String {
-    let out = geomkit(dir, args);
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-fn fails(dir: &Path, args: &[&str]) -> String {
-    let out = geomkit(dir, args);
-    assert!(!out.status.success(), "{args:?} should fail");
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(err.starts_with("error: "), "{err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
-    err
-}
+use common::{fails, geomkit, ok_stderr};
 
 const SURFACE: &str = r#"{"type":"bezier_surface","net":[
  [[0,0,0],[0,1,0.5],[0,2,0]],[[1,0,0.5],[1,1,2],[1,2,0.5]],[[2,0,0],[2,1,0.5],[2,2,0]]]}"#;
@@ -71,14 +45,14 @@ fn png_pictures_of_every_model_type() {
     let dir = setup();
     let d = dir.path();
     for model in ["s.json", "c.json", "r.json", "scene.json", "pc.json"] {
-        ok(d, &["render", model, "-o", "out.png", "--size", "400x300"]);
+        ok_stderr(d, &["render", model, "-o", "out.png", "--size", "400x300"]);
         let png = std::fs::read(d.join("out.png")).unwrap();
         assert_eq!(png_size(&png), (400, 300), "{model}");
         // A drawn picture compresses far worse than a blank one (~1 kB).
         assert!(png.len() > 8_000, "{model}: {} bytes", png.len());
     }
     // Without --size: twice the SVG's size.
-    ok(d, &["render", "s.json", "-o", "big.png"]);
+    ok_stderr(d, &["render", "s.json", "-o", "big.png"]);
     assert_eq!(
         png_size(&std::fs::read(d.join("big.png")).unwrap()),
         (1440, 1080)
@@ -89,30 +63,101 @@ fn png_pictures_of_every_model_type() {
 fn svg_surface_has_shaded_faces_net_and_view() {
     let dir = setup();
     let d = dir.path();
-    ok(d, &["render", "s.json", "-o", "a.svg", "--view", "-60,40"]);
+    ok_stderr(d, &["render", "s.json", "-o", "a.svg", "--view", "-60,40"]);
     let a = std::fs::read_to_string(d.join("a.svg")).unwrap();
     assert!(a.starts_with("<svg"));
     // 60×60 grid: 2·59² shaded triangles.
     assert_eq!(a.matches("<path ").count(), 2 * 59 * 59);
     assert!(a.contains("control net, 3×3"));
-    ok(d, &["render", "s.json", "-o", "b.svg", "--no-net"]);
+    ok_stderr(d, &["render", "s.json", "-o", "b.svg", "--no-net"]);
     let b = std::fs::read_to_string(d.join("b.svg")).unwrap();
     assert!(!b.contains("control net"));
     assert_ne!(a.matches("<path ").collect::<String>(), "");
-    // Another camera moves the picture.
-    assert_ne!(a.replace("control net, 3×3", ""), b);
+    // The same picture from another camera (only --view changes): the control net's 9 dots
+    // are where the view formula puts them, not where the other camera does (to the 0.1 px
+    // the SVG rounds to, plus what that rounding does to the fitted scale and shift).
+    ok_stderr(d, &["render", "s.json", "-o", "c.svg", "--view", "35,25"]);
+    let c = std::fs::read_to_string(d.join("c.svg")).unwrap();
+    assert_eq!(c.matches("<path ").count(), 2 * 59 * 59);
+    assert_ne!(a, c);
+    let (dots_a, dots_c) = (net_dots(&a), net_dots(&c));
+    let net = net_points();
+    assert!(camera_misfit(&net, (-60.0, 40.0), &dots_a) <= 0.15);
+    assert!(camera_misfit(&net, (35.0, 25.0), &dots_c) <= 0.15);
+    assert!(camera_misfit(&net, (35.0, 25.0), &dots_a) > 5.0);
+    assert!(camera_misfit(&net, (-60.0, 40.0), &dots_c) > 5.0);
     // The point-calculus model shows its 9 experimental points.
-    ok(d, &["render", "pc.json", "-o", "pc.svg"]);
+    ok_stderr(d, &["render", "pc.json", "-o", "pc.svg"]);
     let pc = std::fs::read_to_string(d.join("pc.svg")).unwrap();
     assert!(pc.contains("9 points it passes through"));
     assert_eq!(pc.matches("<circle").count(), 9 + 1);
+}
+
+/// The control net of `SURFACE`, row by row.
+fn net_points() -> Vec<[f64; 3]> {
+    let model: serde_json::Value = serde_json::from_str(SURFACE).unwrap();
+    let xyz = |p: &serde_json::Value| [0, 1, 2].map(|k| p[k].as_f64().unwrap());
+    model["net"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|row| row.as_array().unwrap().iter().map(xyz))
+        .collect()
+}
+
+/// Centres of the control net's dots (radius 2.8) in an SVG, in drawing order.
+fn net_dots(svg: &str) -> Vec<[f64; 2]> {
+    let attr = |line: &str, name: &str| -> f64 {
+        let start = line.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+        line[start..].split('"').next().unwrap().parse().unwrap()
+    };
+    svg.lines()
+        .filter(|l| l.starts_with("<circle") && l.contains(r#"r="2.8""#))
+        .map(|l| [attr(l, "cx"), attr(l, "cy")])
+        .collect()
+}
+
+/// How far (px) `dots` are from the orthographic projection of `points` by a camera at
+/// (azimuth, elevation) in degrees: page coordinates (p·right, p·up) with right = (-sin a,
+/// cos a, 0) and up = (-sin e cos a, -sin e sin a, cos e), placed on the picture by the best
+/// scale and shift (y down); the largest residual.
+fn camera_misfit(points: &[[f64; 3]], (azimuth, elevation): (f64, f64), dots: &[[f64; 2]]) -> f64 {
+    assert_eq!(points.len(), dots.len());
+    let (a, e) = (azimuth.to_radians(), elevation.to_radians());
+    let page: Vec<[f64; 2]> = points
+        .iter()
+        .map(|p| {
+            [
+                -a.sin() * p[0] + a.cos() * p[1],
+                -e.sin() * a.cos() * p[0] - e.sin() * a.sin() * p[1] + e.cos() * p[2],
+            ]
+        })
+        .collect();
+    let mean = |v: &[[f64; 2]], k: usize| v.iter().map(|q| q[k]).sum::<f64>() / v.len() as f64;
+    let (q0, q1, x0, y0) = (mean(&page, 0), mean(&page, 1), mean(dots, 0), mean(dots, 1));
+    // Least squares for x = s·q0 + tx, y = -s·q1 + ty.
+    let (mut num, mut den) = (0.0, 0.0);
+    for (q, p) in page.iter().zip(dots) {
+        num += (q[0] - q0) * (p[0] - x0) - (q[1] - q1) * (p[1] - y0);
+        den += (q[0] - q0).powi(2) + (q[1] - q1).powi(2);
+    }
+    let scale = num / den;
+    assert!(scale > 0.0);
+    page.iter()
+        .zip(dots)
+        .map(|(q, p)| {
+            let x = x0 + scale * (q[0] - q0);
+            let y = y0 - scale * (q[1] - q1);
+            (x - p[0]).abs().max((y - p[1]).abs())
+        })
+        .fold(0.0, f64::max)
 }
 
 #[test]
 fn curve_svg_labels_the_control_polygon() {
     let dir = setup();
     let d = dir.path();
-    ok(d, &["render", "c.json", "-o", "c.svg"]);
+    ok_stderr(d, &["render", "c.json", "-o", "c.svg"]);
     let s = std::fs::read_to_string(d.join("c.svg")).unwrap();
     assert!(s.contains("control polygon, 6 points"));
     for k in 0..6 {
@@ -124,16 +169,16 @@ fn curve_svg_labels_the_control_polygon() {
 fn meshes_in_every_format() {
     let dir = setup();
     let d = dir.path();
-    let err = ok(d, &["mesh", "s.json", "-o", "s.obj", "--samples", "5x4"]);
+    let err = ok_stderr(d, &["mesh", "s.json", "-o", "s.obj", "--samples", "5x4"]);
     assert!(err.contains("20 vertices, 24 triangles"), "{err}");
     let obj = std::fs::read_to_string(d.join("s.obj")).unwrap();
     assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), 20);
     assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 24);
     assert!(obj.lines().any(|l| l.starts_with("vn ")));
 
-    ok(d, &["mesh", "s.json", "-o", "s.stl", "--samples", "5x4"]);
+    ok_stderr(d, &["mesh", "s.json", "-o", "s.stl", "--samples", "5x4"]);
     assert_eq!(std::fs::read(d.join("s.stl")).unwrap().len(), 84 + 50 * 24);
-    ok(
+    ok_stderr(
         d,
         &[
             "mesh",
@@ -148,7 +193,7 @@ fn meshes_in_every_format() {
     let a = std::fs::read_to_string(d.join("a.stl")).unwrap();
     assert_eq!(a.matches("facet normal").count(), 24);
 
-    ok(d, &["mesh", "s.json", "-o", "s.ply", "--samples", "5x4"]);
+    ok_stderr(d, &["mesh", "s.json", "-o", "s.ply", "--samples", "5x4"]);
     let ply = std::fs::read(d.join("s.ply")).unwrap();
     let head = String::from_utf8_lossy(&ply[..300]);
     // One normal per vertex: vertices on creases sharper than 40° are split.
@@ -164,7 +209,7 @@ fn meshes_in_every_format() {
         .unwrap();
     assert!(nv >= 20, "{head}");
 
-    ok(d, &["mesh", "scene.json", "-o", "scene.glb"]);
+    ok_stderr(d, &["mesh", "scene.json", "-o", "scene.glb"]);
     let glb = std::fs::read(d.join("scene.glb")).unwrap();
     assert_eq!(&glb[..4], b"glTF");
     assert_eq!(
@@ -173,8 +218,8 @@ fn meshes_in_every_format() {
     );
 
     // Adaptive: a finer tolerance gives more triangles.
-    let coarse = ok(d, &["mesh", "s.json", "-o", "c.obj", "--tolerance", "0.01"]);
-    let fine = ok(
+    let coarse = ok_stderr(d, &["mesh", "s.json", "-o", "c.obj", "--tolerance", "0.01"]);
+    let fine = ok_stderr(
         d,
         &["mesh", "s.json", "-o", "f.obj", "--tolerance", "0.0001"],
     );
@@ -191,10 +236,10 @@ fn meshes_in_every_format() {
     assert!(tris(&fine) > 4 * tris(&coarse), "{coarse} / {fine}");
 
     // Curves are polylines.
-    let err = ok(d, &["mesh", "r.json", "-o", "r.obj", "--samples", "9"]);
+    let err = ok_stderr(d, &["mesh", "r.json", "-o", "r.obj", "--samples", "9"]);
     assert!(err.contains("polyline of 9 points"), "{err}");
-    ok(d, &["mesh", "r.json", "-o", "r.ply"]);
-    ok(d, &["mesh", "r.json", "-o", "r.glb"]);
+    ok_stderr(d, &["mesh", "r.json", "-o", "r.ply"]);
+    ok_stderr(d, &["mesh", "r.json", "-o", "r.glb"]);
 }
 
 #[test]
@@ -213,17 +258,17 @@ fn sampled_point_calculus_outputs_mesh_through_their_samples() {
  [0,0,0],[0,1,0],[1,0,1],[1,1,1],[2,0,0],[2,1,0]]}"#,
     )
     .unwrap();
-    let err = ok(d, &["mesh", "pcc.json", "-o", "pcc.obj", "--samples", "5"]);
+    let err = ok_stderr(d, &["mesh", "pcc.json", "-o", "pcc.obj", "--samples", "5"]);
     assert!(err.contains("polyline of 5 points"), "{err}");
     let obj = std::fs::read_to_string(d.join("pcc.obj")).unwrap();
     assert!(obj.contains("v 1.5 0.75 0\n"), "{obj}");
-    let err = ok(
+    let err = ok_stderr(
         d,
         &["mesh", "pcs.json", "-o", "pcs.obj", "--samples", "2x2"],
     );
     // A 2×2 grid plus the sample lines (break lines): the 3×2 grid, 6 vertices, 4 triangles.
     assert!(err.contains("6 vertices, 4 triangles"), "{err}");
-    ok(
+    ok_stderr(
         d,
         &["render", "pcs.json", "-o", "pcs.png", "--size", "200x200"],
     );
@@ -232,7 +277,7 @@ fn sampled_point_calculus_outputs_mesh_through_their_samples() {
         r#"{"type":"pointcalc-surface-samples","u":[0,1],"v":[0,1],"points":[[0,0,0]]}"#,
     )
     .unwrap();
-    let e = fails(d, &["mesh", "bad.json", "-o", "bad.obj"]);
+    let e = fails(d, &["mesh", "bad.json", "-o", "bad.obj"], Some("bad.obj"));
     assert!(e.contains("1 points"), "{e}");
 }
 
@@ -240,23 +285,27 @@ fn sampled_point_calculus_outputs_mesh_through_their_samples() {
 fn bad_requests_fail_cleanly() {
     let dir = setup();
     let d = dir.path();
-    let e = fails(d, &["mesh", "c.json", "-o", "c.stl"]);
+    let e = fails(d, &["mesh", "c.json", "-o", "c.stl"], Some("c.stl"));
     assert!(e.contains("STL holds triangles only"), "{e}");
     assert!(!d.join("c.stl").exists());
-    let e = fails(d, &["mesh", "s.json", "-o", "s.xyz"]);
+    let e = fails(d, &["mesh", "s.json", "-o", "s.xyz"], Some("s.xyz"));
     assert!(e.contains(".obj, .stl, .ply or .glb"), "{e}");
-    let e = fails(d, &["mesh", "s.json", "-o", "s.obj", "--tolerance", "-1"]);
+    let e = fails(
+        d,
+        &["mesh", "s.json", "-o", "s.obj", "--tolerance", "-1"],
+        Some("s.obj"),
+    );
     assert!(e.contains("--tolerance"), "{e}");
-    let e = fails(d, &["render", "s.json", "-o", "s.jpg"]);
+    let e = fails(d, &["render", "s.json", "-o", "s.jpg"], Some("s.jpg"));
     assert!(e.contains(".png or .svg"), "{e}");
-    let e = fails(d, &["render", "missing.json", "-o", "m.png"]);
+    let e = fails(d, &["render", "missing.json", "-o", "m.png"], Some("m.png"));
     assert!(e.contains("cannot read missing.json"), "{e}");
     std::fs::write(
         d.join("bad.json"),
         r#"{"type":"bezier_surface","net":[[[0,0,"x"]]]}"#,
     )
     .unwrap();
-    let e = fails(d, &["render", "bad.json", "-o", "bad.png"]);
+    let e = fails(d, &["render", "bad.json", "-o", "bad.png"], Some("bad.png"));
     assert!(e.contains("bad.json"), "{e}");
     assert!(!d.join("bad.png").exists());
     // Usage errors of clap (exit code 2).

@@ -198,7 +198,7 @@ fn curve_strategy(max_degree: usize) -> impl Strategy<Value = BezierCurve> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig::with_cases(256))]
 
     #[test]
     fn elevation_keeps_the_curve(c in curve_strategy(25), extra in 1usize..30) {

@@ -273,7 +273,7 @@ fn bad_input_is_a_clear_error() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
 
     /// Random knot vectors (steps spread over four decades, some knots repeated) and
     /// control points: the piecewise form agrees with the B-spline at random parameters.

@@ -418,7 +418,7 @@ fn shares_are_first_class_and_sum_to_one() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    #![proptest_config(ProptestConfig::with_cases(256))]
 
     #[test]
     fn weights_sum_to_one(

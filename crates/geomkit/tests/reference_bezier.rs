@@ -5,6 +5,9 @@
 //! Regenerate the data with `bash bench/make_reference.sh` (pinned versions in
 //! `bench/requirements.txt`; the file records them). The tests never run Python.
 
+mod common;
+
+use common::max_abs_diff;
 use geomkit::bezier::BezierCurve;
 use geomkit::exact::{degree_change_matrix, ExactBezierCurve, Rational};
 use geomkit::geom::{BatchOptions, Curve};
@@ -54,15 +57,6 @@ fn parse_hex(s: &str) -> f64 {
     let exp: i32 = exp.parse().expect("exponent");
     // digits < 2^53, so the conversion and the power-of-two scaling are exact.
     sign * digits as f64 * 2f64.powi(exp - 4 * frac.len() as i32)
-}
-
-/// Largest |a_k - b_k|.
-fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
 }
 
 struct Case {
@@ -149,9 +143,9 @@ fn elevation_matches_exact_fractions_and_bezier_package() {
             assert_eq!(got.degree(), target);
             let exact = flat(&e["exact"]);
             let peer = flat(&e["bezier_chain"]);
-            let d_exact = max_diff(got.points_flat(), &exact) / scale;
-            let d_peer = max_diff(got.points_flat(), &peer) / scale;
-            let peer_exact = max_diff(&peer, &exact) / scale;
+            let d_exact = max_abs_diff(got.points_flat(), &exact) / scale;
+            let d_peer = max_abs_diff(got.points_flat(), &peer) / scale;
+            let peer_exact = max_abs_diff(&peer, &exact) / scale;
             eprintln!(
                 "{} -> {target}: |geomkit - exact| = {d_exact:.2e}, |geomkit - bezier| = \
                  {d_peer:.2e}, |bezier - exact| = {peer_exact:.2e} (relative to max|P|)",
@@ -191,8 +185,8 @@ fn evaluation_matches_exact_fractions_and_bezier_package() {
             .eval_batch(&ts, &mut many, &BatchOptions::sequential())
             .unwrap();
         for (what, got) in [("eval", &one), ("eval_batch", &many)] {
-            let d_exact = max_diff(got, &exact) / scale;
-            let d_peer = max_diff(got, &peer) / scale;
+            let d_exact = max_abs_diff(got, &exact) / scale;
+            let d_peer = max_abs_diff(got, &peer) / scale;
             eprintln!(
                 "{} {what}: |geomkit - exact| = {d_exact:.2e}, |geomkit - bezier| = \
                  {d_peer:.2e} (relative to max|P|)",
@@ -242,7 +236,7 @@ fn exact_power_coefficients_match_fractions() {
             .map(|q| geomkit::exact::rational_to_f64(q).abs())
             .fold(0.0, f64::max);
         let rounded: Vec<f64> = want.iter().map(geomkit::exact::rational_to_f64).collect();
-        let d = max_diff(&f, &rounded) / s_scale;
+        let d = max_abs_diff(&f, &rounded) / s_scale;
         eprintln!("{} f64 to_power: {d:.2e} relative to max|s_j|", c.name);
         assert!(d <= 1e-13, "{}: f64 power form {d:e} from exact", c.name);
     }
@@ -280,7 +274,7 @@ fn example2_is_exact() {
         .iter()
         .map(geomkit::exact::rational_to_f64)
         .collect();
-    let d = max_diff(reduced.points_flat(), &want_f64);
+    let d = max_abs_diff(reduced.points_flat(), &want_f64);
     assert!(
         d <= 1e-12 * curve.scale(),
         "f64 reduction {d:e} from the exact cubic"

@@ -1,7 +1,7 @@
 //! Surfaces to triangle meshes: a uniform grid, or an adaptive tensor grid refined until the
 //! surface lies within a tolerance of the triangles; break lines always included.
 
-use super::trimesh::{bounding_box, norm, sub, TriMesh};
+use super::trimesh::{bounding_box, cross, dot, norm, sub, TriMesh};
 use crate::geom::{linspace, Surface};
 use crate::{Error, Result};
 
@@ -11,9 +11,11 @@ use crate::{Error, Result};
 pub enum Sampling {
     /// K × L equally spaced parameters (plus the break lines).
     Uniform(usize, usize),
-    /// Refined until every triangle is within `tolerance` (absolute, in model units) of
-    /// the surface at the midpoints of its grid cell's edges and centre; `None`: 1/1000 of
-    /// the diagonal of the bounding box.
+    /// Refined until the surface at the midpoints of every grid cell's edges is within 3/4 of
+    /// `tolerance` (absolute, in model units) of the edges, and at the cell's centre within
+    /// 3/4 of it of the cell's two triangles, which keeps a surface that is quadratic over a
+    /// triangle within `tolerance` of it everywhere (4/3 of the midpoint values at most);
+    /// `None`: 1/1000 of the diagonal of the bounding box. Stops at `max_samples`.
     Adaptive {
         /// The largest allowed deviation.
         tolerance: Option<f64>,
@@ -126,8 +128,41 @@ fn mid(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-/// Refines `us` and `vs` until the surface at the midpoints of every cell's edges and at
-/// its centre lies within `tol` of the linear interpolation of the corners.
+/// Distance from `p` to the segment [a, b] (a point when a = b).
+fn distance_to_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> f64 {
+    let ab = sub(b, a);
+    let len2 = dot(ab, ab);
+    let s = if len2 > 0.0 {
+        (dot(sub(p, a), ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    norm(sub(
+        p,
+        [a[0] + s * ab[0], a[1] + s * ab[1], a[2] + s * ab[2]],
+    ))
+}
+
+/// Distance from `p` to the triangle abc (to its edges when it is degenerate).
+fn distance_to_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    let n = cross(sub(b, a), sub(c, a));
+    let nn = dot(n, n);
+    if nn > 0.0 {
+        // p projects inside when it is on the inner side of all three edges.
+        let inside = [(a, b), (b, c), (c, a)]
+            .iter()
+            .all(|&(x, y)| dot(cross(sub(y, x), sub(p, x)), n) >= 0.0);
+        if inside {
+            return dot(n, sub(p, a)).abs() / nn.sqrt();
+        }
+    }
+    distance_to_segment(p, a, b)
+        .min(distance_to_segment(p, b, c))
+        .min(distance_to_segment(p, c, a))
+}
+
+/// Refines `us` and `vs` until the surface at the midpoints of every cell's edges lies within
+/// `tol` of the edges' midpoints, and at its centre within `tol` of the cell's two triangles.
 fn adaptive_grid(
     s: &dyn Surface,
     mut us: Vec<f64>,
@@ -153,15 +188,21 @@ fn adaptive_grid(
             split_v[j] =
                 (0..nu).any(|i| norm(sub(ev[i * (nv - 1) + j], mid(at(i, j), at(i, j + 1)))) > tol);
         }
-        // Cell centres against the mean of the two diagonals' midpoints.
+        // Cell centres against the two triangles that the triangulation will draw (split
+        // along the shorter diagonal, as in `tessellate_surface`): comparing with the mean of
+        // both diagonals' midpoints would miss the twist of the surface, which only the drawn
+        // triangles carry.
         let ec = grid3(s, &mu, &mv)?;
         for i in 0..nu - 1 {
             for j in 0..nv - 1 {
-                let c = mid(
-                    mid(at(i, j), at(i + 1, j + 1)),
-                    mid(at(i + 1, j), at(i, j + 1)),
-                );
-                if norm(sub(ec[i * (nv - 1) + j], c)) > tol && !split_u[i] && !split_v[j] {
+                let (a, b, c, e) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                let q = ec[i * (nv - 1) + j];
+                let off = if norm(sub(a, c)) <= norm(sub(b, e)) {
+                    distance_to_triangle(q, a, b, c).min(distance_to_triangle(q, a, c, e))
+                } else {
+                    distance_to_triangle(q, a, b, e).min(distance_to_triangle(q, b, c, e))
+                };
+                if off > tol && !split_u[i] && !split_v[j] {
                     split_u[i] = true;
                     split_v[j] = true;
                 }
@@ -261,7 +302,10 @@ pub fn tessellate_surface(s: &dyn Surface, options: &SurfaceOptions) -> Result<T
                     }
                 }
             };
-            adaptive_grid(s, us, vs, tol, options.max_samples.clamp(2, MAX))?
+            // The checks run at 3/4 of the tolerance: where the surface is quadratic over a
+            // triangle, its distance from the triangle is at most 4/3 of the largest one at
+            // the midpoints of the triangle's edges (the quadratic Lagrange basis on a triangle).
+            adaptive_grid(s, us, vs, 0.75 * tol, options.max_samples.clamp(2, MAX))?
         }
     };
     let (nu, nv) = (us.len(), vs.len());

@@ -3,7 +3,12 @@
 
 use geomkit::bezier::BezierCurve;
 use geomkit::bspline::Parametrization;
+use geomkit::compose::CompositeSurface;
 use geomkit::geom::Curve;
+
+mod numbers;
+#[allow(unused_imports)]
+pub use numbers::max_abs_diff;
 
 /// Every parametrization of interpolation, for tests that loop over them.
 pub const PARAMETRIZATIONS: [Parametrization; 3] = [
@@ -49,11 +54,36 @@ pub fn sampled_distance(a: &impl Curve, b: &impl Curve, count: usize) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Largest coordinate difference between two point arrays.
-pub fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
+/// Largest difference between the printed formula (tape), the literal formula, the
+/// structural evaluator point by point and in batches, and the scale of the values.
+pub fn disagreement(s: &CompositeSurface, us: &[f64], vs: &[f64]) -> (f64, f64) {
+    let d = s.dim();
+    let f = s.formula().unwrap();
+    let (mut pu, mut pv, mut uv) = (Vec::new(), Vec::new(), Vec::new());
+    for &u in us {
+        for &v in vs {
+            pu.push(u);
+            pv.push(v);
+            uv.extend([u, v]);
+        }
+    }
+    let mut printed = vec![0.0; pu.len() * d];
+    f.eval_batch(&[&pu, &pv], &mut printed).unwrap();
+    let mut many = vec![0.0; pu.len() * d];
+    s.eval_many(&uv, &mut many).unwrap();
+    let mut grid = vec![0.0; pu.len() * d];
+    s.eval_grid(us, vs, &mut grid).unwrap();
+    let (mut worst, mut scale) = (0.0f64, 1.0f64);
+    for k in 0..pu.len() {
+        let literal = s.eval_formula(pu[k], pv[k]);
+        let one = s.eval(pu[k], pv[k]);
+        for c in 0..d {
+            let x = literal[c];
+            scale = scale.max(x.abs());
+            for y in [printed[k * d + c], many[k * d + c], grid[k * d + c], one[c]] {
+                worst = worst.max((x - y).abs());
+            }
+        }
+    }
+    (worst, scale)
 }
