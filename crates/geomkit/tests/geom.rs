@@ -521,7 +521,7 @@ fn bspline_derivatives_reproduce_a_cubic() {
 }
 
 /// A point equation through samples of a quadratic is that quadratic: M' = 2at + b,
-/// M'' = 2a; from the number of nodes on, zero.
+/// M'' = 2a; from the number of nodes on, zero; a quartic's third and fourth derivatives.
 #[test]
 fn point_equation_derivatives_reproduce_a_quadratic() {
     let f = |t: f64| 3.0 * t * t - t + 0.5;
@@ -537,15 +537,18 @@ fn point_equation_derivatives_reproduce_a_quadratic() {
         eq.derivative_into(t, 3, &mut d).unwrap();
         assert_eq!(d, [0.0]);
     }
-    let five = PointEquation::new(
-        Nodes::new(vec![0.0, 0.25, 0.5, 0.75, 1.0]).unwrap(),
-        (0..5).map(|k| vec![k as f64]).collect(),
-    )
-    .unwrap();
-    assert!(matches!(
-        five.derivative_into(0.3, 3, &mut [0.0]),
-        Err(Error::UnsupportedDerivative { .. })
-    ));
+    // Above order 2: powers of the differentiation matrix. A quartic through 5 nodes.
+    let g = |t: f64| t.powi(4) - 2.0 * t * t * t;
+    let nodes = Nodes::new(vec![0.0, 0.25, 0.6, 0.75, 1.0]).unwrap();
+    let pts = nodes.values().iter().map(|&t| vec![g(t)]).collect();
+    let five = PointEquation::new(nodes, pts).unwrap();
+    for t in [0.1, 0.6, 0.9] {
+        for (k, want) in [(3, 24.0 * t - 12.0), (4, 24.0), (5, 0.0)] {
+            let mut d = [0.0];
+            five.derivative_into(t, k, &mut d).unwrap();
+            assert!((d[0] - want).abs() < 1e-10, "k {k} at {t}: {}", d[0]);
+        }
+    }
 }
 
 /// The rational quarter circle: p' is tangent (p · p' = 0) and central differences agree.
