@@ -329,7 +329,7 @@ pub enum Error {
     /// [`crate::geom::Curve::derivative_into`] and [`crate::geom::Surface::derivative_into`]).
     #[error("the derivative of order {order} of {what} is not available: {reason}")]
     UnsupportedDerivative {
-        /// The type ("point equation", "formula piece", ...).
+        /// The type ("this curve" for the trait's default, ...).
         what: &'static str,
         /// The order asked for: "3" for a curve, "(1, 2)" for ∂³/∂u∂v² of a surface.
         order: String,

@@ -11,7 +11,7 @@ use geomkit::bspline::{
     interpolate_curve, interpolate_curve_at, interpolate_heights, interpolate_surface,
     BsplineCurve, EndCondition, InterpolationOptions, SurfaceInterpolationOptions,
 };
-use geomkit::compose::{bodies, CompositeSurface, Piecewise, RuledCurve};
+use geomkit::compose::{bodies, CompositeSurface, ExprPatch, Piecewise, RuledCurve, SurfaceKind};
 use geomkit::exact::{rational_from_f64, rational_to_f64, ExactBezierCurve, Rational};
 use geomkit::geom::{BatchOptions, Curve, Parallelism, Surface};
 use geomkit::pointcalc::{Nodes, PointEquation, PointSurface, PrintedSurface};
@@ -109,6 +109,19 @@ fn curves() -> Vec<(&'static str, Box<dyn Curve>)> {
     ]
 }
 
+/// sin(x) cos(y) on [0, 2] × [0, 1] from two formula cells, the second 1 higher (shifted
+/// back by formula (11)).
+fn sin_cos_composite() -> CompositeSurface {
+    let z = |f: &str| ExprPatch::parse(&[("z", f)], &["x", "y"], None).unwrap();
+    CompositeSurface::from_expr(
+        vec![0.0, 1.0, 2.0],
+        vec![0.0, 1.0],
+        vec![vec![z("sin(x)*cos(y)")], vec![z("sin(x)*cos(y) + 1")]],
+        SurfaceKind::Explicit,
+    )
+    .unwrap()
+}
+
 /// Every surface type of the library, named.
 fn surfaces() -> Vec<(&'static str, Box<dyn Surface>)> {
     let z: Vec<f64> = (0..30)
@@ -163,6 +176,7 @@ fn surfaces() -> Vec<(&'static str, Box<dyn Surface>)> {
             "composite of a bspline",
             Box::new(CompositeSurface::from_bspline(&heights).unwrap()),
         ),
+        ("composite of formulas", Box::new(sin_cos_composite())),
         ("ruled cube", Box::new(bodies::cube().unwrap())),
         (
             "ruled cylinder",
@@ -507,7 +521,7 @@ fn bspline_derivatives_reproduce_a_cubic() {
 }
 
 /// A point equation through samples of a quadratic is that quadratic: M' = 2at + b,
-/// M'' = 2a; from the number of nodes on, zero.
+/// M'' = 2a; from the number of nodes on, zero; a quartic's third and fourth derivatives.
 #[test]
 fn point_equation_derivatives_reproduce_a_quadratic() {
     let f = |t: f64| 3.0 * t * t - t + 0.5;
@@ -523,15 +537,18 @@ fn point_equation_derivatives_reproduce_a_quadratic() {
         eq.derivative_into(t, 3, &mut d).unwrap();
         assert_eq!(d, [0.0]);
     }
-    let five = PointEquation::new(
-        Nodes::new(vec![0.0, 0.25, 0.5, 0.75, 1.0]).unwrap(),
-        (0..5).map(|k| vec![k as f64]).collect(),
-    )
-    .unwrap();
-    assert!(matches!(
-        five.derivative_into(0.3, 3, &mut [0.0]),
-        Err(Error::UnsupportedDerivative { .. })
-    ));
+    // Above order 2: powers of the differentiation matrix. A quartic through 5 nodes.
+    let g = |t: f64| t.powi(4) - 2.0 * t * t * t;
+    let nodes = Nodes::new(vec![0.0, 0.25, 0.6, 0.75, 1.0]).unwrap();
+    let pts = nodes.values().iter().map(|&t| vec![g(t)]).collect();
+    let five = PointEquation::new(nodes, pts).unwrap();
+    for t in [0.1, 0.6, 0.9] {
+        for (k, want) in [(3, 24.0 * t - 12.0), (4, 24.0), (5, 0.0)] {
+            let mut d = [0.0];
+            five.derivative_into(t, k, &mut d).unwrap();
+            assert!((d[0] - want).abs() < 1e-10, "k {k} at {t}: {}", d[0]);
+        }
+    }
 }
 
 /// The rational quarter circle: p' is tangent (p · p' = 0) and central differences agree.
@@ -665,6 +682,26 @@ fn surface_derivatives_reproduce_a_bicubic() {
                     got[0]
                 );
             }
+        }
+    }
+}
+
+/// A composite of formula patches by the engine's symbolic derivative, against the closed
+/// form of sin(x) cos(y) (the shift of the second cell is a constant).
+#[test]
+fn composite_formula_derivatives_are_symbolic() {
+    let s = sin_cos_composite();
+    for (x, y) in [(0.3f64, 0.2f64), (1.5, 0.5), (1.9, 0.9)] {
+        for (k, want) in [
+            ((1, 0), x.cos() * y.cos()),
+            ((0, 1), -x.sin() * y.sin()),
+            ((1, 1), -x.cos() * y.sin()),
+            ((2, 0), -x.sin() * y.cos()),
+            ((0, 3), x.sin() * y.sin()),
+        ] {
+            let mut d = [0.0];
+            s.derivative_into(x, y, k, &mut d).unwrap();
+            assert!((d[0] - want).abs() < 1e-14, "{k:?} at ({x}, {y}): {}", d[0]);
         }
     }
 }

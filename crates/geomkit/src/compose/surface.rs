@@ -32,7 +32,7 @@ use super::ramp::ramp;
 use crate::bezier::BezierSurface;
 use crate::bspline::BsplineSurface;
 use crate::expr::{Const, Graph, Id, Tape};
-use crate::geom::{check_pairs, check_point, unsupported_partial, BatchOptions, Surface};
+use crate::geom::{check_pairs, check_point, BatchOptions, Surface};
 use crate::par::*;
 use crate::points::check_eval_args;
 use crate::{Error, Result};
@@ -180,6 +180,9 @@ enum Cells {
         domains: Vec<[(f64, f64); 2]>,
         /// What formula (9) equals on each cell, in the local variables `@s`, `@t`.
         effective: Vec<Tape>,
+        /// The expressions of `effective`: one graph, `dim` roots per cell (for their
+        /// symbolic derivatives).
+        effective_exprs: Box<(Graph, Vec<Vec<Id>>)>,
     },
 }
 
@@ -279,9 +282,15 @@ impl CompositeSurface {
             report: ContinuityReport::default(),
         };
         s.report = s.measure_continuity();
-        let tapes = s.effective_tapes()?;
-        if let Cells::Expr { effective, .. } = &mut s.cells {
+        let (tapes, exprs) = s.effective_tapes()?;
+        if let Cells::Expr {
+            effective,
+            effective_exprs,
+            ..
+        } = &mut s.cells
+        {
             *effective = tapes;
+            **effective_exprs = exprs;
         }
         Ok(s)
     }
@@ -359,6 +368,7 @@ impl CompositeSurface {
                     patches: flat,
                     domains,
                     effective: Vec::new(),
+                    effective_exprs: Box::new((Graph::new(), Vec::new())),
                 })
             },
         )
@@ -691,12 +701,13 @@ impl CompositeSurface {
     /// u-jumps U_iq(t) = r_(i-1)q(1, t) - r_iq(0, t) and v-jumps V_pj(s) = r_p(j-1)(s, 1) -
     /// r_pj(s, 0) of the edges the report finds discontinuous, and the constant
     /// c_pq = Σ_(1<=i<=p, 1<=j<=q) (U_i(j-1)(1) - U_ij(0)).
-    fn effective_tapes(&self) -> Result<Vec<Tape>> {
+    #[allow(clippy::type_complexity)]
+    fn effective_tapes(&self) -> Result<(Vec<Tape>, (Graph, Vec<Vec<Id>>))> {
         let Cells::Expr {
             patches, domains, ..
         } = &self.cells
         else {
-            return Ok(Vec::new());
+            return Ok((Vec::new(), (Graph::new(), Vec::new())));
         };
         let (n, m) = self.cells();
         let d = self.dim;
@@ -738,6 +749,7 @@ impl CompositeSurface {
             }
         }
         let mut tapes = Vec::with_capacity(n * m);
+        let mut cell_roots = Vec::with_capacity(n * m);
         // Running sums of u-jumps along each row q (over i <= p) and v-jumps along columns.
         let mut u_sums: Vec<Vec<Id>> = vec![vec![zero; d]; m];
         for p in 0..n {
@@ -770,9 +782,10 @@ impl CompositeSurface {
                     Tape::new(&g, &roots, &["@s", "@t"])
                         .map_err(|e| Error::expression(format!("patch ({p}, {q})"), e))?,
                 );
+                cell_roots.push(roots);
             }
         }
-        Ok(tapes)
+        Ok((tapes, (g, cell_roots)))
     }
 
     fn measure_continuity(&self) -> ContinuityReport {
@@ -970,11 +983,12 @@ impl Surface for CompositeSurface {
         self.eval_pairs(uv, out, options.parallel())
     }
 
-    /// Polynomial patches: every order, the cell's polynomial (patch plus the shifts of
-    /// formula (9)) differentiated in its local coordinates s = (u - u_i)/Δu_i,
-    /// t = (v - v_j)/Δv_j and scaled by 1/Δu_i^ku · 1/Δv_j^kv (at a knot, the cell on the
-    /// right; inside the domain). Errors: [`Error::UnsupportedDerivative`] for orders
-    /// above (0, 0) of formula patches.
+    /// Every order: what formula (9) equals on the cell of (u, v) (patch plus the shifts),
+    /// differentiated in its local coordinates s = (u - u_i)/Δu_i, t = (v - v_j)/Δv_j and
+    /// scaled by 1/Δu_i^ku · 1/Δv_j^kv (at a knot, the cell on the right; inside the
+    /// domain). Polynomial patches in closed form, formula patches by the engine's symbolic
+    /// derivative. Errors: [`Error::Expression`] if a symbolic derivative does not
+    /// compile.
     fn derivative_into(
         &self,
         u: f64,
@@ -987,16 +1001,30 @@ impl Surface for CompositeSurface {
             self.eval_into(u, v, out);
             return Ok(());
         }
-        let Cells::Poly { effective, .. } = &self.cells else {
-            return Err(unsupported_partial(
-                "a composite surface of formula patches",
-                (ku, kv),
-                "differentiate the printed formula symbolically (geomkit::expr)",
-            ));
-        };
         let (i, s) = self.u.locate(u);
         let (j, t) = self.v.locate(v);
-        effective[i * self.v.cells() + j].partial_into(s, t, (ku, kv), out);
+        let k = i * self.v.cells() + j;
+        match &self.cells {
+            Cells::Poly { effective, .. } => effective[k].partial_into(s, t, (ku, kv), out),
+            Cells::Expr {
+                effective_exprs, ..
+            } => {
+                let (graph, roots) = effective_exprs.as_ref();
+                let mut g = graph.clone();
+                let mut r = roots[k].clone();
+                for (var, order) in [("@s", ku), ("@t", kv)] {
+                    for _ in 0..order {
+                        r = r.iter().map(|&e| g.diff(e, var)).collect();
+                    }
+                }
+                let what = || format!("derivative of patch ({i}, {j})");
+                let tape =
+                    Tape::new(&g, &r, &["@s", "@t"]).map_err(|e| Error::expression(what(), e))?;
+                let mut cols: Vec<&mut [f64]> = out.chunks_mut(1).collect();
+                tape.eval_batch(&[&[s], &[t]], &mut cols)
+                    .map_err(|e| Error::expression(what(), e))?;
+            }
+        }
         let (uk, vk) = self.knots();
         let scale = (uk[i + 1] - uk[i]).powi(-(ku as i32)) * (vk[j + 1] - vk[j]).powi(-(kv as i32));
         out.iter_mut().for_each(|x| *x *= scale);

@@ -19,7 +19,7 @@
 
 use super::nodes::Nodes;
 use crate::exact::Rational;
-use crate::geom::{check_point, unsupported, BatchOptions, Curve};
+use crate::geom::{check_point, BatchOptions, Curve};
 use crate::points::{check_eval_args, flatten_points, validate_points};
 use crate::{Error, Result};
 
@@ -279,23 +279,15 @@ impl Curve for PointEquation {
         }
     }
 
-    /// Orders 0 to 2 ([`PointEquation::derivatives`], barycentric formulas), and the zero
-    /// vector from order n on (the equation is a polynomial of degree n - 1 over n nodes).
-    /// Errors: [`Error::UnsupportedDerivative`] for orders 3 to n - 1.
+    /// Every order: the cardinal functions' derivatives (barycentric formulas for orders 1
+    /// and 2, as [`PointEquation::derivatives`]; powers of the differentiation matrix above),
+    /// Σ f_i^(k)(t) A_i; the zero vector from order n on (a polynomial of degree n - 1).
     fn derivative_into(&self, t: f64, order: usize, out: &mut [f64]) -> Result<()> {
         check_point(&[t], self.dim, out)?;
-        match order {
-            0 => self.eval_into(t, out),
-            1 | 2 => out.copy_from_slice(&self.derivatives(t)[order]),
-            k if k >= self.nodes.len() => out.fill(0.0),
-            k => {
-                return Err(unsupported(
-                    "a point equation",
-                    k,
-                    "the barycentric formulas give orders 0 to 2 (and the zero vector from \
-                     the number of nodes on)",
-                ))
-            }
+        if order == 0 {
+            self.eval_into(t, out);
+        } else {
+            self.combine(&self.nodes.basis_derivative(t, order), out);
         }
         Ok(())
     }

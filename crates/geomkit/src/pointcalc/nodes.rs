@@ -213,6 +213,52 @@ impl Nodes {
         &self.weights
     }
 
+    /// The k-th derivatives of the cardinal functions at t, any order: orders 1 and 2 by
+    /// [`Nodes::basis_derivatives`]; above, ℓ_j^(k)(t) = Σ_i ℓ_i(t) (D^k)_ij with the
+    /// differentiation matrix D_ij = (w_j/w_i)/(t_i - t_j), D_ii = -Σ_(j≠i) D_ij (Berrut &
+    /// Trefethen §9: the derivative of the interpolant of degree n - 1 is the interpolant
+    /// of its values at the nodes), O(k n²); zero from order n on.
+    pub(crate) fn basis_derivative(&self, t: f64, k: usize) -> Vec<f64> {
+        let n = self.values.len();
+        match k {
+            0 => self.basis(t),
+            _ if k >= n => vec![0.0; n],
+            1 | 2 => {
+                let (mut l, mut d1, mut d2) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+                self.basis_derivatives(t, &mut l, &mut d1, Some(&mut d2));
+                if k == 1 {
+                    d1
+                } else {
+                    d2
+                }
+            }
+            _ => {
+                let (x, w) = (&self.values, &self.weights);
+                let mut d = vec![0.0; n * n];
+                for i in 0..n {
+                    let mut diag = 0.0;
+                    for j in (0..n).filter(|&j| j != i) {
+                        let dij = (w[j] / w[i]) / (x[i] - x[j]);
+                        d[i * n + j] = dij;
+                        diag -= dij;
+                    }
+                    d[i * n + i] = diag;
+                }
+                let mut row = self.basis(t);
+                for _ in 0..k {
+                    let mut next = vec![0.0; n];
+                    for (r, di) in row.iter().zip(d.chunks_exact(n)) {
+                        for (nj, dij) in next.iter_mut().zip(di) {
+                            *nj += r * dij;
+                        }
+                    }
+                    row = next;
+                }
+                row
+            }
+        }
+    }
+
     /// The node interval [t_0, t_(n-1)].
     pub fn domain(&self) -> (f64, f64) {
         (self.values[0], self.values[self.values.len() - 1])

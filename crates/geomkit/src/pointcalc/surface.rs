@@ -25,7 +25,7 @@
 use super::equation::{check_lebesgue, PointEquation, PointOptions, Warning};
 use super::nodes::Nodes;
 use crate::exact::Rational;
-use crate::geom::{check_point, unsupported_partial, Curve, Surface};
+use crate::geom::{check_point, Curve, Surface};
 use crate::points::flatten_grid;
 use crate::{Error, Result};
 
@@ -362,34 +362,12 @@ impl PrintedSurface {
     }
 }
 
-/// The k-th derivatives of the cardinal functions of `nodes` at t: orders 0 to 2 by the
-/// barycentric formulas ([`Nodes::basis_derivatives`]), zero from the number of nodes on
-/// (polynomials of degree n - 1); `None` for the orders between.
-fn basis_derivative(nodes: &Nodes, t: f64, k: usize) -> Option<Vec<f64>> {
-    let n = nodes.len();
-    match k {
-        0 => Some(nodes.basis(t)),
-        1 | 2 => {
-            let (mut l, mut d1, mut d2) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-            nodes.basis_derivatives(t, &mut l, &mut d1, Some(&mut d2));
-            Some(if k == 1 { d1 } else { d2 })
-        }
-        k if k >= n => Some(vec![0.0; n]),
-        _ => None,
-    }
-}
-
-/// Why a point-calculus surface has no derivative of some order.
-const POINT_DERIVATIVES: &str =
-    "the barycentric formulas give orders 0 to 2 in each direction (and zero from the number \
-     of nodes on)";
-
 /// "Rows first, then across" of spec/point-calculus.md §3.
 impl Surface for PointSurface {
     crate::geom::forward_to_inherent!(PointSurface; dim, surface_domain, surface_eval_into, eval_grid);
 
-    /// Σ_i L_i^(kv)(v) M_i^(ku)(u), orders 0 to 2 in each direction (zero from the number
-    /// of nodes on). Errors: [`Error::UnsupportedDerivative`] for the orders between.
+    /// Σ_i L_i^(kv)(v) M_i^(ku)(u), every order (the cardinal functions' derivatives of
+    /// [`Curve::derivative_into`] of point equations, in each direction).
     fn derivative_into(
         &self,
         u: f64,
@@ -398,16 +376,14 @@ impl Surface for PointSurface {
         out: &mut [f64],
     ) -> Result<()> {
         check_point(&[u, v], self.dim, out)?;
-        let unsupported = || unsupported_partial("a point surface", (ku, kv), POINT_DERIVATIVES);
-        let lv = basis_derivative(&self.across, v, kv).ok_or_else(unsupported)?;
+        let lv = self.across.basis_derivative(v, kv);
         let mut row = vec![0.0; self.dim];
         out.fill(0.0);
         for (w, eq) in lv.iter().zip(&self.rows) {
             if *w == 0.0 {
                 continue;
             }
-            eq.derivative_into(u, ku, &mut row)
-                .map_err(|_| unsupported())?;
+            eq.derivative_into(u, ku, &mut row)?;
             for (o, x) in out.iter_mut().zip(&row) {
                 *o += w * x;
             }
@@ -435,14 +411,8 @@ impl Surface for PrintedSurface {
     ) -> Result<()> {
         check_point(&[u, v], self.dim, out)?;
         let p = printed_placements();
-        let unsupported =
-            || unsupported_partial("the printed surface", (ku, kv), POINT_DERIVATIVES);
-        let mut bu = Vec::with_capacity(3);
-        let mut bv = Vec::with_capacity(3);
-        for n in &p {
-            bu.push(basis_derivative(n, u, ku).ok_or_else(unsupported)?);
-            bv.push(basis_derivative(n, v, kv).ok_or_else(unsupported)?);
-        }
+        let bu: Vec<Vec<f64>> = p.iter().map(|n| n.basis_derivative(u, ku)).collect();
+        let bv: Vec<Vec<f64>> = p.iter().map(|n| n.basis_derivative(v, kv)).collect();
         let a: [[f64; 3]; 3] =
             std::array::from_fn(|i| std::array::from_fn(|j| bu[i][j] * bv[j][i]));
         self.combine(&a, out);
