@@ -150,17 +150,5 @@ pub fn random_params(count: usize, a: f64, b: f64, seed: u64) -> Vec<f64> {
 }
 
 /// `count` >= 2 equally spaced parameters over [a, b] as numpy's `linspace` (and geomkit's
-/// `sample_uniform_fd`) computes them: a + k·((b - a)/(count - 1)), the last exactly b.
-pub fn linspace(a: f64, b: f64, count: usize) -> Vec<f64> {
-    let count = count.max(2);
-    let step = (b - a) / (count - 1) as f64;
-    (0..count)
-        .map(|k| {
-            if k + 1 == count {
-                b
-            } else {
-                a + k as f64 * step
-            }
-        })
-        .collect()
-}
+/// `sample_uniform_fd`) computes them.
+pub use geomkit::geom::uniform_params as linspace;

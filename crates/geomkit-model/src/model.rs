@@ -334,14 +334,6 @@ impl AnyModel {
             }
         })
     }
-
-    /// The model the geometry stands for: a formula file's model, else the model itself.
-    pub fn geometry(&self) -> Option<&AnyModel> {
-        match self {
-            AnyModel::Formula(f) => f.model.as_deref().and_then(AnyModel::geometry),
-            other => Some(other),
-        }
-    }
 }
 
 fn bezier_curve(f: BezierCurveFile) -> Result<BezierModel> {

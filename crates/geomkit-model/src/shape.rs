@@ -157,30 +157,24 @@ fn bspline_curve(c: BsplineCurve, parameters: Option<Vec<f64>>) -> Shape {
     }
 }
 
+/// A Bézier curve and its control polygon, vertex i at abscissa i/n (for 1-D graphs).
+fn bezier_curve(points: Vec<Vec<f64>>, curve: Box<dyn Curve>) -> Shape {
+    let ts = uniform(points.len());
+    Shape::Curve {
+        curve,
+        control: Some((points, ts)),
+        references: Vec::new(),
+    }
+}
+
 impl Loaded {
     /// The shape of any model; errors for models that are neither one curve nor one surface
     /// (a point-calculus model of 3 or more factors, a formula file without its model).
     pub fn from_model(model: AnyModel) -> Result<Loaded> {
         let what = model.describe();
         let shape = match model {
-            AnyModel::Bezier(BezierModel::Curve(c)) => {
-                let pts = c.points();
-                let ts = uniform(pts.len());
-                Shape::Curve {
-                    curve: Box::new(c),
-                    control: Some((pts, ts)),
-                    references: Vec::new(),
-                }
-            }
-            AnyModel::Bezier(BezierModel::Rational(c)) => {
-                let pts = c.points();
-                let ts = uniform(pts.len());
-                Shape::Curve {
-                    curve: Box::new(c),
-                    control: Some((pts, ts)),
-                    references: Vec::new(),
-                }
-            }
+            AnyModel::Bezier(BezierModel::Curve(c)) => bezier_curve(c.points(), Box::new(c)),
+            AnyModel::Bezier(BezierModel::Rational(c)) => bezier_curve(c.points(), Box::new(c)),
             AnyModel::Bezier(BezierModel::Surface(s)) => bezier_surface(s),
             AnyModel::BsplineCurve(m) => bspline_curve(m.curve, m.parameters),
             AnyModel::BsplineSurface(m) => bspline_surface(m.surface, m.parameters),
@@ -206,13 +200,6 @@ impl Loaded {
                 references: Vec::new(),
             },
             AnyModel::SurfaceSamples(s) => plain_surface(Box::new(s)),
-            #[allow(unreachable_patterns)]
-            other => {
-                return Err(Error::model(
-                    "",
-                    format!("a {} cannot be drawn or meshed", other.describe()),
-                ))
-            }
         };
         Ok(Loaded { what, shape })
     }

@@ -35,19 +35,7 @@ fn drawn_grid(surface: &dyn Surface, us: &[f64], vs: &[f64]) -> Result<(Vec<f64>
     Ok((lifted, 3))
 }
 
-/// `count` >= 2 equally spaced values from `a` to `b` (both included exactly).
-pub fn linspace(a: f64, b: f64, count: usize) -> Vec<f64> {
-    let last = count.saturating_sub(1).max(1);
-    (0..count)
-        .map(|k| {
-            if k == last {
-                b
-            } else {
-                a + (b - a) * (k as f64 / last as f64)
-            }
-        })
-        .collect()
-}
+pub use geomkit::geom::linspace;
 
 /// A fixed axonometric view: the viewer looks from `azimuth` (about the z axis, from the x
 /// axis) and `elevation` (above the xy plane); z is up on the page.

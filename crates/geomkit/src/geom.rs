@@ -446,8 +446,15 @@ pub(crate) fn for_each_point<F>(
     );
 }
 
-/// t_k = a + k·(b - a)/(count - 1), k < count (at least 2), the last one exactly b.
-pub(crate) fn uniform_params(a: f64, b: f64, count: usize) -> Vec<f64> {
+/// t_k = a + k·((b - a)/(count - 1)), k < count (at least 2), the last one exactly b: the
+/// parameters of [`Curve::sample_uniform`], computed as NumPy's `linspace` computes them.
+///
+/// ```
+/// let t = geomkit::geom::uniform_params(0.0, 7.3, 4);
+/// assert_eq!(t.len(), 4);
+/// assert_eq!((t[0], t[3]), (0.0, 7.3));
+/// ```
+pub fn uniform_params(a: f64, b: f64, count: usize) -> Vec<f64> {
     let count = count.max(2);
     let step = (b - a) / (count - 1) as f64;
     (0..count)
@@ -461,8 +468,14 @@ pub(crate) fn uniform_params(a: f64, b: f64, count: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Values from `a` to `b` in `count` (at least 2) equal steps, both ends exact.
-pub(crate) fn linspace(a: f64, b: f64, count: usize) -> Vec<f64> {
+/// Values from `a` to `b` in `count` (at least 2) equal steps, both ends exact:
+/// a + (b - a)·(k/(count - 1)), so that values symmetric about the middle are symmetric
+/// (for grids of pictures and tessellations).
+///
+/// ```
+/// assert_eq!(geomkit::geom::linspace(-1.0, 1.0, 5), [-1.0, -0.5, 0.0, 0.5, 1.0]);
+/// ```
+pub fn linspace(a: f64, b: f64, count: usize) -> Vec<f64> {
     let last = (count.max(2) - 1) as f64;
     (0..count.max(2))
         .map(|k| {
