@@ -27,8 +27,7 @@ fn tour() -> Vec<String> {
 /// double or single quotes group, `#` outside quotes starts a comment.
 fn words(line: &str) -> (Vec<String>, String) {
     let (mut out, mut word, mut quote, mut any) = (Vec::new(), String::new(), None, false);
-    let mut chars = line.char_indices();
-    while let Some((k, c)) = chars.next() {
+    for (k, c) in line.char_indices() {
         match (quote, c) {
             (Some(q), c) if c == q => quote = None,
             (Some(_), c) => word.push(c),
