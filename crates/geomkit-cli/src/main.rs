@@ -1,7 +1,8 @@
 //! `geomkit`: the command-line tool over the geomkit library.
 //!
 //! Errors become one line `error: ...` on stderr (the causes joined with ": ") and exit code 1;
-//! usage errors are clap's (exit code 2). Output files are written atomically.
+//! usage errors (an unknown option, a value that does not parse) are one line too, with exit
+//! code 2. Output files are written atomically.
 
 mod cli;
 mod commands;
@@ -16,8 +17,32 @@ use clap::Parser;
 use std::io::Write;
 use std::process::ExitCode;
 
+/// clap's usage error as one line: its first paragraph (the message and, for missing
+/// arguments, their names), without the usage block clap adds.
+fn usage_line(err: &clap::Error) -> String {
+    let text = err.render().to_string();
+    let first = text.split("\n\n").next().unwrap_or_default();
+    let words: Vec<&str> = first.split_whitespace().collect();
+    let line = words.join(" ");
+    let line = line.strip_prefix("error: ").unwrap_or(&line);
+    format!("error: {line} (see --help)")
+}
+
 fn main() -> ExitCode {
-    let cli = cli::Cli::parse();
+    let cli = match cli::Cli::try_parse() {
+        Ok(cli) => cli,
+        // --help, --version, and the help of a command given without its subcommand.
+        Err(e)
+            if !e.use_stderr()
+                || e.kind() == clap::error::ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand =>
+        {
+            e.exit()
+        }
+        Err(e) => {
+            let _ = writeln!(std::io::stderr(), "{}", usage_line(&e));
+            return ExitCode::from(2);
+        }
+    };
     let result = match cli.command {
         cli::Command::Bezier(command) => commands::bezier::run(command),
         cli::Command::Interpolate(command) => commands::interpolate::run(command),

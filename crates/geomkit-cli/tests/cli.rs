@@ -460,12 +460,29 @@ fn misuse_gives_one_clear_line() {
         let err = fails(d, args, output);
         assert!(err.contains(want), "{args:?}: {err} does not say {want:?}");
     }
-    // clap's usage errors exit with 2.
-    let out = geomkit(
-        d,
-        &["bezier", "reduce", "ex2.json", "--to", "2", "--norm", "l2"],
-    );
-    assert_eq!(out.status.code(), Some(2));
+    // Usage errors exit with 2, in one line too: a value that does not parse, a missing
+    // argument, an unknown command.
+    for (args, want) in [
+        (
+            &["bezier", "reduce", "ex2.json", "--to", "2", "--norm", "l2"][..],
+            "error: the following required arguments were not provided: --approx",
+        ),
+        (
+            &["compose", "body", "cube", "--format", "fortran"],
+            "error: invalid value 'fortran' for '--format <F>': unknown --format \"fortran\"",
+        ),
+        (&["pointcalc", "formula", "m.json"], "--format <FORMAT>"),
+        (&["frob"], "error: unrecognized subcommand 'frob'"),
+    ] {
+        let out = geomkit(d, args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = stderr(&out);
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(
+            err.contains(want) && err.ends_with("(see --help)\n"),
+            "{args:?}: {err}"
+        );
+    }
 }
 
 #[test]

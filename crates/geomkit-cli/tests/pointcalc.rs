@@ -172,7 +172,7 @@ fn formula_output() {
         &["pointcalc", "formula", "model.json", "--format", "cobol"],
     );
     assert_eq!(bad.status.code(), Some(2));
-    assert!(stderr(&bad).contains("unknown format 'cobol'"));
+    assert!(stderr(&bad).contains("unknown --format \"cobol\""));
 }
 
 #[test]

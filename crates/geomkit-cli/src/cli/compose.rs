@@ -1,6 +1,7 @@
 //! Arguments of `geomkit compose`.
 
 use clap::{Args, Subcommand, ValueEnum};
+use geomkit::expr::Format;
 use std::path::PathBuf;
 
 /// `geomkit compose ...`
@@ -48,8 +49,8 @@ pub struct BodyArgs {
     #[arg(value_enum)]
     pub body: BodyKind,
     /// Box sizes A,B,C [default: 2,2,2].
-    #[arg(long, value_name = "A,B,C", allow_hyphen_values = true)]
-    pub size: Option<String>,
+    #[arg(long, value_name = "A,B,C", allow_hyphen_values = true, value_parser = parse_box_size)]
+    pub size: Option<[f64; 3]>,
     /// Height [default: 2].
     #[arg(long, value_name = "H", allow_negative_numbers = true)]
     pub height: Option<f64>,
@@ -70,9 +71,10 @@ pub struct BodyArgs {
         long,
         value_name = "X,Y;...",
         allow_hyphen_values = true,
-        conflicts_with = "ngon"
+        conflicts_with = "ngon",
+        value_parser = parse_polygon
     )]
-    pub polygon: Option<String>,
+    pub polygon: Option<Polygon>,
     /// Output options.
     #[command(flatten)]
     pub out: SurfaceOutput,
@@ -127,8 +129,8 @@ pub struct PiecewiseArgs {
 #[derive(Debug, Args)]
 pub struct FormulaOutput {
     /// Syntax of the formula.
-    #[arg(long, value_name = "F", default_value = "maple")]
-    pub format: String,
+    #[arg(long, value_name = "F", default_value = "maple", value_parser = parse_format)]
+    pub format: Format,
     /// Print with common subexpressions in temporaries.
     #[arg(long)]
     pub program: bool,
@@ -149,6 +151,65 @@ pub struct SurfaceOutput {
     pub formula: FormulaOutput,
     /// A mesh on a uniform KxL sample grid (break lines added) [default: adaptive, within
     /// 1/1000 of the size].
-    #[arg(long, value_name = "KxL")]
-    pub samples: Option<String>,
+    #[arg(long, value_name = "KxL", value_parser = parse_grid)]
+    pub samples: Option<(usize, usize)>,
+}
+
+/// The vertices of a `--polygon` (a type of its own: clap takes a `Vec` for a repeated
+/// option).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Polygon(pub Vec<[f64; 2]>);
+
+/// A formula syntax by name ("maple", "latex", ...).
+pub fn parse_format(name: &str) -> Result<Format, String> {
+    Format::from_name(name).ok_or_else(|| {
+        format!(
+            "unknown --format {name:?}: expected one of {}",
+            Format::ALL.map(Format::name).join(", ")
+        )
+    })
+}
+
+/// "KxL" (or "K") → (K, L), each from 2 to 4000.
+fn parse_grid(text: &str) -> Result<(usize, usize), String> {
+    let parse = |x: &str| match x.trim().parse::<usize>() {
+        Ok(k) if (2..=4000).contains(&k) => Ok(k),
+        _ => Err(format!("{x:?} is not a count from 2 to 4000")),
+    };
+    match text.split_once(['x', 'X', ',']) {
+        None => Ok((parse(text)?, parse(text)?)),
+        Some((a, b)) => Ok((parse(a)?, parse(b)?)),
+    }
+}
+
+/// Finite numbers separated by commas.
+fn finite_numbers(text: &str) -> Result<Vec<f64>, String> {
+    text.split(',')
+        .map(|x| match x.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(format!("{:?} is not a finite number", x.trim())),
+        })
+        .collect()
+}
+
+/// "A,B,C": three finite sizes (their signs are the body's to judge).
+fn parse_box_size(text: &str) -> Result<[f64; 3], String> {
+    match finite_numbers(text)?[..] {
+        [a, b, c] => Ok([a, b, c]),
+        ref s => Err(format!("give three sizes A,B,C (got {})", s.len())),
+    }
+}
+
+/// "x,y;x,y;...": the vertices of a polygon.
+fn parse_polygon(text: &str) -> Result<Polygon, String> {
+    text.split(';')
+        .enumerate()
+        .map(
+            |(k, xy)| match finite_numbers(xy).map_err(|e| format!("vertex {k}: {e}"))?[..] {
+                [x, y] => Ok([x, y]),
+                _ => Err(format!("vertex {k}: give x,y")),
+            },
+        )
+        .collect::<Result<_, _>>()
+        .map(Polygon)
 }

@@ -1,5 +1,6 @@
 //! Arguments of `geomkit pointcalc`.
 
+use super::parse_format;
 use clap::{Args, Subcommand};
 use geomkit::expr::Format;
 use std::path::PathBuf;
@@ -163,11 +164,4 @@ pub struct PcSurfaceArgs {
     /// Output: .svg or .json (a K×K grid of points); default: JSON to standard output.
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
-}
-
-fn parse_format(s: &str) -> Result<Format, String> {
-    Format::from_name(s).ok_or_else(|| {
-        let names: Vec<&str> = Format::ALL.iter().map(|f| f.name()).collect();
-        format!("unknown format '{s}' (one of {})", names.join(", "))
-    })
 }

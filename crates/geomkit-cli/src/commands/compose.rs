@@ -14,7 +14,7 @@
 //! - a saved B-spline surface `{"type":"bspline_surface",...}` (e.g. from `geomkit interpolate
 //!   surface -o fit.json`): its knot cells as polynomial patches, explicit z(x, y) for heights.
 
-use super::formula::{format_of, formula_json, formula_line, formula_text};
+use super::formula::{formula_json, formula_line, formula_text};
 use crate::cli::{BodyArgs, BodyKind, ComposeCommand, PatchesArgs, RuledArgs, SurfaceOutput};
 use crate::output::{mesh_summary, write_mesh, Destination};
 use crate::table::extension;
@@ -42,41 +42,9 @@ pub fn run(command: ComposeCommand) -> Result<()> {
     }
 }
 
-/// "KxL" (or "K") → (K, L), each from 2 to 4000.
-pub fn samples_of(text: &str) -> Result<(usize, usize)> {
-    let parse = |x: &str| -> Result<usize> {
-        match x.trim().parse::<usize>() {
-            Ok(k) if (2..=4000).contains(&k) => Ok(k),
-            _ => bail!("--samples: {x:?} is not a count from 2 to 4000"),
-        }
-    };
-    match text.split_once(['x', 'X', ',']) {
-        None => Ok((parse(text)?, parse(text)?)),
-        Some((a, b)) => Ok((parse(a)?, parse(b)?)),
-    }
-}
-
-fn numbers(text: &str, what: &str) -> Result<Vec<f64>> {
-    text.split(',')
-        .map(|x| match x.trim().parse::<f64>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            _ => bail!("{what}: {:?} is not a finite number", x.trim()),
-        })
-        .collect()
-}
-
 fn polygon_of(args: &BodyArgs) -> Result<Vec<[f64; 2]>> {
     if let Some(p) = &args.polygon {
-        return p
-            .split(';')
-            .enumerate()
-            .map(
-                |(k, xy)| match numbers(xy, &format!("--polygon vertex {k}"))?.as_slice() {
-                    [x, y] => Ok([*x, *y]),
-                    _ => bail!("--polygon vertex {k}: give x,y"),
-                },
-            )
-            .collect();
+        return Ok(p.0.clone());
     }
     Ok(bodies::regular_polygon(
         args.ngon.unwrap_or(6),
@@ -91,10 +59,7 @@ pub fn build_body(args: &BodyArgs) -> Result<(RuledSurface, String)> {
     Ok(match args.body {
         BodyKind::Cube => (bodies::cube()?, "the paper's cube (±1, ±1, ±1)".into()),
         BodyKind::Box => {
-            let s = numbers(args.size.as_deref().unwrap_or("2,2,2"), "--size")?;
-            let [a, b, c] = s[..] else {
-                bail!("--size: give three sizes A,B,C (got {})", s.len())
-            };
+            let [a, b, c] = args.size.unwrap_or([2.0; 3]);
             (
                 bodies::rectangular_box(a, b, c)?,
                 format!("box {a}×{b}×{c}"),
@@ -167,7 +132,7 @@ fn write_surface(
     out: &SurfaceOutput,
 ) -> Result<()> {
     let o = &out.formula;
-    let format = format_of(&o.format)?;
+    let format = o.format;
     let dest = Destination::from_option(o.output.as_deref());
     let Some(path) = o.output.as_deref() else {
         return dest.write(formula_text(f, format, o.program).as_bytes());
@@ -184,11 +149,8 @@ fn write_surface(
         "txt" => dest.write(formula_text(f, format, o.program).as_bytes()),
         "json" => dest.write(formula_json(f, what, continuity, model).as_bytes()),
         ext @ ("obj" | "stl" | "ply" | "glb") => {
-            let sampling = match out.samples.as_deref() {
-                Some(text) => {
-                    let (k, l) = samples_of(text)?;
-                    Sampling::Samples(k, l)
-                }
+            let sampling = match out.samples {
+                Some((k, l)) => Sampling::Samples(k, l),
                 None => Sampling::Tolerance(None),
             };
             let t = loaded().tessellate(sampling)?;

@@ -1,21 +1,11 @@
 //! The formulas of `geomkit compose`: the `--format` syntax, the printed text, the first
 //! line for a picture's subtitle, and the formula file (`-o OUT.json`).
 
-use anyhow::{anyhow, Result};
 use geomkit::compose::Formula;
 use geomkit::expr::Format;
 use geomkit_model::schema::FormulaFile;
 use geomkit_model::ModelFile;
 use serde_json::Value;
-
-pub fn format_of(name: &str) -> Result<Format> {
-    Format::from_name(name).ok_or_else(|| {
-        anyhow!(
-            "unknown --format {name:?}: expected one of {}",
-            Format::ALL.map(Format::name).join(", ")
-        )
-    })
-}
 
 pub fn formula_text(f: &Formula, format: Format, program: bool) -> String {
     if program {

@@ -11,7 +11,7 @@
 //! - `{"type":"bspline_curve",...}` (a saved model, e.g. from `geomkit interpolate curve
 //!   -o fit.json`): one polynomial piece per knot span ([`Piecewise::from_bspline`]).
 
-use super::formula::{format_of, formula_json, formula_line, formula_text};
+use super::formula::{formula_json, formula_line, formula_text};
 use crate::cli::{FormulaOutput, PiecewiseArgs};
 use crate::output::Destination;
 use crate::table::extension;
@@ -65,7 +65,7 @@ pub fn report_json(p: &Piecewise) -> Value {
 pub fn run(args: PiecewiseArgs) -> Result<()> {
     let (p, file) = read_pieces(&args.pieces)?;
     let out: &FormulaOutput = &args.out;
-    let format = format_of(&out.format)?;
+    let format = out.format;
     let dest = Destination::from_option(out.output.as_deref());
     let statement = p.statement();
     if args.report_json {
