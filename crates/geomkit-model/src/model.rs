@@ -120,7 +120,10 @@ impl BezierModel {
     pub fn to_file(&self, error: Option<ReductionError>) -> ModelFile {
         match self {
             BezierModel::Curve(c) => ModelFile::BezierCurve(BezierCurveFile {
-                points: Points::from_rows(&c.points()),
+                points: Points {
+                    dim: c.dim(),
+                    flat: c.points_flat().to_vec(),
+                },
                 weights: None,
                 error,
             }),

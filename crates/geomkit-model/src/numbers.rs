@@ -101,7 +101,10 @@ pub struct Points {
 }
 
 impl Points {
-    /// Points from rows (all of one length; panics on ragged rows — for literals in code).
+    /// Points from rows of one length (for points the library hands out).
+    ///
+    /// # Panics
+    /// On rows of different lengths.
     pub fn from_rows(rows: &[Vec<f64>]) -> Points {
         let dim = rows.first().map_or(0, Vec::len);
         assert!(rows.iter().all(|r| r.len() == dim), "ragged rows");
@@ -145,35 +148,6 @@ pub struct Net {
     pub dim: usize,
     /// The coordinates, row after row.
     pub flat: Vec<f64>,
-}
-
-impl Net {
-    /// A net from nested rows (for literals in code; panics on ragged input).
-    pub fn from_rows(rows: &[Vec<Vec<f64>>]) -> Net {
-        let cols = rows.first().map_or(0, Vec::len);
-        let dim = rows.first().and_then(|r| r.first()).map_or(0, Vec::len);
-        assert!(rows
-            .iter()
-            .all(|r| r.len() == cols && r.iter().all(|p| p.len() == dim)));
-        Net {
-            rows: rows.len(),
-            cols,
-            dim,
-            flat: rows.concat().concat(),
-        }
-    }
-
-    /// The net as nested vectors.
-    pub fn to_rows(&self) -> Vec<Vec<Vec<f64>>> {
-        self.flat
-            .chunks_exact((self.cols * self.dim).max(1))
-            .map(|row| {
-                row.chunks_exact(self.dim.max(1))
-                    .map(<[f64]>::to_vec)
-                    .collect()
-            })
-            .collect()
-    }
 }
 
 /// One point appended to `out`; `want` is the dimension of the first point, if read.
