@@ -44,7 +44,7 @@ pub struct BezierCurveFile {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ReductionError {
-    /// L2[0,1] distance between the original and the reduced curve.
+    /// L2(0, 1) distance between the original and the reduced curve.
     #[serde(deserialize_with = "numbers::number")]
     pub l2: f64,
     /// Guaranteed upper bound of the largest distance between them.
@@ -63,7 +63,7 @@ pub struct BezierSurfaceFile {
 
 /// `{"type": "bspline_curve", "degree": 3, "knots": [...], "control_points": [[x, y], ...],
 /// "parameters": [...]}`: n control points, n + degree + 1 knots, domain
-/// [knots[degree], knots[n]]; `parameters` (optional) those of the reference points an
+/// `[knots[degree], knots[n]]`; `parameters` (optional) those of the reference points an
 /// interpolating curve passes through.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -237,7 +237,7 @@ impl<'de> Deserialize<'de> for Patch {
 }
 
 /// A piecewise-ruled surface (formula (2)): `{"type": "ruled", "curves": [C, ...], "v":
-/// [...], "u": [u0, u1]}`, curve k at v[k]; `u` defaults to [0, 1].
+/// [...], "u": [u0, u1]}`, curve k at `v[k]`; `u` defaults to [0, 1].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RuledFile {
