@@ -542,3 +542,48 @@ fn snapshots_of_help_and_outputs() {
         ok(d, &["bezier", "elevate", "quad.json", "--to", "3"])
     );
 }
+
+/// Values that start with "-" in the forms `--help` documents are taken as values (clap
+/// used to take them for options): `--continuity -,4` leaves the start free, `--nodes
+/// -9,0,4` puts a node at -9.
+#[test]
+fn documented_values_starting_with_a_hyphen_are_accepted() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let nonic: Vec<String> = [0., 3., -1., 4., 0., 2., 1., 5., 0., 1.]
+        .iter()
+        .enumerate()
+        .map(|(i, y)| format!("[{i},{y}]"))
+        .collect();
+    write(
+        d,
+        "d9.json",
+        &format!(
+            r#"{{"type":"bezier_curve","points":[{}]}}"#,
+            nonic.join(",")
+        ),
+    );
+    let out = ok(
+        d,
+        &[
+            "bezier",
+            "reduce",
+            "d9.json",
+            "--to",
+            "4",
+            "--approx",
+            "--continuity",
+            "-,4",
+        ],
+    );
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let p = v["points"].as_array().unwrap();
+    assert_eq!(p.len(), 5);
+    // C^4 at t = 1 fixes the end point itself.
+    assert_eq!(p[4], serde_json::json!([9.0, 1.0]));
+    write(d, "p3.json", "[[0,0],[1,2],[3,1]]");
+    let out = ok(d, &["pointcalc", "curve", "p3.json", "--nodes", "-9,0,4"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["nodes"], serde_json::json!([-9.0, 0.0, 4.0]));
+    assert_eq!(v["samples"][0], serde_json::json!([-9.0, 0.0, 0.0]));
+}

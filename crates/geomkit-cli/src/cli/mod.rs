@@ -188,7 +188,13 @@ pub struct ReduceArgs {
     #[arg(long)]
     pub approx: bool,
     /// With --approx: C^A continuity at t=0 and C^B at t=1 ("1,1"; "-" leaves an end free).
-    #[arg(long, value_name = "A,B", value_parser = parse_continuity, requires = "approx")]
+    #[arg(
+        long,
+        value_name = "A,B",
+        value_parser = parse_continuity,
+        requires = "approx",
+        allow_hyphen_values = true
+    )]
     pub continuity: Option<Continuity>,
     /// With --approx: the norm minimized.
     #[arg(long, value_enum, requires = "approx")]

@@ -50,7 +50,7 @@ pub struct FitArgs {
     #[arg(long, value_name = "Y", value_delimiter = ',', required = true)]
     pub response: Vec<String>,
     /// Explicit nodes of some factors: "a=0,1/3,1;b=cheb2:5:0:1".
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
     pub nodes: Option<String>,
     /// Fail (instead of warning) when a factor's Lebesgue constant is large.
     #[arg(long)]
@@ -114,7 +114,7 @@ pub struct FormulaArgs {
     #[arg(long, value_name = "FORMAT", value_parser = parse_format)]
     pub format: Format,
     /// For a curve: the nodes (as for `pointcalc curve`).
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
     pub nodes: Option<String>,
 }
 
@@ -126,7 +126,7 @@ pub struct PcCurveArgs {
     pub input: PathBuf,
     /// Nodes: "0,1/3,1", "cheb1:N[:LO:HI]", "cheb2:N", "equi:N", "half", "third",
     /// "two-thirds" [default: equally spaced j/(n-1), exact].
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
     pub nodes: Option<String>,
     /// Fail (instead of warning) when the Lebesgue constant is large.
     #[arg(long)]
@@ -147,13 +147,18 @@ pub struct PcSurfaceArgs {
     #[arg(value_name = "POINTS.json")]
     pub input: PathBuf,
     /// Nodes along every row [default: equally spaced, exact].
-    #[arg(long, value_name = "SPEC", conflicts_with = "row_nodes")]
+    #[arg(
+        long,
+        value_name = "SPEC",
+        conflicts_with = "row_nodes",
+        allow_hyphen_values = true
+    )]
     pub nodes: Option<String>,
     /// Nodes of each row, separated by ';' ("third;half;two-thirds").
-    #[arg(long, value_name = "SPEC;SPEC;..")]
+    #[arg(long, value_name = "SPEC;SPEC;..", allow_hyphen_values = true)]
     pub row_nodes: Option<String>,
     /// Nodes across the rows [default: equally spaced, exact].
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
     pub across: Option<String>,
     /// The paper's geomatrix (9) exactly as printed (3×3 nets only; not affine invariant).
     #[arg(long, conflicts_with_all = ["nodes", "row_nodes", "across"])]

@@ -404,7 +404,10 @@ pub(crate) fn reduce_approx_flat(
         let rev = reversed(&end_points(&reversed(q, dim), dim, m, b), dim);
         p[(m - b) * dim..].copy_from_slice(&rev);
     }
-    let free: Vec<usize> = (fixed_start..=m - fixed_end).collect();
+    // Free control points between the fixed ends (fixed_start + fixed_end <= m + 1 above, so
+    // the range is never reversed: `m - fixed_end` would underflow when only the end is
+    // fixed, all m + 1 points of it).
+    let free: Vec<usize> = (fixed_start..m + 1 - fixed_end).collect();
     let k = big_n + 1;
     let (nodes, weights) = match options.norm {
         ReductionNorm::L2 => gauss_legendre(k),

@@ -328,7 +328,10 @@ impl CurveInterpolator {
             });
         }
         check_parameters(parameters, parameters.len())?;
-        let n = parameters.len() - usize::from(*end == EndCondition::Periodic);
+        // No parameters at all: the solver's own count check refuses them.
+        let n = parameters
+            .len()
+            .saturating_sub(usize::from(*end == EndCondition::Periodic));
         // Large systems solve fastest in parallel chunks from their rows (a factorization
         // would be swept sequentially).
         let once = n >= PARALLEL_SOLVE;
