@@ -72,3 +72,43 @@ fn interpolator_at_no_parameters_is_an_error() {
         );
     }
 }
+
+/// A NaN parameter gives NaN coordinates (it indexed outside the knot spans and panicked):
+/// one rule for every B-spline evaluation that cannot return an error; the batches refuse
+/// it by name.
+#[test]
+fn bspline_evaluation_at_nan_is_nan() {
+    use geomkit::bspline::{BsplineCurve, BsplineSurface};
+    use geomkit::geom::{BatchOptions, Surface};
+    let c = BsplineCurve::new(
+        2,
+        vec![0.0, 0.0, 0.0, 1.0, 3.0, 3.0, 3.0],
+        vec![
+            vec![0.0, 0.0],
+            vec![1.0, 2.0],
+            vec![3.0, 1.0],
+            vec![4.0, 0.0],
+        ],
+    )
+    .unwrap();
+    assert!(c.eval(f64::NAN).iter().all(|x| x.is_nan()));
+    let mut d = [0.0; 2];
+    c.eval_derivative(f64::NAN, 1, &mut d);
+    assert!(d.iter().all(|x| x.is_nan()), "{d:?}");
+    assert!(matches!(
+        Curve::eval_batch(
+            &c,
+            &[0.5, f64::NAN],
+            &mut [0.0; 4],
+            &BatchOptions::default()
+        ),
+        Err(Error::NonFinite { index: 1, .. })
+    ));
+    let knots = vec![0.0, 0.0, 0.0, 1.0, 3.0, 3.0, 3.0];
+    let net: Vec<f64> = (0..16).map(|k| k as f64).collect();
+    let s = BsplineSurface::from_flat((2, 2), knots.clone(), knots, 4, 4, 1, net).unwrap();
+    let mut p = [0.0];
+    s.eval_derivative(f64::NAN, 0.5, 1, 0, &mut p);
+    assert!(p[0].is_nan());
+    assert!(Surface::eval(&s, 0.5, f64::NAN)[0].is_nan());
+}

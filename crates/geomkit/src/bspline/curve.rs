@@ -32,14 +32,16 @@ pub struct BsplineCurve {
 }
 
 /// Index of the knot span [knots[s], knots[s+1]) holding t, clamped to the domain spans
-/// p ..= n_c - 1.
+/// p ..= n_c - 1; the first of them for t = NaN.
 #[inline]
 pub(crate) fn find_span(knots: &[f64], degree: usize, n_control: usize, t: f64) -> usize {
     let (lo, hi) = domain_spans(knots, degree, n_control);
     if t >= knots[hi] {
         return hi;
     }
-    if t <= knots[lo] {
+    // Also NaN: it evaluates the first span, so NaN in gives NaN out (never an index out of
+    // the domain's spans).
+    if !(t > knots[lo]) {
         return lo;
     }
     // Binary search for the last knot <= t within [lo, hi].
