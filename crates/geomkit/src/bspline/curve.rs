@@ -41,7 +41,7 @@ pub(crate) fn find_span(knots: &[f64], degree: usize, n_control: usize, t: f64) 
     }
     // Also NaN: it evaluates the first span, so NaN in gives NaN out (never an index out of
     // the domain's spans).
-    if !(t > knots[lo]) {
+    if t.is_nan() || t <= knots[lo] {
         return lo;
     }
     // Binary search for the last knot <= t within [lo, hi].
