@@ -112,3 +112,34 @@ fn bspline_evaluation_at_nan_is_nan() {
     assert!(p[0].is_nan());
     assert!(Surface::eval(&s, 0.5, f64::NAN)[0].is_nan());
 }
+
+/// Node sets spanning the f64 range: their differences overflow the weights' products
+/// (`expect` panicked); now a clear error, and a wide but representable set still works.
+#[test]
+fn nodes_whose_differences_overflow_are_refused() {
+    use geomkit::pointcalc::{NodePreset, Nodes};
+    let too_wide = |r: geomkit::Result<Nodes>| matches!(r, Err(Error::InvalidNodes { reason, .. }) if reason.contains("overflow"));
+    assert!(too_wide(Nodes::new(vec![-9.0, 0.0, 1e308, f64::MAX])));
+    // Presets over [-MAX, MAX]: the nodes are representable (no (b - a) overflow), but the
+    // products of their differences are not.
+    for preset in [
+        NodePreset::Equispaced,
+        NodePreset::ChebyshevFirst,
+        NodePreset::ChebyshevSecond,
+    ] {
+        assert!(
+            too_wide(Nodes::preset(preset, 5, -f64::MAX, f64::MAX)),
+            "{preset:?}"
+        );
+    }
+    let nodes = Nodes::new(vec![-9.0, 0.0, 1.0]).unwrap();
+    assert!(too_wide(nodes.with_node(f64::MAX).map(|(n, _)| n)));
+    // 1e300 apart is fine, and the cardinal functions still interpolate: l_j(x_k) = δ_jk.
+    let wide = Nodes::new(vec![-1e300, 0.0, 1e300]).unwrap();
+    for (k, &x) in wide.values().iter().enumerate() {
+        let l = wide.basis(x);
+        for (j, &v) in l.iter().enumerate() {
+            assert_eq!(v, if j == k { 1.0 } else { 0.0 });
+        }
+    }
+}

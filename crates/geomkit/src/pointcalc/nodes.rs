@@ -72,7 +72,7 @@ impl Nodes {
     /// ```
     pub fn new(values: Vec<f64>) -> Result<Self> {
         check_increasing("nodes", &values)?;
-        let weights = barycentric_weights(&values);
+        let weights = barycentric_weights(&values)?;
         Ok(Nodes {
             values,
             exact: None,
@@ -138,9 +138,11 @@ impl Nodes {
             });
         }
         if n == 1 {
-            return Nodes::new(vec![0.5 * (a + b)]);
+            return Nodes::new(vec![0.5 * a + 0.5 * b]);
         }
-        let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+        // Halves first: exact, and no overflow for intervals as wide as f64 (the same bits
+        // as 0.5 (a + b) and 0.5 (b - a) wherever those do not overflow).
+        let (mid, half) = (0.5 * a + 0.5 * b, 0.5 * b - 0.5 * a);
         let m = (n - 1) as f64;
         let pi = std::f64::consts::PI;
         let values: Vec<f64> = (0..n)
@@ -149,7 +151,13 @@ impl Nodes {
                     if j == n - 1 {
                         b
                     } else {
-                        a + (b - a) * (j as f64 / m)
+                        let t = j as f64 / m;
+                        if (b - a).is_finite() {
+                            a + (b - a) * t
+                        } else {
+                            // An interval wider than f64: from the middle.
+                            mid + half * (2.0 * t - 1.0)
+                        }
                     }
                 }
                 // sin of symmetric angles: exactly symmetric, ends exactly ±1.
@@ -169,9 +177,15 @@ impl Nodes {
                 }
             })
             .collect();
-        Nodes::new(values).map_err(|_| Error::InvalidOption {
-            option: "node interval",
-            reason: "too narrow for this many distinct f64 nodes",
+        Nodes::new(values).map_err(|e| match e {
+            // Nodes that coincide in f64: an interval too narrow for n of them.
+            Error::InvalidNodes { reason, .. } if !reason.contains("overflow") => {
+                Error::InvalidOption {
+                    option: "node interval",
+                    reason: "too narrow for this many distinct f64 nodes",
+                }
+            }
+            e => e,
         })
     }
 
@@ -592,7 +606,7 @@ impl Nodes {
             e
         });
         Ok(Nodes {
-            weights: barycentric_weights(&values),
+            weights: barycentric_weights(&values)?,
             values,
             exact,
         })
@@ -624,7 +638,7 @@ impl Nodes {
         });
         Ok((
             Nodes {
-                weights: barycentric_weights(&values),
+                weights: barycentric_weights(&values)?,
                 values,
                 exact,
             },
@@ -667,10 +681,10 @@ pub(crate) fn check_increasing(what: &str, values: &[f64]) -> Result<()> {
 /// Barycentric weights 1 / Π_(k≠j) (x_j - x_k), scaled to max |w| = 1: products of the
 /// differences (scaled by 4 / (b - a), the capacity of an interval) in double-double with a
 /// separate power-of-two exponent, so no product overflows or underflows.
-fn barycentric_weights(x: &[f64]) -> Vec<f64> {
+fn barycentric_weights(x: &[f64]) -> Result<Vec<f64>> {
     let n = x.len();
     if n == 1 {
-        return vec![1.0];
+        return Ok(vec![1.0]);
     }
     let scale = 4.0 / (x[n - 1] - x[0]);
     let scale = if scale.is_finite() { scale } else { 1.0 };
@@ -699,17 +713,20 @@ fn barycentric_weights(x: &[f64]) -> Vec<f64> {
         .iter()
         .map(|(p, e)| p.hi.abs().log2() + *e as f64)
         .collect();
+    // Differences near the end of the f64 range overflow the double-double products.
+    if let Some(j) = logs.iter().position(|l| !l.is_finite()) {
+        return Err(too_wide(j));
+    }
     let min_log = logs.iter().copied().fold(f64::INFINITY, f64::min);
-    let (jmin, _) = logs
+    let jmin = logs
         .iter()
-        .enumerate()
-        .find(|(_, l)| **l == min_log)
-        .expect("n > 0");
+        .position(|&l| l == min_log)
+        .ok_or_else(|| too_wide(0))?;
     let (mut pmin, emin) = products[jmin];
     if pmin.hi < 0.0 {
         pmin = pmin.mul_f64(-1.0);
     }
-    products
+    let weights = products
         .iter()
         .map(|(p, e)| {
             // w_j / |w_min| = |p_min| / p_j
@@ -717,7 +734,21 @@ fn barycentric_weights(x: &[f64]) -> Vec<f64> {
             let shift = (emin - e).clamp(-2000, 2000) as i32;
             q.hi * 2f64.powi(shift.max(-1074))
         })
-        .collect()
+        .collect::<Vec<f64>>();
+    match weights.iter().position(|w| !w.is_finite()) {
+        Some(j) => Err(too_wide(j)),
+        None => Ok(weights),
+    }
+}
+
+/// The error of node sets whose differences f64 cannot hold.
+fn too_wide(index: usize) -> Error {
+    Error::InvalidNodes {
+        what: "nodes".into(),
+        index,
+        reason: "the differences between the nodes overflow f64 (the nodes span too much of \
+                 the f64 range; rescale them)",
+    }
 }
 
 /// Binary exponent of a finite non-zero x: x = m 2^e with 0.5 <= |m| < 1.
