@@ -143,3 +143,35 @@ fn nodes_whose_differences_overflow_are_refused() {
         }
     }
 }
+
+/// A 3×3 scene of Bézier patches with a corner near the end of the f64 range: the sums of
+/// formula (9) overflow (an `expect` panicked); now a clear error. Ten times smaller, it
+/// builds, and the structural evaluator returns the corner.
+#[test]
+fn composite_sums_that_overflow_are_refused() {
+    use geomkit::bezier::BezierSurface;
+    use geomkit::compose::{CompositeSurface, SurfaceKind};
+    use geomkit::geom::Surface;
+    let scene = |big: f64| {
+        // Every patch has the big value at its far corner (1, 1) and 0 at the others:
+        // formula (9) shifts each later patch by the jumps before it, which add up.
+        let patch = |_: usize, _: usize| {
+            let b = BezierSurface::new(vec![
+                vec![vec![0.0, 0.0, 0.0], vec![0.0, 1.0, 0.0]],
+                vec![vec![1.0, 0.0, 0.0], vec![1.0, 1.0, big]],
+            ])
+            .unwrap();
+            geomkit::compose::PolyPatch::from_bezier(&b)
+        };
+        let patches = (0..3)
+            .map(|i| (0..3).map(|j| patch(i, j)).collect())
+            .collect();
+        let knots = vec![0.0, 1.0, 2.0, 3.0];
+        CompositeSurface::from_poly(knots.clone(), knots, patches, SurfaceKind::Parametric)
+    };
+    assert!(matches!(scene(1.7e308), Err(Error::Numerical { .. })));
+    let s = scene(1.0e307).unwrap();
+    // The far corner of the last patch: its own value plus the jumps formula (9) adds.
+    let p = Surface::eval(&s, 3.0, 3.0);
+    assert!(p[2].is_finite() && p[2] >= 1.0e307, "{p:?}");
+}

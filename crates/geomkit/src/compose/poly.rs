@@ -110,6 +110,11 @@ impl PolyPatch {
         &mut self.coef[k..k + self.dim]
     }
 
+    /// Whether every coefficient is finite.
+    pub(crate) fn is_finite(&self) -> bool {
+        self.coef.iter().all(|c| c.is_finite())
+    }
+
     /// Largest absolute coefficient (a scale for tolerances).
     pub fn scale(&self) -> f64 {
         self.coef.iter().fold(0.0, |m, c| m.max(c.abs()))

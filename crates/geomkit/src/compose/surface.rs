@@ -249,7 +249,7 @@ impl CompositeSurface {
             kind,
             PolyPatch::dim,
             |u, v, flat| {
-                let effective = effective_patches(&flat, u.cells(), v.cells());
+                let effective = effective_patches(&flat, u.cells(), v.cells())?;
                 Ok(Cells::Poly {
                     patches: flat,
                     effective,
@@ -853,7 +853,10 @@ impl CompositeSurface {
 /// (for i >= 1) and column b = 0 (for j >= 1), i.e. R_ij(u,v) - R_ij(u_i,v) - R_ij(u,v_j) +
 /// R_ij(u_i,v_j), cell (p, q) carries D_pq(s,t) + Σ_(i<p) D_iq(1,t) + Σ_(j<q) D_pj(s,1) +
 /// Σ_(i<p, j<q) D_ij(1,1): the cells before it contribute their far edges (clamped P = 1).
-fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Vec<PolyPatch> {
+///
+/// Errors: [`Error::Numerical`] when the sums overflow f64 (patches with coordinates near the
+/// end of the f64 range).
+fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Result<Vec<PolyPatch>> {
     let d = patches[0].dim();
     let diff: Vec<PolyPatch> = (0..n * m)
         .map(|k| {
@@ -923,10 +926,18 @@ fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Vec<PolyPatch
             let mut e = own.padded(deg);
             e.add_scaled(&col_before[k], 1.0);
             e.add_scaled(&row_before[k], 1.0);
+            let overflow = || Error::Numerical {
+                operation: "formula (9): the sums of the patches' edges and corners",
+                reason: "they overflow f64 (coordinates too near the end of its range)",
+            };
             let c = PolyPatch::new((0, 0), d, corner[p * (m + 1) + q].clone())
-                .expect("finite corner sums");
+                .map_err(|_| overflow())?;
             e.add_scaled(&c, 1.0);
-            e
+            if e.is_finite() {
+                Ok(e)
+            } else {
+                Err(overflow())
+            }
         })
         .collect()
 }
