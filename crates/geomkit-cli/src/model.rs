@@ -97,8 +97,8 @@ pub fn json_number(x: f64) -> String {
 
 /// The model as JSON text, one control point per line (readable and diff-friendly), with an
 /// optional `"error"` object for approximate reductions. Ends with a newline.
-pub fn to_json(model: &BezierModel, error: Option<&ErrorReport>) -> String {
-    geomkit_model::to_json(&model.to_file(error.copied()))
+pub fn to_json(model: &BezierModel, error: Option<&ErrorReport>) -> Result<String> {
+    Ok(geomkit_model::to_json(&model.to_file(error.copied()))?)
 }
 
 /// Writes a B-spline curve as JSON (one control point per line), with the parameters of its
@@ -122,14 +122,18 @@ pub fn write_bspline_surface_json(
 }
 
 /// [`write_bspline_curve_json`] into a string.
-pub fn bspline_curve_json(curve: &BsplineCurve, parameters: Option<&[f64]>) -> String {
-    geomkit_model::to_json(&BsplineCurveModel::file_of(curve, parameters))
+pub fn bspline_curve_json(curve: &BsplineCurve, parameters: Option<&[f64]>) -> Result<String> {
+    Ok(geomkit_model::to_json(&BsplineCurveModel::file_of(
+        curve, parameters,
+    ))?)
 }
 
 /// [`write_bspline_surface_json`] into a string.
 pub fn bspline_surface_json(
     surface: &BsplineSurface,
     parameters: Option<(&[f64], &[f64])>,
-) -> String {
-    geomkit_model::to_json(&BsplineSurfaceModel::file_of(surface, parameters))
+) -> Result<String> {
+    Ok(geomkit_model::to_json(&BsplineSurfaceModel::file_of(
+        surface, parameters,
+    ))?)
 }

@@ -185,3 +185,32 @@ fn eval_reads_scenes_ruled_surfaces_pieces_and_samples() {
     assert_eq!(rows[1], [1.0, -1.0, 1.0]);
     assert_eq!(rows[4], [4.0, 1.0, 1.0]);
 }
+
+/// A reduction whose error report overflows (coordinates near the end of f64) was written
+/// with `"l2": null` and exit 0; now it is one error line and no file.
+#[test]
+fn results_that_overflow_are_refused_not_written_as_null() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(
+        d,
+        "huge.json",
+        r#"{"type":"bezier_curve","points":[[0,0],[1e308,1],[-1e308,2],[1e308,0],[0,1e308]]}"#,
+    );
+    let err = fails(
+        d,
+        &[
+            "bezier",
+            "reduce",
+            "huge.json",
+            "--to",
+            "2",
+            "--approx",
+            "-o",
+            "red.json",
+        ],
+        Some("red.json"),
+    );
+    assert!(err.contains("a result is not a finite number"), "{err}");
+    assert!(err.contains("(in \"error\")"), "{err}");
+}

@@ -18,6 +18,11 @@
 use serde_json::ser::Formatter;
 use std::io::{self, Write};
 
+/// The error of a result that is not a finite number.
+pub(crate) const NON_FINITE: &str =
+    "a result is not a finite number (NaN or infinity: a computation overflowed); model files \
+     hold finite numbers only";
+
 #[derive(Clone, Copy, PartialEq)]
 enum Mode {
     /// Not yet known (no element written).
@@ -115,14 +120,27 @@ impl Formatter for Layout {
         write_u8(u8),
         write_u16(u16),
         write_u32(u32),
-        write_u64(u64),
-        write_f32(f32),
-        write_f64(f64)
+        write_u64(u64)
     );
 
-    fn write_null<W: ?Sized + Write>(&mut self, w: &mut W) -> io::Result<()> {
+    fn write_f32<W: ?Sized + Write>(&mut self, w: &mut W, value: f32) -> io::Result<()> {
+        self.write_f64(w, f64::from(value))
+    }
+
+    /// Finite numbers only: serde_json would write NaN and infinities as `null`, which
+    /// reads back as no number at all.
+    fn write_f64<W: ?Sized + Write>(&mut self, w: &mut W, value: f64) -> io::Result<()> {
+        if !value.is_finite() {
+            return Err(io::Error::new(io::ErrorKind::InvalidData, NON_FINITE));
+        }
         self.element(w, false)?;
-        w.write_all(b"null")
+        serde_json::ser::CompactFormatter.write_f64(w, value)
+    }
+
+    /// No field of a model file is ever null (absent options are left out), and serde_json
+    /// writes NaN and infinities as null: a null here is a number that overflowed.
+    fn write_null<W: ?Sized + Write>(&mut self, _w: &mut W) -> io::Result<()> {
+        Err(io::Error::new(io::ErrorKind::InvalidData, NON_FINITE))
     }
 
     fn begin_string<W: ?Sized + Write>(&mut self, w: &mut W) -> io::Result<()> {

@@ -74,15 +74,27 @@ pub fn load(path: &Path) -> Result<AnyModel> {
 
 /// Writes a file as JSON in the layout of the tools (one point per line, one net row per
 /// line, ending with a newline), streamed into `w`.
+///
+/// Errors: the writer's, and `InvalidData` for a number that is not finite (a result that
+/// overflowed): JSON has no NaN or infinity, and a model file never holds `null` for one.
 pub fn write_json(file: &ModelFile, w: &mut dyn Write) -> std::io::Result<()> {
     let mut ser = serde_json::Serializer::with_formatter(&mut *w, json::Layout::new());
-    serde::Serialize::serialize(file, &mut ser).map_err(std::io::Error::other)?;
+    serde_path_to_error::serialize(file, &mut ser).map_err(|e| {
+        // With the JSON path of the value (to its innermost object or array).
+        let message = format!("{} (in \"{}\")", e.inner(), e.path());
+        match e.inner().io_error_kind() {
+            Some(kind) => std::io::Error::new(kind, message),
+            None => std::io::Error::other(message),
+        }
+    })?;
     w.write_all(b"\n")
 }
 
 /// [`write_json`] into a string.
-pub fn to_json(file: &ModelFile) -> String {
+///
+/// Errors: a number that is not finite ([`ErrorKind::Model`]).
+pub fn to_json(file: &ModelFile) -> Result<String> {
     let mut out = Vec::new();
-    write_json(file, &mut out).expect("writing to memory does not fail");
-    String::from_utf8(out).expect("serde_json writes UTF-8")
+    write_json(file, &mut out).map_err(|e| Error::model("", e.to_string()))?;
+    Ok(String::from_utf8(out).expect("serde_json writes UTF-8"))
 }

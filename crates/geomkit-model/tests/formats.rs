@@ -30,7 +30,11 @@ fn every_example_of_the_formats_page_reads_and_every_type_has_one() {
         let model = AnyModel::from_file(file.clone()).unwrap_or_else(|e| panic!("{e}\n{text}"));
         assert!(!model.describe().is_empty());
         // Written in the tools' layout and read back: the same file.
-        assert_eq!(parse_file(&to_json(&file)).unwrap(), file, "{text}");
+        assert_eq!(
+            parse_file(&to_json(&file).unwrap()).unwrap(),
+            file,
+            "{text}"
+        );
     }
     let all: BTreeSet<&str> = TYPES.iter().copied().collect();
     assert_eq!(types, all, "docs/formats.md lacks an example of some type");
@@ -83,7 +87,7 @@ fn examples_mean_what_the_page_says() {
 
 /// Text of `file` read back as a file, and its error if any.
 fn reads_back(file: &ModelFile) -> Result<(), TestCaseError> {
-    let text = to_json(file);
+    let text = to_json(file).unwrap();
     let back = parse_file(&text).map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
     prop_assert_eq!(&back, file, "{}", text);
     Ok(())
@@ -593,7 +597,7 @@ fn the_layout_is_one_point_per_line_and_one_net_row_per_line() {
         },
     });
     assert_eq!(
-        to_json(&file),
+        to_json(&file).unwrap(),
         "{\n  \"type\": \"bezier_surface\",\n  \"net\": [\n    [[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]],\n    [[1.0, 0.0, 0.0], [1.0, 1.0, 1e-300]]\n  ]\n}\n"
     );
     let file = ModelFile::BsplineCurve(BsplineCurveFile {
@@ -606,7 +610,36 @@ fn the_layout_is_one_point_per_line_and_one_net_row_per_line() {
         parameters: None,
     });
     assert_eq!(
-        to_json(&file),
+        to_json(&file).unwrap(),
         "{\n  \"type\": \"bspline_curve\",\n  \"degree\": 1,\n  \"knots\": [0.0, 0.0, 1.0, 1.0],\n  \"control_points\": [\n    [0.1, 0.2],\n    [0.3, 0.4]\n  ]\n}\n"
     );
+}
+
+/// A result that overflowed is refused, never written as `null` (which would read back as
+/// no number at all).
+#[test]
+fn non_finite_numbers_are_not_written() {
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let file = ModelFile::BezierCurve(BezierCurveFile {
+            points: Points {
+                dim: 2,
+                flat: vec![0.0, 1.0, 2.0, 3.0],
+            },
+            weights: None,
+            error: Some(ReductionError {
+                l2: bad,
+                linf_bound: 1.0,
+            }),
+        });
+        let e = to_json(&file).unwrap_err();
+        assert!(
+            e.to_string().starts_with("a result is not a finite number")
+                && e.to_string().ends_with("(in \"error\")"),
+            "{e}"
+        );
+        let mut sink = Vec::new();
+        let e = geomkit_model::write_json(&file, &mut sink).unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidData);
+        assert!(!String::from_utf8_lossy(&sink).contains("null"));
+    }
 }

@@ -425,7 +425,7 @@ fn degrees_of(model: &BezierModel) -> String {
 
 fn write_change(change: Change, format: Format, output: Option<&Path>) -> Result<()> {
     let contents = match format {
-        Format::Json => to_json(&change.new, change.error.as_ref()),
+        Format::Json => to_json(&change.new, change.error.as_ref())?,
         Format::Svg => change_svg(&change)?,
     };
     Destination::from_option(output).write(contents.as_bytes())

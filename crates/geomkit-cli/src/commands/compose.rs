@@ -147,7 +147,7 @@ fn write_surface(
     };
     match extension(path).unwrap_or_default().as_str() {
         "txt" => dest.write(formula_text(f, format, o.program).as_bytes()),
-        "json" => dest.write(formula_json(f, what, continuity, model).as_bytes()),
+        "json" => dest.write(formula_json(f, what, continuity, model)?.as_bytes()),
         ext @ ("obj" | "stl" | "ply" | "glb") => {
             let sampling = match out.samples {
                 Some((k, l)) => Sampling::Samples(k, l),

@@ -23,8 +23,8 @@ pub fn formula_json(
     what: &str,
     continuity: Option<Value>,
     model: Option<ModelFile>,
-) -> String {
-    geomkit_model::to_json(&ModelFile::Formula(FormulaFile {
+) -> anyhow::Result<String> {
+    Ok(geomkit_model::to_json(&ModelFile::Formula(FormulaFile {
         what: what.to_string(),
         variables: f.vars.clone(),
         coordinates: f.names.clone(),
@@ -35,7 +35,7 @@ pub fn formula_json(
             .collect(),
         continuity,
         model: model.map(Box::new),
-    }))
+    }))?)
 }
 
 /// The first line of the Maple formula, shortened to 140 characters (a picture's subtitle).

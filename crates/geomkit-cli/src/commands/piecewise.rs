@@ -86,7 +86,7 @@ pub fn run(args: PiecewiseArgs) -> Result<()> {
             dest.write(formula_text(&f, format, out.program).as_bytes())?
         }
         Some(Some(e)) if e == "json" => {
-            let json = formula_json(&f, &what, Some(report_json(&p)), Some(file));
+            let json = formula_json(&f, &what, Some(report_json(&p)), Some(file))?;
             dest.write(json.as_bytes())?
         }
         Some(Some(e)) if e == "svg" => {

@@ -139,8 +139,10 @@ fn options(strict: bool) -> PointOptions {
 // model files
 
 /// The model file of `pointcalc fit`.
-pub fn model_json(model: &Hypersurface, response: &[String]) -> String {
-    geomkit_model::to_json(&PointcalcModel::file_of(model, response))
+pub fn model_json(model: &Hypersurface, response: &[String]) -> Result<String> {
+    Ok(geomkit_model::to_json(&PointcalcModel::file_of(
+        model, response,
+    ))?)
 }
 
 /// Reads a model file of `pointcalc fit`.
@@ -295,7 +297,7 @@ fn fit(args: FitArgs) -> Result<()> {
         })?;
     warn(model.warnings());
     Destination::from_option(args.output.as_deref())
-        .write(model_json(&model, &args.response).as_bytes())
+        .write(model_json(&model, &args.response)?.as_bytes())
 }
 
 fn eval(args: PcEvalArgs) -> Result<()> {

@@ -208,7 +208,7 @@ fn trajectory(ctx: &Context) -> Result<Report> {
     r.file(
         ctx,
         "traj6.json",
-        bspline_curve_json(curve, Some(fit.parameters())).as_bytes(),
+        bspline_curve_json(curve, Some(fit.parameters()))?.as_bytes(),
         "bspline_curve",
     )?;
     let csv: String = std::iter::once("x,y\n".to_string())
@@ -407,7 +407,7 @@ fn surface14(ctx: &Context) -> Result<Report> {
     r.file(
         ctx,
         "surf14.json",
-        bspline_surface_json(s, Some((&fit.params_u, &fit.params_v))).as_bytes(),
+        bspline_surface_json(s, Some((&fit.params_u, &fit.params_v)))?.as_bytes(),
         "bspline_surface",
     )?;
 
@@ -532,7 +532,7 @@ fn isoline(ctx: &Context) -> Result<Report> {
     r.file(
         ctx,
         "isoline.json",
-        bspline_curve_json(curve, Some(fit.parameters())).as_bytes(),
+        bspline_curve_json(curve, Some(fit.parameters()))?.as_bytes(),
         "bspline_curve",
     )?;
 
@@ -792,7 +792,7 @@ fn parametrizations(ctx: &Context) -> Result<Report> {
         r.file(
             ctx,
             &format!("param_{}.json", name.split(' ').next().unwrap_or(name)),
-            bspline_curve_json(fit.curve(), Some(fit.parameters())).as_bytes(),
+            bspline_curve_json(fit.curve(), Some(fit.parameters()))?.as_bytes(),
             name,
         )?;
     }

@@ -187,7 +187,7 @@ impl Report {
         error: Option<&ErrorReport>,
         what: &str,
     ) -> Result<()> {
-        ctx.write(file, &to_json(model, error))?;
+        ctx.write(file, &to_json(model, error)?)?;
         self.files.push((file.into(), what.into()));
         Ok(())
     }

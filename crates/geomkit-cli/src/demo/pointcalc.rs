@@ -293,7 +293,8 @@ fn factors3(ctx: &Context) -> Result<Report> {
     r.file(
         ctx,
         "factors3_model.json",
-        geomkit_model::to_json(&PointcalcModel::file_of(&model, &["yield".to_string()])).as_bytes(),
+        geomkit_model::to_json(&PointcalcModel::file_of(&model, &["yield".to_string()]))?
+            .as_bytes(),
         "the model (geomkit pointcalc eval/shares/optimize/formula read it)",
     )?;
     let worst = records
