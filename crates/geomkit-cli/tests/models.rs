@@ -125,7 +125,8 @@ fn a_malformed_model_is_refused_by_every_command_alike() {
 fn eval_reads_scenes_ruled_surfaces_pieces_and_samples() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    // A composite of two bilinear patches z = x y and z = 2 - x... as an explicit scene.
+    // An explicit scene of two patches, z = x y on [0, 1] and y + (x - 1)(1 - y) on [1, 2]
+    // (they meet along x = 1, where both are y).
     write(
         d,
         "scene.json",

@@ -346,23 +346,24 @@ fn bezier_curve(f: BezierCurveFile) -> Result<BezierModel> {
             "is empty: a curve needs at least one control point",
         ));
     }
-    let points = f.points.to_rows();
+    let Points { dim, flat } = f.points;
+    let n = flat.len() / dim;
     match f.weights {
-        None => BezierCurve::new(points)
+        None => BezierCurve::from_flat(dim, flat)
             .map(BezierModel::Curve)
             .map_err(|e| Error::geometry("points", e)),
         Some(w) => {
-            if w.len() != points.len() {
+            if w.len() != n {
                 return Err(Error::model(
                     "weights",
                     format!(
-                        "{} weights for {} control points (give one weight per point)",
-                        w.len(),
-                        points.len()
+                        "{} weights for {n} control points (give one weight per point)",
+                        w.len()
                     ),
                 ));
             }
-            RationalBezierCurve::new(points, w)
+            let rows = flat.chunks_exact(dim).map(<[f64]>::to_vec).collect();
+            RationalBezierCurve::new(rows, w)
                 .map(BezierModel::Rational)
                 .map_err(|e| Error::geometry("weights", e))
         }

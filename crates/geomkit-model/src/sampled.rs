@@ -55,11 +55,6 @@ impl SampledCurve {
         false
     }
 
-    /// The sample parameters.
-    pub fn params(&self) -> &[f64] {
-        &self.ts
-    }
-
     /// [t_0, t_n].
     pub fn domain(&self) -> (f64, f64) {
         (self.ts[0], self.ts[self.ts.len() - 1])
@@ -129,11 +124,6 @@ impl SampledSurface {
     /// (values of u, values of v).
     pub fn grid_size(&self) -> (usize, usize) {
         (self.us.len(), self.vs.len())
-    }
-
-    /// The grid lines (u values, v values).
-    pub fn grid(&self) -> (&[f64], &[f64]) {
-        (&self.us, &self.vs)
     }
 
     /// ((u_0, u_m), (v_0, v_n)).
