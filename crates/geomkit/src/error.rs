@@ -174,6 +174,18 @@ pub enum Error {
         /// Index of the first of the two points.
         index: usize,
     },
+    /// A request whose work or memory exceeds a documented limit (refused before starting).
+    #[error("{what}: the {unit} {size} is above the limit of {limit}")]
+    TooLarge {
+        /// What was asked, with its numbers (e.g. "elevating degree 1000 to 999999").
+        what: String,
+        /// The size it would take.
+        size: u128,
+        /// What `size` counts ("weight count", "degree").
+        unit: &'static str,
+        /// The limit.
+        limit: u128,
+    },
     /// An option value that cannot be used here.
     #[error("invalid {option}: {reason}")]
     InvalidOption {

@@ -175,3 +175,146 @@ fn composite_sums_that_overflow_are_refused() {
     let p = Surface::eval(&s, 3.0, 3.0);
     assert!(p[2].is_finite() && p[2] >= 1.0e307, "{p:?}");
 }
+
+/// Elevating a degree-1000 curve to 999 999 (1e9 weights, 16 GB) is refused before any
+/// allocation, naming the sizes; a cubic to degree 10^6 (4e6 weights) still works.
+#[test]
+fn elevation_beyond_the_weight_budget_is_refused() {
+    use geomkit::bezier::MAX_ELEVATION_WEIGHTS;
+    let big = BezierCurve::new((0..=1000).map(|i| vec![i as f64, 0.0]).collect()).unwrap();
+    match big.elevate_degree(999_999) {
+        Err(Error::TooLarge {
+            what, size, limit, ..
+        }) => {
+            assert_eq!(what, "elevating degree 1000 to 999999");
+            assert_eq!(size, 1_000_000 * 1001);
+            assert_eq!(limit, MAX_ELEVATION_WEIGHTS as u128);
+        }
+        other => panic!("{other:?}"),
+    }
+    let cubic = BezierCurve::new(vec![vec![0.0], vec![1.0], vec![3.0], vec![4.0]]).unwrap();
+    let high = cubic.elevate_degree(1_000_000).unwrap();
+    // Control point j of the elevation is Σ_i C(3,i) C(n'-3,j-i) / C(n',j) u_i: the ends
+    // stay, and the middle one is c(1/2) = (0 + 3 + 9 + 4)/8 = 2 up to O(1/n').
+    let p = high.points_flat();
+    assert_eq!((p[0], p[1_000_000]), (0.0, 4.0));
+    assert!((p[500_000] - 2.0).abs() < 1e-5, "{}", p[500_000]);
+    // And it evaluates (from its largest Bernstein terms: de Casteljau's O(n^2) took hours)
+    // to the cubic.
+    for t in [1e-9, 0.1, 0.5, 0.77, 1.0 - 1e-9, 1.0] {
+        let (a, b) = (high.eval(t)[0], cubic.eval(t)[0]);
+        assert!((a - b).abs() < 1e-12, "t {t}: {a} {b}");
+    }
+}
+
+/// The real-degree test, the exact reduction and the residual take curves up to degree
+/// MAX_REDUCTION_DEGREE (O(n^3) work); above it they refuse by name instead of running for
+/// minutes (degree 3000: about 6 minutes).
+#[test]
+fn reductions_of_very_high_degrees_are_refused() {
+    use geomkit::bezier::MAX_REDUCTION_DEGREE;
+    let n = MAX_REDUCTION_DEGREE + 1;
+    let c = BezierCurve::new((0..=n).map(|i| vec![(i % 7) as f64]).collect()).unwrap();
+    let too_large = |r: Result<(), Error>| match r {
+        Err(Error::TooLarge { size, .. }) => assert_eq!(size, n as u128),
+        other => panic!("{other:?}"),
+    };
+    too_large(c.degree_report(None).map(|_| ()));
+    too_large(c.reduce_degree(3, None).map(|_| ()));
+    too_large(c.reduction_residual(3).map(|_| ()));
+    too_large(
+        c.reduce_degree_approx(3, &ApproxOptions::default())
+            .map(|_| ()),
+    );
+}
+
+/// A cubic elevated to degree 5 with coordinates near f64::MAX: the real-degree test says 3
+/// and the exact reduction to 3 succeeds and gives back the cubic (they used to disagree:
+/// the residual's norms overflowed), whatever the magnitude (1e-300 .. 1e308).
+#[test]
+fn degree_report_and_reduction_agree_at_any_magnitude() {
+    for scale in [1e-300, 1.0, 1e300, 4e307] {
+        let cubic = BezierCurve::new(
+            [[0.0, 1.0], [1.0, -1.0], [-1.0, 0.5], [1.0, 1.0]]
+                .iter()
+                .map(|p| vec![p[0] * scale, p[1] * scale])
+                .collect(),
+        )
+        .unwrap();
+        let quintic = cubic.elevate_degree(5).unwrap();
+        let report = quintic.degree_report(None).unwrap();
+        assert_eq!((report.real_degree, report.defect), (3, 2), "scale {scale}");
+        let back = quintic.reduce_degree(3, None).unwrap();
+        for (p, q) in back.points().iter().zip(cubic.points()) {
+            for (a, b) in p.iter().zip(&q) {
+                assert!((a - b).abs() <= 1e-13 * scale, "scale {scale}: {a} {b}");
+            }
+        }
+        // One degree lower is refused by both, with the same real degree.
+        match quintic.reduce_degree(2, None) {
+            Err(Error::DegreeDefectTooSmall { real_degree, .. }) => assert_eq!(real_degree, 3),
+            other => panic!("scale {scale}: {other:?}"),
+        }
+    }
+}
+
+/// Weights times control points near f64::MAX overflowed into an "infinite control point":
+/// the weights are scaled by a common power of two instead (the same curve). A quarter
+/// circle of radius 1e308 as a rational quadratic: every point at distance 1e308.
+#[test]
+fn rational_curves_near_the_largest_float() {
+    use geomkit::bezier::RationalBezierCurve;
+    let r = 1e308;
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let arc = RationalBezierCurve::new(
+        vec![vec![r, 0.0], vec![r, r], vec![0.0, r]],
+        vec![4.0, 4.0 * w, 4.0],
+    )
+    .unwrap();
+    for t in [0.0, 0.25, 0.5, 0.9, 1.0] {
+        let p = arc.eval(t);
+        let dist = (p[0] / r).hypot(p[1] / r);
+        assert!((dist - 1.0).abs() < 1e-15, "t {t}: {p:?}");
+    }
+    assert_eq!(arc.points()[1], vec![r, r]);
+    let e = arc.elevate_degree(4).unwrap();
+    assert!(((e.eval(0.3)[0] - arc.eval(0.3)[0]) / r).abs() < 1e-15);
+}
+
+/// Parameters spread over more than f64's range (differences overflow) are refused by name
+/// instead of giving a curve of NaN (the extended knots were infinite).
+#[test]
+fn parameters_whose_spread_overflows_are_refused() {
+    use geomkit::bspline::interpolate_curve_at;
+    let y = [0.0, 1.0, 0.0, 2.0];
+    for x in [[-1e308, 0.0, 1e308, 1.5e308], [0.0, 1.0, 2.0, f64::MAX]] {
+        match interpolate_curve_at(1, &y, &x, &EndCondition::NotAKnot) {
+            Err(Error::InvalidKnots { reason, .. }) => {
+                assert!(reason.contains("scale the parameters down"), "{reason}")
+            }
+            other => panic!("{x:?}: {other:?}"),
+        }
+    }
+    // Wide but representable: fine, and exact at the data.
+    let x = [-2e307, 0.0, 1e307, 2e307];
+    let fit = interpolate_curve_at(1, &y, &x, &EndCondition::Natural).unwrap();
+    assert!(fit.curve().eval(1e307)[0].abs() < 1e-14);
+    assert!((fit.curve().eval(2e307)[0] - 2.0).abs() < 1e-14);
+    // Spacings of 1e±200 (derivative rows like 1/h^3 overflowed or underflowed into a
+    // "singular" system): points on a line with its slope as the clamped tangents give
+    // the line itself, at every scale.
+    for h in [1e-200, 1e-3, 1.0, 1e200] {
+        let x = [0.0, h, 3.0 * h, 4.0 * h, 7.0 * h];
+        let y = [1.0, 2.0, 4.0, 5.0, 8.0];
+        let slope = vec![1.0 / h];
+        let end = EndCondition::Clamped {
+            start: Some(slope.clone()),
+            end: Some(slope),
+        };
+        for end in [end, EndCondition::Natural, EndCondition::NotAKnot] {
+            let fit = interpolate_curve_at(1, &y, &x, &end).unwrap();
+            let v = fit.curve().eval(2.0 * h)[0];
+            assert!((v - 3.0).abs() < 1e-14, "h {h}, {end:?}: {v}");
+        }
+    }
+}

@@ -5,6 +5,7 @@
 use super::curve::{de_casteljau, split_flat};
 use super::degree::elevate_flat;
 use crate::numeric::{distance, max_norm};
+use crate::Result;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -47,11 +48,11 @@ impl Ord for Piece {
 
 /// Bounds max_t |a(t) - b(t)| for two Bézier curves given as row-major control points of the
 /// same dimension (degrees may differ).
-pub(crate) fn deviation_bound(a: &[f64], b: &[f64], dim: usize) -> DeviationBound {
+pub(crate) fn deviation_bound(a: &[f64], b: &[f64], dim: usize) -> Result<DeviationBound> {
     let (na, nb) = (a.len() / dim - 1, b.len() / dim - 1);
     let deg = na.max(nb);
-    let ea = elevate_flat(a, dim, deg);
-    let eb = elevate_flat(b, dim, deg);
+    let ea = elevate_flat(a, dim, deg)?;
+    let eb = elevate_flat(b, dim, deg)?;
     let diff: Vec<f64> = ea.iter().zip(&eb).map(|(x, y)| x - y).collect();
     let scale = max_norm(&ea, dim).max(max_norm(&eb, dim));
     let slack = 4.0 * f64::EPSILON * (deg + 1) as f64 * scale;
@@ -81,11 +82,11 @@ pub(crate) fn deviation_bound(a: &[f64], b: &[f64], dim: usize) -> DeviationBoun
     loop {
         let top = heap.pop().expect("heap never empties");
         if top.upper <= best.0 * 1.01 || splits >= 4000 || top.t1 - top.t0 < 1e-12 {
-            return DeviationBound {
+            return Ok(DeviationBound {
                 max_found: best.0,
                 at: best.1,
                 upper_bound: top.upper.max(best.0) + slack,
-            };
+            });
         }
         splits += 1;
         let (l, r) = split_flat(&top.coeffs, dim, 0.5);

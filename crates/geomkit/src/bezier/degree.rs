@@ -56,8 +56,42 @@ impl ElevationWeights {
     }
 }
 
-pub(crate) fn elevation_weights(n: usize, n_new: usize) -> ElevationWeights {
+/// Most weights an elevation matrix may hold: (n'+1)·(min(n, n'-n)+1) double-double
+/// numbers, 16 bytes each (2^25: 512 MiB, about a second of work). Elevating a cubic to
+/// degree 10^6 needs 4·10^6; a degree-1000 curve to 999 999 would need 10^9 (16 GB).
+pub const MAX_ELEVATION_WEIGHTS: usize = 1 << 25;
+
+/// Highest degree the residual test (real degree), exact reduction and approximate reduction
+/// take: their least-squares problems cost O(n^3) (degree 1000: about 2 s, degree 2000:
+/// 13 s on a 2-core machine).
+pub const MAX_REDUCTION_DEGREE: usize = 1024;
+
+/// Refuses a reduction of a curve of degree `n` above [`MAX_REDUCTION_DEGREE`].
+pub(crate) fn check_reduction_degree(n: usize, operation: &str) -> Result<()> {
+    if n > MAX_REDUCTION_DEGREE {
+        return Err(Error::TooLarge {
+            what: format!("{operation} needs O(n^3) work"),
+            size: n as u128,
+            unit: "degree",
+            limit: MAX_REDUCTION_DEGREE as u128,
+        });
+    }
+    Ok(())
+}
+
+/// The elevation matrix n -> n', or [`Error::TooLarge`] when it would hold more than
+/// [`MAX_ELEVATION_WEIGHTS`] weights.
+pub(crate) fn elevation_weights(n: usize, n_new: usize) -> Result<ElevationWeights> {
     let m = n_new - n;
+    let count = (n_new as u128 + 1) * (n.min(m) as u128 + 1);
+    if count > MAX_ELEVATION_WEIGHTS as u128 {
+        return Err(Error::TooLarge {
+            what: format!("elevating degree {n} to {n_new}"),
+            size: count,
+            unit: "weight count",
+            limit: MAX_ELEVATION_WEIGHTS as u128,
+        });
+    }
     let mut first = Vec::with_capacity(n_new + 1);
     let mut offset = Vec::with_capacity(n_new + 2);
     let mut w: Vec<Dd> = Vec::with_capacity((n_new + 1) * (n.min(m) + 1));
@@ -103,17 +137,17 @@ pub(crate) fn elevation_weights(n: usize, n_new: usize) -> ElevationWeights {
         first.push(i0);
         offset.push(w.len());
     }
-    ElevationWeights { first, offset, w }
+    Ok(ElevationWeights { first, offset, w })
 }
 
 /// Elevates row-major control points (`dim` each) to degree `n_new` >= n with the closed
 /// form (8), accumulating in double-double.
-pub(crate) fn elevate_flat(pts: &[f64], dim: usize, n_new: usize) -> Vec<f64> {
+pub(crate) fn elevate_flat(pts: &[f64], dim: usize, n_new: usize) -> Result<Vec<f64>> {
     let n = pts.len() / dim - 1;
     if n_new == n {
-        return pts.to_vec();
+        return Ok(pts.to_vec());
     }
-    let weights = elevation_weights(n, n_new);
+    let weights = elevation_weights(n, n_new)?;
     let mut out = vec![0.0; (n_new + 1) * dim];
     for j in 0..=n_new {
         let (i0, w) = weights.column(j);
@@ -125,13 +159,19 @@ pub(crate) fn elevate_flat(pts: &[f64], dim: usize, n_new: usize) -> Vec<f64> {
             out[j * dim + k] = acc.to_f64();
         }
     }
-    out
+    Ok(out)
 }
 
 /// Least-squares reduction of row-major control points of degree N to degree `n_new` < N:
-/// min ||E X - Q|| over X, E the (N+1)×(n'+1) elevation matrix. Returns X and the largest
-/// Euclidean norm of E X - Q over points of `point_dim` coordinates (a surface viewed as a
-/// curve has `dim` = (m+1)·r but `point_dim` = r).
+/// min ||E X - Q|| over X, E the (N+1)×(n'+1) elevation matrix. Returns X and the
+/// **relative** residual: the largest Euclidean norm of E X - Q over points of `point_dim`
+/// coordinates (a surface viewed as a curve has `dim` = (m+1)·r but `point_dim` = r),
+/// divided by max|u_i| (0 for all-zero points).
+///
+/// The solve runs on the points scaled by a power of two that brings max|coordinate| into
+/// [1/2, 1) (exact), so coordinates near f64::MAX neither overflow in the QR factorization
+/// nor in the norms, and the real-degree test and the exact reduction see the same
+/// residual whatever the data's magnitude.
 pub(crate) fn reduce_least_squares(
     q: &[f64],
     dim: usize,
@@ -139,7 +179,19 @@ pub(crate) fn reduce_least_squares(
     n_new: usize,
 ) -> Result<(Vec<f64>, f64)> {
     let big_n = q.len() / dim - 1;
-    let weights = elevation_weights(n_new, big_n);
+    check_reduction_degree(big_n, "a degree reduction")?;
+    let largest = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if largest == 0.0 {
+        return Ok((vec![0.0; (n_new + 1) * dim], 0.0));
+    }
+    // 2^-e with largest·2^-e in [1/2, 1), applied as two factors so that neither the scale
+    // nor its inverse overflows or underflows (subnormal data: e down to -1074).
+    let e = largest.log2().floor() as i32 + 1;
+    let (half, rest) = (e / 2, e - e / 2);
+    let down = |x: f64| x * 2f64.powi(-half) * 2f64.powi(-rest);
+    let up = |x: f64| x * 2f64.powi(half) * 2f64.powi(rest);
+    let q: Vec<f64> = q.iter().map(|&x| down(x)).collect();
+    let weights = elevation_weights(n_new, big_n)?;
     let mut e = DMatrix::<f64>::zeros(big_n + 1, n_new + 1);
     for j in 0..=big_n {
         let (i0, w) = weights.column(j);
@@ -189,18 +241,26 @@ pub(crate) fn reduce_least_squares(
         x += solve(res)?;
     }
     let res = residual(&x).transpose();
-    let worst = max_norm(res.as_slice(), point_dim);
+    let scale = max_norm(&q, point_dim);
+    let relative = max_norm(res.as_slice(), point_dim) / scale;
     // Entries below the accuracy floor eps·max|u| are zero within what the data determine
     // (refinement otherwise leaves noise like 1e-33 where the exact answer is 0).
-    let floor = f64::EPSILON * max_norm(q, point_dim);
+    let floor = f64::EPSILON * scale;
     let mut out = vec![0.0; (n_new + 1) * dim];
     for i in 0..=n_new {
         for k in 0..dim {
             let v = x[(i, k)];
-            out[i * dim + k] = if v.abs() < floor { 0.0 } else { v };
+            out[i * dim + k] = if v.abs() < floor { 0.0 } else { up(v) };
         }
     }
-    Ok((out, worst))
+    if out.iter().any(|v| !v.is_finite()) {
+        // A least-squares solution can exceed the data (it is not a convex combination).
+        return Err(Error::Numerical {
+            operation: "degree reduction",
+            reason: "a reduced control point overflows f64",
+        });
+    }
+    Ok((out, relative))
 }
 
 /// Relative residual of reducing to degree `k`: max control-point distance between the
@@ -210,11 +270,7 @@ pub(crate) fn relative_residual(q: &[f64], dim: usize, point_dim: usize, k: usiz
     if k >= n {
         return Ok(0.0);
     }
-    let scale = max_norm(q, point_dim);
-    if scale == 0.0 {
-        return Ok(0.0);
-    }
-    Ok(reduce_least_squares(q, dim, point_dim, k)?.1 / scale)
+    Ok(reduce_least_squares(q, dim, point_dim, k)?.1)
 }
 
 pub(crate) fn check_tolerance(tolerance: Option<f64>) -> Result<f64> {
@@ -234,6 +290,7 @@ pub(crate) fn real_degree_flat(
     tolerance: f64,
 ) -> Result<DegreeReport> {
     let n = q.len() / dim - 1;
+    check_reduction_degree(n, "the real-degree test")?;
     // Invariant: residual(hi) <= tolerance, residual(k) > tolerance for every k < lo.
     let (mut lo, mut hi) = (0usize, n);
     let mut res_hi = 0.0;
@@ -378,6 +435,7 @@ pub(crate) fn reduce_approx_flat(
     options: &ApproxOptions,
 ) -> Result<(Vec<f64>, f64, DeviationBound)> {
     let big_n = q.len() / dim - 1;
+    check_reduction_degree(big_n, "an approximate reduction")?;
     if m >= big_n {
         return Err(Error::InvalidDegree {
             degree: big_n,
@@ -468,7 +526,7 @@ pub(crate) fn reduce_approx_flat(
             .map(|(a, b)| (a - b) * (a - b))
             .sum::<f64>();
     }
-    let bound = deviation_bound(q, &p, dim);
+    let bound = deviation_bound(q, &p, dim)?;
     Ok((p, l2.sqrt(), bound))
 }
 
@@ -538,7 +596,7 @@ impl BezierCurve {
         }
         BezierCurve::from_flat(
             self.dim(),
-            elevate_flat(self.points_flat(), self.dim(), n_new),
+            elevate_flat(self.points_flat(), self.dim(), n_new)?,
         )
     }
 
@@ -579,9 +637,8 @@ impl BezierCurve {
             return Ok(self.clone());
         }
         let dim = self.dim();
-        let scale = self.scale();
         let (x, res) = reduce_least_squares(self.points_flat(), dim, dim, n_new)?;
-        if res > tol * scale {
+        if res > tol {
             let report = real_degree_flat(self.points_flat(), dim, dim, tol)?;
             return Err(Error::DegreeDefectTooSmall {
                 real_degree: report.real_degree,
@@ -641,10 +698,6 @@ impl BezierCurve {
                 got: other.dim(),
             });
         }
-        Ok(deviation_bound(
-            self.points_flat(),
-            other.points_flat(),
-            self.dim(),
-        ))
+        deviation_bound(self.points_flat(), other.points_flat(), self.dim())
     }
 }

@@ -19,7 +19,7 @@ pub use bound::DeviationBound;
 pub use curve::BezierCurve;
 pub use degree::{
     paper_formula_f64, ApproxOptions, ApproxReduction, DegreeReport, ReductionNorm,
-    DEFAULT_TOLERANCE,
+    DEFAULT_TOLERANCE, MAX_ELEVATION_WEIGHTS, MAX_REDUCTION_DEGREE,
 };
 pub use rational::RationalBezierCurve;
 pub use surface::{BezierSurface, Direction, SurfaceDegreeReport};

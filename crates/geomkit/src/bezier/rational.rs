@@ -41,7 +41,9 @@ fn check_weights(weights: &[f64]) -> Result<()> {
 }
 
 impl RationalBezierCurve {
-    /// A curve from control points and weights (finite, > 0, one per point).
+    /// A curve from control points and weights (finite, > 0, one per point). When some
+    /// w_i·u_i would overflow f64, all weights are divided by a common power of two (the same
+    /// curve; [`RationalBezierCurve::weights`] then returns the scaled weights).
     pub fn new(points: Vec<Vec<f64>>, weights: Vec<f64>) -> Result<Self> {
         let (dim, flat) = flatten_points("control points", &points)?;
         if weights.len() != points.len() {
@@ -51,10 +53,33 @@ impl RationalBezierCurve {
             });
         }
         check_weights(&weights)?;
+        // A common factor of the weights does not change the curve: when some w_i u_i
+        // overflows (coordinates near f64::MAX), the weights are divided by the power of two
+        // that brings the largest to 1 (exact), so that every w_i u_i is at most |u_i|.
+        let largest_product = flat
+            .chunks_exact(dim)
+            .zip(&weights)
+            .flat_map(|(p, w)| p.iter().map(move |x| (x * w).abs()))
+            .fold(0.0f64, f64::max);
+        let largest_weight = weights.iter().fold(0.0f64, |m, &w| m.max(w));
+        let factor = if largest_product.is_finite() || largest_weight <= 1.0 {
+            1.0
+        } else {
+            2f64.powi(-(largest_weight.log2().ceil() as i32))
+        };
         let mut h = Vec::with_capacity(weights.len() * (dim + 1));
         for (p, w) in flat.chunks_exact(dim).zip(&weights) {
+            let w = w * factor;
+            if w == 0.0 {
+                return Err(Error::Numerical {
+                    operation: "rational curve",
+                    reason: "the weights span too many orders of magnitude for control points \
+                             this large (some w_i·u_i overflows f64, and scaling the weights \
+                             down makes the smallest 0)",
+                });
+            }
             h.extend(p.iter().map(|x| x * w));
-            h.push(*w);
+            h.push(w);
         }
         Ok(RationalBezierCurve {
             homogeneous: BezierCurve::from_flat(dim + 1, h)?,

@@ -288,10 +288,10 @@ impl BezierSurface {
         let (pts, pd) = self.as_curve(direction);
         let n = pts.len() / pd - 1;
         let new = if target >= n {
-            elevate_flat(&pts, pd, target)
+            elevate_flat(&pts, pd, target)?
         } else {
             let (x, res) = reduce_least_squares(&pts, pd, self.dim, target)?;
-            if res > tol * self.scale() {
+            if res > tol {
                 let r = real_degree_flat(&pts, pd, self.dim, tol)?;
                 return Err(Error::SurfaceDefectTooSmall {
                     direction: direction.name(),

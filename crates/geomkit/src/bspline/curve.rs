@@ -128,6 +128,16 @@ pub(crate) fn cubic_basis_at_knot(k: &[f64], i: usize) -> [f64; 3] {
     let (before, after) = (k3 - k2, k4 - k3);
     let p = 1.0 / ((k4 - k1) * (k4 - k2));
     let q = 1.0 / ((k5 - k2) * (k4 - k2));
+    if !(p.is_normal() && q.is_normal()) {
+        // Knot differences near 1e±154 and beyond: their products overflow or underflow,
+        // their ratios (each <= 1) do not.
+        let (a, b) = (after / (k4 - k2), before / (k4 - k2));
+        return [
+            a * (after / (k4 - k1)),
+            a * ((k3 - k1) / (k4 - k1)) + b * ((k5 - k3) / (k5 - k2)),
+            b * (before / (k5 - k2)),
+        ];
+    }
     [
         after * after * p,
         (k3 - k1) * after * p + (k5 - k3) * before * q,

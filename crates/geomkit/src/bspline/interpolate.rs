@@ -661,6 +661,7 @@ impl Solver1d {
             knots[3 - k] = knots[n + 3 - k] - period;
             knots[n + 3 + k] = knots[3 + k] + period;
         }
+        check_knot_span(&knots)?;
         let t = &knots[3..n + 4];
         let (mut lower, mut diag, mut upper) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
         let mut basis = [0.0; 4];
@@ -704,15 +705,23 @@ impl Solver1d {
     ) -> Result<Self> {
         let n = knots.len() - 6;
         fill_open_ends(&mut knots);
-        let t = &knots[3..n + 3];
+        check_knot_span(&knots)?;
         let nc = n + 2;
+        // Derivative rows scale like 1/h^k: on parameters spaced 1e-120 or 1e120 apart they
+        // overflow or underflow (a "singular" system). They are formed on the knots scaled
+        // by a power of two (exact) that brings their span near 1, where d/ds = 2^e d/dt;
+        // a given or estimated tangent (order 1) is scaled to match (`tangent_scale`).
+        let e = ((knots[n + 5] - knots[0]).log2().floor() as i32).clamp(-1000, 1000);
+        let scaled: Vec<f64> = knots.iter().map(|k| k * 2f64.powi(-e)).collect();
+        let tangent_scale = 2f64.powi(e);
+        let t = &scaled[3..n + 3];
         let deriv = |span: usize, at: f64, k: usize| -> Vec<f64> {
-            basis_funs_derivs(&knots, span, at, 3, k)[k][..4].to_vec()
+            basis_funs_derivs(&scaled, span, at, 3, k)[k][..4].to_vec()
         };
         // Jump of the third derivative at the knot after span `left`.
         let jump = |left: usize| -> Vec<f64> {
-            let l = deriv(left, knots[left + 1], 3);
-            let r = deriv(left + 1, knots[left + 1], 3);
+            let l = deriv(left, scaled[left + 1], 3);
+            let r = deriv(left + 1, scaled[left + 1], 3);
             let mut c = vec![0.0; 5];
             for k in 0..4 {
                 c[k] += l[k];
@@ -774,11 +783,15 @@ impl Solver1d {
             } else {
                 1.0
             };
+            let f_rhs = match rhs {
+                EndRhs::Given(_) | EndRhs::Estimated => f * tangent_scale,
+                _ => f,
+            };
             (
                 first,
                 coeffs.iter().map(|c| c * f).collect::<Vec<f64>>(),
                 rhs,
-                f,
+                f_rhs,
             )
         };
         let start = equilibrate(row_for(start_cond, true)?);
@@ -1081,6 +1094,27 @@ impl Solver1d {
 }
 
 /// Errors when a computed control point is not finite (overflow on extreme input).
+/// The knots, with the three beyond each end, and their span must be finite: parameters
+/// spread over more than f64's range (e.g. -1e308 to 1e308) would make the basis functions'
+/// knot differences infinite and the curve NaN.
+fn check_knot_span(knots: &[f64]) -> Result<()> {
+    let span = knots[knots.len() - 1] - knots[0];
+    if let Some(index) = crate::points::first_non_finite(knots) {
+        return Err(Error::InvalidKnots {
+            index,
+            reason: "the parameters' spread overflows f64 (the knots beyond the ends are \
+                     spaced like the end intervals): scale the parameters down",
+        });
+    }
+    if !span.is_finite() {
+        return Err(Error::InvalidKnots {
+            index: knots.len() - 1,
+            reason: "the knots span more than f64 can represent: scale the parameters down",
+        });
+    }
+    Ok(())
+}
+
 fn check_solution(out: &[f64], dim: usize) -> Result<()> {
     match crate::points::first_non_finite(out) {
         Some(index) => Err(Error::NonFinite {
