@@ -40,17 +40,75 @@ impl Destination {
     }
 
     /// Streams output produced by `write` there (for large outputs such as CSV samples).
+    /// Standard output is held back until `write` succeeds, up to [`STDOUT_HOLD_BYTES`]: a
+    /// failure prints nothing there (beyond that size, output streams as it comes).
     pub fn write_with(&self, write: impl FnOnce(&mut dyn Write) -> io::Result<()>) -> Result<()> {
         match self {
             Destination::Stdout => {
-                let stdout = io::stdout();
-                let mut out = BufWriter::new(stdout.lock());
+                let mut out = HeldStdout {
+                    held: Vec::new(),
+                    passed: None,
+                };
                 write(&mut out)
                     .and_then(|()| out.flush())
-                    .context("cannot write to standard output")
+                    .map_err(|e| write_error(e, || "cannot write to standard output".into()))
             }
             Destination::File(path) => write_atomic_with(path, write),
         }
+    }
+}
+
+/// How much of a streamed output to standard output is held back until the command has
+/// succeeded (a failure then prints nothing on stdout, only its error line).
+pub const STDOUT_HOLD_BYTES: usize = 64 << 20;
+
+/// Standard output that keeps the first [`STDOUT_HOLD_BYTES`] in memory and passes output
+/// through only beyond them (or at the final flush).
+struct HeldStdout {
+    held: Vec<u8>,
+    passed: Option<BufWriter<io::StdoutLock<'static>>>,
+}
+
+impl HeldStdout {
+    fn release(&mut self) -> io::Result<&mut BufWriter<io::StdoutLock<'static>>> {
+        if self.passed.is_none() {
+            let mut out = BufWriter::new(io::stdout().lock());
+            out.write_all(&self.held)?;
+            self.held = Vec::new();
+            self.passed = Some(out);
+        }
+        Ok(self.passed.as_mut().expect("just set"))
+    }
+}
+
+impl Write for HeldStdout {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        if self.passed.is_none() && self.held.len() + buf.len() <= STDOUT_HOLD_BYTES {
+            self.held.extend_from_slice(buf);
+            return Ok(buf.len());
+        }
+        self.release()?.write(buf)
+    }
+
+    /// The final flush (the writers flush once, at the end): prints what was held.
+    fn flush(&mut self) -> io::Result<()> {
+        self.release()?.flush()
+    }
+}
+
+/// A failed streamed write: an error of the computation that produced the output (carried
+/// through `io::Error` by the streaming writers, e.g. a point that is not finite) is reported
+/// as itself; only a real I/O failure is "cannot write ...".
+fn write_error(e: io::Error, target: impl FnOnce() -> String) -> anyhow::Error {
+    if !e
+        .get_ref()
+        .is_some_and(|inner| inner.is::<geomkit::Error>())
+    {
+        return anyhow::Error::new(e).context(target());
+    }
+    match e.into_inner().map(|b| b.downcast::<geomkit::Error>()) {
+        Some(Ok(inner)) => anyhow::Error::new(*inner),
+        _ => anyhow::anyhow!(target()),
     }
 }
 
@@ -66,7 +124,8 @@ pub fn write_atomic_with(
     write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
 ) -> Result<()> {
     let mut file = AtomicFile::create(path)?;
-    write(file.writer()).with_context(|| format!("cannot write {}", path.display()))?;
+    write(file.writer())
+        .map_err(|e| write_error(e, || format!("cannot write {}", path.display())))?;
     file.commit()
 }
 

@@ -205,5 +205,14 @@ pub(crate) fn check_knots(knots: &[f64], degree: usize, n: usize) -> Result<()> 
             reason: "the domain [knots[p], knots[n]] is empty",
         });
     }
+    if !(knots[knots.len() - 1] - knots[0]).is_finite() {
+        // Differences of knots (in every basis function) and parameter steps would be
+        // infinite: NaN points instead of a curve.
+        return Err(Error::InvalidKnots {
+            index: knots.len() - 1,
+            reason: "the knots span more than f64 can represent (last - first overflows): \
+                     scale the knots down",
+        });
+    }
     Ok(())
 }

@@ -4,7 +4,7 @@ use crate::cli::RenderArgs;
 use crate::model::load_shape as load;
 use crate::output::write_atomic;
 use crate::table::extension;
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use geomkit_plot::svg_to_png;
 use geomkit_plot::{picture_svg, PictureOptions};
 
@@ -35,7 +35,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
             .map(|f| f.to_string_lossy().into_owned())
             .unwrap_or_default()
     });
-    let svg = picture_svg(&loaded, &title, &loaded.what, &opts)?;
+    let svg = picture_svg(&loaded, &title, &loaded.what, &opts)
+        .with_context(|| format!("cannot draw {}", args.model.display()))?;
     if png {
         write_atomic(&args.output, &svg_to_png(&svg, 2.0, args.size)?)
     } else {
