@@ -141,6 +141,19 @@ pub(crate) fn de_casteljau(pts: &[f64], dim: usize, t: f64, work: &mut [f64], ou
     out.copy_from_slice(&work[..dim]);
 }
 
+/// Horner's terms C(n,i) t^i u_i overflow for coordinates near f64::MAX although the
+/// point, a convex combination, does not: points that came out non-finite at finite t are
+/// evaluated again by de Casteljau (never for ordinary data: one pass over `out`).
+fn horner_overflow_fallback(pts: &[f64], dim: usize, ts: &[f64], out: &mut [f64]) {
+    let mut work = Vec::new();
+    for (t, o) in ts.iter().zip(out.chunks_exact_mut(dim)) {
+        if t.is_finite() && o.iter().any(|x| !x.is_finite()) {
+            work.resize(pts.len(), 0.0);
+            de_casteljau(pts, dim, *t, &mut work, o);
+        }
+    }
+}
+
 /// p(t) for high degrees: Σ b_ni(t) u_i with the Bernstein values built outward from the
 /// largest one, b_n,i+1 / b_ni = (n-i)/(i+1) · t/(1-t), and divided by their sum (1 in exact
 /// arithmetic). The terms fall off like a Gaussian of width sqrt(n t (1-t)): those below
@@ -159,13 +172,24 @@ fn eval_bernstein_sum(pts: &[f64], dim: usize, t: f64, out: &mut [f64]) {
         }
         return;
     }
+    bernstein_sum(pts, dim, t, 1.0, out);
+    if out.iter().any(|x| !x.is_finite()) {
+        // Coordinates near f64::MAX: the unnormalized sum overflowed; sum u/2^64 instead.
+        bernstein_sum(pts, dim, t, 2f64.powi(-64), out);
+        out.iter_mut().for_each(|o| *o *= 2f64.powi(64));
+    }
+}
+
+/// [`eval_bernstein_sum`] for t in (0, 1), the points multiplied by `shrink`.
+fn bernstein_sum(pts: &[f64], dim: usize, t: f64, shrink: f64, out: &mut [f64]) {
+    let n = pts.len() / dim - 1;
     let ratio = t / (1.0 - t);
     let mode = ((n as f64 * t).round() as usize).min(n);
     let cutoff = 2f64.powi(-80);
     out.fill(0.0);
     let add = |i: usize, b: f64, out: &mut [f64]| {
         for (o, u) in out.iter_mut().zip(&pts[i * dim..(i + 1) * dim]) {
-            *o += b * u;
+            *o += b * (u * shrink);
         }
     };
     let mut total = 1.0;
@@ -367,6 +391,7 @@ impl BezierCurve {
     fn eval_many_unchecked(&self, ts: &[f64], out: &mut [f64]) {
         if self.degree() <= HORNER_MAX_DEGREE {
             eval_horner_many(&self.points, self.dim, ts, out);
+            horner_overflow_fallback(&self.points, self.dim, ts, out);
         } else {
             for (t, o) in ts.iter().zip(out.chunks_exact_mut(self.dim)) {
                 eval_bernstein_sum(&self.points, self.dim, *t, o);
@@ -391,6 +416,7 @@ impl Curve for BezierCurve {
         debug_assert_eq!(out.len(), self.dim);
         if self.degree() <= HORNER_MAX_DEGREE {
             eval_horner(&self.points, self.dim, &binomial_row(self.degree()), t, out);
+            horner_overflow_fallback(&self.points, self.dim, &[t], out);
         } else {
             eval_bernstein_sum(&self.points, self.dim, t, out);
         }

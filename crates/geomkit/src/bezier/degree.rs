@@ -148,6 +148,16 @@ pub(crate) fn elevate_flat(pts: &[f64], dim: usize, n_new: usize) -> Result<Vec<
         return Ok(pts.to_vec());
     }
     let weights = elevation_weights(n, n_new)?;
+    // The double-double products split their factors (Veltkamp: x·(2^27+1)), which
+    // overflows for |x| above about 2^996: such points are elevated at 2^-64 of their size
+    // (exact) and scaled back; the result is a convex combination, so it fits.
+    let largest = pts.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if largest > 2f64.powi(960) {
+        let small: Vec<f64> = pts.iter().map(|x| x * 2f64.powi(-64)).collect();
+        let mut out = elevate_flat(&small, dim, n_new)?;
+        out.iter_mut().for_each(|x| *x *= 2f64.powi(64));
+        return Ok(out);
+    }
     let mut out = vec![0.0; (n_new + 1) * dim];
     for j in 0..=n_new {
         let (i0, w) = weights.column(j);
@@ -178,19 +188,43 @@ pub(crate) fn reduce_least_squares(
     point_dim: usize,
     n_new: usize,
 ) -> Result<(Vec<f64>, f64)> {
+    let (mut x, relative, e) = least_squares_scaled(q, dim, point_dim, n_new)?;
+    let (half, rest) = (e / 2, e - e / 2);
+    x.iter_mut()
+        .for_each(|v| *v = *v * 2f64.powi(half) * 2f64.powi(rest));
+    if x.iter().any(|v| !v.is_finite()) {
+        // A least-squares solution can exceed the data (it is not a convex combination).
+        return Err(Error::Numerical {
+            operation: "degree reduction",
+            reason: "a reduced control point overflows f64",
+        });
+    }
+    Ok((x, relative))
+}
+
+/// [`reduce_least_squares`] on the points scaled by 2^-e (returned), so that the largest
+/// |coordinate| is in [1/2, 1): X in those units, and the relative residual (which the
+/// real-degree test needs alone, even when X itself would overflow at the data's scale).
+fn least_squares_scaled(
+    q: &[f64],
+    dim: usize,
+    point_dim: usize,
+    n_new: usize,
+) -> Result<(Vec<f64>, f64, i32)> {
     let big_n = q.len() / dim - 1;
     check_reduction_degree(big_n, "a degree reduction")?;
     let largest = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     if largest == 0.0 {
-        return Ok((vec![0.0; (n_new + 1) * dim], 0.0));
+        return Ok((vec![0.0; (n_new + 1) * dim], 0.0, 0));
     }
-    // 2^-e with largest·2^-e in [1/2, 1), applied as two factors so that neither the scale
-    // nor its inverse overflows or underflows (subnormal data: e down to -1074).
-    let e = largest.log2().floor() as i32 + 1;
-    let (half, rest) = (e / 2, e - e / 2);
-    let down = |x: f64| x * 2f64.powi(-half) * 2f64.powi(-rest);
-    let up = |x: f64| x * 2f64.powi(half) * 2f64.powi(rest);
-    let q: Vec<f64> = q.iter().map(|&x| down(x)).collect();
+    // 2^-e applied as two factors so that neither the scale nor its inverse overflows or
+    // underflows (subnormal data: e down to -1073).
+    let exp = largest.log2().floor() as i32 + 1;
+    let (half, rest) = (exp / 2, exp - exp / 2);
+    let q: Vec<f64> = q
+        .iter()
+        .map(|&x| x * 2f64.powi(-half) * 2f64.powi(-rest))
+        .collect();
     let weights = elevation_weights(n_new, big_n)?;
     let mut e = DMatrix::<f64>::zeros(big_n + 1, n_new + 1);
     for j in 0..=big_n {
@@ -250,17 +284,10 @@ pub(crate) fn reduce_least_squares(
     for i in 0..=n_new {
         for k in 0..dim {
             let v = x[(i, k)];
-            out[i * dim + k] = if v.abs() < floor { 0.0 } else { up(v) };
+            out[i * dim + k] = if v.abs() < floor { 0.0 } else { v };
         }
     }
-    if out.iter().any(|v| !v.is_finite()) {
-        // A least-squares solution can exceed the data (it is not a convex combination).
-        return Err(Error::Numerical {
-            operation: "degree reduction",
-            reason: "a reduced control point overflows f64",
-        });
-    }
-    Ok((out, relative))
+    Ok((out, relative, exp))
 }
 
 /// Relative residual of reducing to degree `k`: max control-point distance between the
@@ -270,7 +297,7 @@ pub(crate) fn relative_residual(q: &[f64], dim: usize, point_dim: usize, k: usiz
     if k >= n {
         return Ok(0.0);
     }
-    Ok(reduce_least_squares(q, dim, point_dim, k)?.1)
+    Ok(least_squares_scaled(q, dim, point_dim, k)?.1)
 }
 
 pub(crate) fn check_tolerance(tolerance: Option<f64>) -> Result<f64> {

@@ -14,7 +14,7 @@
 //! assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-15);
 //! ```
 
-use super::curve::{de_casteljau, flatten_points, BezierCurve};
+use super::curve::{flatten_points, BezierCurve};
 use super::degree::DegreeReport;
 use crate::geom::{check_point, Curve};
 use crate::{Error, Result};
@@ -42,8 +42,9 @@ fn check_weights(weights: &[f64]) -> Result<()> {
 
 impl RationalBezierCurve {
     /// A curve from control points and weights (finite, > 0, one per point). When some
-    /// w_i·u_i would overflow f64, all weights are divided by a common power of two (the same
-    /// curve; [`RationalBezierCurve::weights`] then returns the scaled weights).
+    /// w_i·u_i would overflow or underflow f64, all weights are scaled by a common power of
+    /// two (the same curve; [`RationalBezierCurve::weights`] then returns the scaled
+    /// weights).
     pub fn new(points: Vec<Vec<f64>>, weights: Vec<f64>) -> Result<Self> {
         let (dim, flat) = flatten_points("control points", &points)?;
         if weights.len() != points.len() {
@@ -54,18 +55,21 @@ impl RationalBezierCurve {
         }
         check_weights(&weights)?;
         // A common factor of the weights does not change the curve: when some w_i u_i
-        // overflows (coordinates near f64::MAX), the weights are divided by the power of two
-        // that brings the largest to 1 (exact), so that every w_i u_i is at most |u_i|.
-        let largest_product = flat
-            .chunks_exact(dim)
-            .zip(&weights)
-            .flat_map(|(p, w)| p.iter().map(move |x| (x * w).abs()))
-            .fold(0.0f64, f64::max);
+        // overflows (coordinates near f64::MAX) or underflows (tiny weights and points), the
+        // weights are scaled by the power of two that brings the largest into (1/2, 1]
+        // (exact), so that every w_i u_i is at most |u_i| and the largest products keep
+        // their digits.
+        let lost = flat.chunks_exact(dim).zip(&weights).any(|(p, w)| {
+            p.iter().any(|x| {
+                let y = (x * w).abs();
+                !y.is_finite() || (*x != 0.0 && y < f64::MIN_POSITIVE)
+            })
+        });
         let largest_weight = weights.iter().fold(0.0f64, |m, &w| m.max(w));
-        let factor = if largest_product.is_finite() || largest_weight <= 1.0 {
-            1.0
-        } else {
+        let factor = if lost {
             2f64.powi(-(largest_weight.log2().ceil() as i32))
+        } else {
+            1.0
         };
         let mut h = Vec::with_capacity(weights.len() * (dim + 1));
         for (p, w) in flat.chunks_exact(dim).zip(&weights) {
@@ -172,12 +176,15 @@ impl Curve for RationalBezierCurve {
 
     fn eval_into(&self, t: f64, out: &mut [f64]) {
         let d = self.homogeneous.dim();
-        let pts = self.homogeneous.points_flat();
-        let mut work = pts.to_vec();
         let mut h = vec![0.0; d];
-        de_casteljau(pts, d, t, &mut work, &mut h);
+        self.homogeneous.eval_into(t, &mut h);
         for (o, x) in out.iter_mut().zip(&h[..d - 1]) {
             *o = x / h[d - 1];
+            if o.is_infinite() && x.is_finite() && h[d - 1] > 0.0 {
+                // The point lies in the control points' hull: a quotient past f64::MAX is
+                // rounding at coordinates of f64::MAX itself.
+                *o = f64::MAX.copysign(*o);
+            }
         }
     }
 
