@@ -154,6 +154,17 @@ fn horner_overflow_fallback(pts: &[f64], dim: usize, ts: &[f64], out: &mut [f64]
     }
 }
 
+/// p(t) by de Casteljau (most accurate) up to degree 60, above by [`eval_bernstein_sum`]
+/// (O(sqrt n) instead of O(n^2)).
+pub(crate) fn eval_accurate(pts: &[f64], dim: usize, t: f64, out: &mut [f64]) {
+    if pts.len() / dim <= HORNER_MAX_DEGREE + 1 {
+        let mut work = pts.to_vec();
+        de_casteljau(pts, dim, t, &mut work, out);
+    } else {
+        eval_bernstein_sum(pts, dim, t, out);
+    }
+}
+
 /// p(t) for high degrees: Σ b_ni(t) u_i with the Bernstein values built outward from the
 /// largest one, b_n,i+1 / b_ni = (n-i)/(i+1) · t/(1-t), and divided by their sum (1 in exact
 /// arithmetic). The terms fall off like a Gaussian of width sqrt(n t (1-t)): those below

@@ -14,7 +14,7 @@
 //! assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-15);
 //! ```
 
-use super::curve::{flatten_points, BezierCurve};
+use super::curve::{eval_accurate, flatten_points, BezierCurve};
 use super::degree::DegreeReport;
 use crate::geom::{check_point, Curve};
 use crate::{Error, Result};
@@ -177,7 +177,7 @@ impl Curve for RationalBezierCurve {
     fn eval_into(&self, t: f64, out: &mut [f64]) {
         let d = self.homogeneous.dim();
         let mut h = vec![0.0; d];
-        self.homogeneous.eval_into(t, &mut h);
+        eval_accurate(self.homogeneous.points_flat(), d, t, &mut h);
         for (o, x) in out.iter_mut().zip(&h[..d - 1]) {
             *o = x / h[d - 1];
             if o.is_infinite() && x.is_finite() && h[d - 1] > 0.0 {
