@@ -12,6 +12,7 @@ mod common;
 
 mod bad_input {
     pub mod basics;
+    pub mod expr;
 }
 
 use std::collections::BTreeMap;
@@ -23,8 +24,11 @@ use std::time::{Duration, Instant};
 /// One bad input: files to write (name, contents), the command's arguments, and the words
 /// its error line must contain (option names, file names, values).
 pub struct Case {
+    /// Files written into the case's folder first: (name, contents).
     pub files: &'static [(&'static str, &'static str)],
+    /// The arguments of `geomkit`.
     pub args: &'static [&'static str],
+    /// Words the error line must contain (case-insensitive).
     pub names: &'static [&'static str],
 }
 
@@ -122,6 +126,8 @@ pub fn check_all(cases: &[Case]) {
 /// The number of cases in all tables (the issue asks for at least 100).
 #[test]
 fn the_catalogue_covers_every_command() {
-    let total: usize = [bad_input::basics::CASES.len()].iter().sum();
+    let total: usize = [bad_input::basics::CASES.len(), bad_input::expr::CASES.len()]
+        .iter()
+        .sum();
     assert!(total >= 1, "{total} cases");
 }
