@@ -207,8 +207,8 @@ struct Printer<'g> {
     g: &'g Graph,
     f: Format,
     names: HashMap<Id, String>,
-    /// The definition of every node to print, built children first.
-    defs: HashMap<Id, Def>,
+    /// The definition of every node to print (by index), built children first.
+    defs: Vec<Option<Def>>,
 }
 
 impl<'g> Printer<'g> {
@@ -217,7 +217,7 @@ impl<'g> Printer<'g> {
             g,
             f,
             names: HashMap::new(),
-            defs: HashMap::new(),
+            defs: Vec::new(),
         }
     }
 
@@ -235,9 +235,19 @@ impl<'g> Printer<'g> {
             }
             let (tpl, prec) = self.definition(id);
             let len = self.len(&tpl);
-            self.defs.insert(id, Def { tpl, prec, len });
+            if self.defs.len() <= id.index() {
+                self.defs.resize_with(id.index() + 1, || None);
+            }
+            self.defs[id.index()] = Some(Def { tpl, prec, len });
         }
         Ok(())
+    }
+
+    /// The definition of a prepared node.
+    fn def(&self, id: Id) -> &Def {
+        self.defs[id.index()]
+            .as_ref()
+            .expect("nodes are prepared children first")
     }
 
     /// The length of `tpl` once expanded (saturating).
@@ -247,7 +257,7 @@ impl<'g> Printer<'g> {
                 Seg::Text(t) => t.len(),
                 Seg::Node(id) => match self.names.get(id) {
                     Some(name) => name.len(),
-                    None => self.defs[id].len,
+                    None => self.def(*id).len,
                 },
             })
         })
@@ -279,7 +289,7 @@ impl<'g> Printer<'g> {
                 Some(Seg::Text(t)) => out.push_str(t),
                 Some(Seg::Node(id)) => match self.names.get(id) {
                     Some(name) => out.push_str(name),
-                    None => stack.push(self.defs[id].tpl.0.iter()),
+                    None => stack.push(self.def(*id).tpl.0.iter()),
                 },
             }
         }
@@ -385,7 +395,7 @@ impl<'g> Printer<'g> {
         if let Some(n) = self.names.get(&id) {
             return (Tpl::text(n), Prec::Atom);
         }
-        (Tpl::node(id), self.defs[&id].prec)
+        (Tpl::node(id), self.def(id).prec)
     }
 
     /// The text of `id` itself, ignoring its own temporary name (its children prepared).
@@ -728,10 +738,10 @@ impl<'g> Printer<'g> {
     fn texts(&mut self, temps: &[Id], roots: &[Id]) -> Result<(Vec<String>, Vec<String>)> {
         self.prepare(roots)?;
         let results: Vec<Tpl> = roots.iter().map(|&r| self.piece(r).0).collect();
-        self.check_length(temps.iter().map(|t| &self.defs[t].tpl).chain(&results))?;
+        self.check_length(temps.iter().map(|t| &self.def(*t).tpl).chain(&results))?;
         let defs = temps
             .iter()
-            .map(|t| self.write(&self.defs[t].tpl))
+            .map(|t| self.write(&self.def(*t).tpl))
             .collect();
         let results = results.iter().map(|t| self.write(t)).collect();
         Ok((defs, results))
