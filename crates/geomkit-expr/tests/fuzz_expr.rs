@@ -364,7 +364,7 @@ fn build(g: &mut Graph, ops: &[Op]) -> Vec<Id> {
 }
 
 proptest! {
-    #![proptest_config(fuzz::config(48))]
+    #![proptest_config(fuzz::config(256))]
 
     #[test]
     fn fuzz_formulas_from_the_grammar(text in formula()) {
