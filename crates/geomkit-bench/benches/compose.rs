@@ -62,7 +62,7 @@ fn build_print(c: &mut Criterion) {
         });
         let f = s.formula().expect("formula");
         g.bench_function(BenchmarkId::new("print_program_maple", n), |b| {
-            b.iter(|| black_box(f.print_program(Format::Maple)))
+            b.iter(|| black_box(f.print_program(Format::Maple).unwrap()))
         });
     }
     g.finish();

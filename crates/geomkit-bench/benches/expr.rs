@@ -27,13 +27,16 @@ fn build_print(c: &mut Criterion) {
     group.bench_function("build_bicubic_10x10", |b| b.iter(|| bicubic(black_box(10))));
     let (g, roots) = bicubic(10);
     group.bench_function("print_sympy_bicubic_10x10", |b| {
-        b.iter(|| g.print_function("f", &["u", "v"], black_box(&roots), Format::Sympy))
+        b.iter(|| {
+            g.print_function("f", &["u", "v"], black_box(&roots), Format::Sympy)
+                .unwrap()
+        })
     });
     group.bench_function("print_c_inline_bicubic_10x10", |b| {
         b.iter(|| {
             roots
                 .iter()
-                .map(|r| g.print(*r, Format::C).len())
+                .map(|r| g.print(*r, Format::C).unwrap().len())
                 .sum::<usize>()
         })
     });

@@ -14,6 +14,7 @@ mod bad_input {
     pub mod basics;
     pub mod bezier;
     pub mod eval;
+    pub mod expr;
     pub mod interpolate;
 }
 
@@ -132,6 +133,7 @@ fn the_catalogue_covers_every_command() {
         bad_input::basics::CASES.len(),
         bad_input::bezier::CASES.len(),
         bad_input::eval::CASES.len(),
+        bad_input::expr::CASES.len(),
         bad_input::interpolate::CASES.len(),
     ]
     .iter()

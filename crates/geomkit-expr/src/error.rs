@@ -34,6 +34,28 @@ pub enum ExprError {
         /// The constant, as printed by Rust.
         value: String,
     },
+    /// An exact constant of the expression is outside the range of `f64` (above about
+    /// 1.8e308 or below about 4.9e-324 in magnitude, and not zero): evaluating it, or printing
+    /// it for a target that computes in `f64`, would give infinity or zero.
+    #[error(
+        "constant {value} of the expression is outside the range of f64 (magnitudes from about \
+         4.9e-324 to 1.8e308)"
+    )]
+    ConstantOutOfRange {
+        /// The constant, approximately (`1.0000e400`).
+        value: String,
+    },
+    /// A printed formula would be longer than [`crate::MAX_PRINT_BYTES`]: an inline print
+    /// repeats every shared sub-expression where it occurs, so a DAG can print exponentially
+    /// long.
+    #[error(
+        "the printed formula would be longer than {max} bytes (inline, shared \
+         sub-expressions are repeated; a program with temporaries prints each once)"
+    )]
+    PrintTooLong {
+        /// The limit, [`crate::MAX_PRINT_BYTES`].
+        max: usize,
+    },
     /// An input or output buffer of a batched evaluation has the wrong shape.
     #[error("{what}: got {got}, expected {expected}")]
     Shape {

@@ -22,10 +22,24 @@ impl Id {
     }
 }
 
+/// Most bits of the numerator, and of the denominator, of an exact constant (4096 bits:
+/// about 1233 decimal digits). A constant that would be longer — a literal such as
+/// `1e-2000`, a power such as `1.5^10000`, a sum or product of long constants, any folded
+/// constant — is rounded to the nearest `f64` instead (a power beyond the limit is computed
+/// in `f64`, within about `|n|·2⁻⁵³` relative error). This bounds the time and memory of
+/// exact arithmetic: no constant operation handles more than twice this many bits.
+/// [`crate::parse`] refuses a constant whose rounding would overflow to infinity or
+/// underflow to zero, naming it.
+pub const MAX_EXACT_BITS: u64 = 4096;
+
 /// A constant: an exact rational or an `f64`.
 ///
-/// Exact constants fold exactly (`1/3 + 2/3 = 1`); as soon as an `f64` takes part, folding
-/// is done in `f64`.
+/// Exact constants fold exactly (`1/3 + 2/3 = 1`) while their numerator and denominator
+/// have at most [`MAX_EXACT_BITS`] bits; as soon as an `f64` takes part, or a result would be
+/// longer, folding is done in `f64`.
+///
+/// Constants compare and hash by their parts: rationals by numerator and denominator (a
+/// graph stores them reduced, with a positive denominator), `f64` by their bits.
 #[derive(Clone, Debug)]
 pub enum Const {
     /// An exact rational.
@@ -37,7 +51,9 @@ pub enum Const {
 impl PartialEq for Const {
     fn eq(&self, other: &Self) -> bool {
         match (self, other) {
-            (Const::Rat(a), Const::Rat(b)) => a == b,
+            // By parts, not num-rational's value comparison (a continued-fraction walk for
+            // unequal denominators): the graph's rationals are reduced.
+            (Const::Rat(a), Const::Rat(b)) => a.numer() == b.numer() && a.denom() == b.denom(),
             (Const::Float(a), Const::Float(b)) => a.to_bits() == b.to_bits(),
             _ => false,
         }
@@ -48,8 +64,11 @@ impl Hash for Const {
     fn hash<H: Hasher>(&self, h: &mut H) {
         match self {
             Const::Rat(r) => {
+                // By parts: num-rational's own Hash recurses once per continued-fraction
+                // term, which overflowed the stack on `1.5^100000`.
                 0u8.hash(h);
-                r.hash(h)
+                r.numer().hash(h);
+                r.denom().hash(h);
             }
             Const::Float(f) => {
                 1u8.hash(h);
@@ -71,6 +90,41 @@ impl Const {
             Const::Float(f64::NAN)
         } else {
             Const::Float(x)
+        }
+    }
+    /// `r` itself while its numerator and denominator have at most [`MAX_EXACT_BITS`] bits,
+    /// else its nearest `f64`.
+    pub(crate) fn bounded(r: BigRational) -> Const {
+        if r.numer().bits() > MAX_EXACT_BITS || r.denom().bits() > MAX_EXACT_BITS {
+            Const::float(rat_to_f64(&r))
+        } else {
+            Const::Rat(r)
+        }
+    }
+    /// The form a graph stores: rationals reduced with a positive denominator (a zero
+    /// denominator gives the `f64` ±inf or NaN), within [`MAX_EXACT_BITS`]; one zero and one
+    /// NaN among `f64`.
+    pub(crate) fn canonical(self) -> Const {
+        match self {
+            Const::Float(x) => Const::float(x),
+            Const::Rat(r) => {
+                let (n, d) = (r.numer(), r.denom());
+                if d.is_zero() {
+                    let x = if n.is_zero() {
+                        f64::NAN
+                    } else if n.is_negative() {
+                        f64::NEG_INFINITY
+                    } else {
+                        f64::INFINITY
+                    };
+                    return Const::float(x);
+                }
+                if n.bits() > 4 * MAX_EXACT_BITS || d.bits() > 4 * MAX_EXACT_BITS {
+                    // Not worth reducing (a gcd of huge numbers): the f64 it rounds to.
+                    return Const::float(rat_to_f64(&r));
+                }
+                Const::bounded(BigRational::new(n.clone(), d.clone()))
+            }
         }
     }
     /// Is it exactly zero (`0` or `0.0`)?
@@ -108,7 +162,7 @@ impl Const {
             Const::Float(f) => f.is_finite(),
         }
     }
-    /// The nearest `f64`.
+    /// The nearest `f64` (±inf for a rational beyond the range of `f64`).
     pub fn to_f64(&self) -> f64 {
         match self {
             Const::Rat(r) => rat_to_f64(r),
@@ -117,13 +171,25 @@ impl Const {
     }
     pub(crate) fn add(&self, o: &Const) -> Const {
         match (self, o) {
-            (Const::Rat(a), Const::Rat(b)) => Const::Rat(a + b),
-            _ => Const::float(self.to_f64() + o.to_f64()),
+            (Const::Rat(a), Const::Rat(b)) => Const::bounded(a + b),
+            _ => {
+                let s = self.to_f64() + o.to_f64();
+                // A sum of two finite f64 that rounds to zero is exactly zero.
+                if s == 0.0 {
+                    Const::int(0)
+                } else {
+                    Const::float(s)
+                }
+            }
         }
     }
     pub(crate) fn mul(&self, o: &Const) -> Const {
         match (self, o) {
-            (Const::Rat(a), Const::Rat(b)) => Const::Rat(a * b),
+            (Const::Rat(a), Const::Rat(b)) => Const::bounded(a * b),
+            // An exact zero times a finite number is exactly zero.
+            (Const::Rat(z), x) | (x, Const::Rat(z)) if z.is_zero() && x.is_finite() => {
+                Const::int(0)
+            }
             _ => Const::float(self.to_f64() * o.to_f64()),
         }
     }
@@ -133,22 +199,72 @@ impl Const {
             Const::Float(f) => Const::float(f.abs()),
         }
     }
-    /// `self^n`, or `None` for an exact zero to a negative power.
+    /// `self^n`, or `None` for a zero to a negative power. A power whose exact value would
+    /// have more than [`MAX_EXACT_BITS`] bits is computed in `f64` without computing it
+    /// exactly.
     pub(crate) fn powi(&self, n: i32) -> Option<Const> {
         match self {
             Const::Rat(a) => {
-                if a.is_zero() && n < 0 {
-                    None
-                } else {
-                    Some(Const::Rat(num_traits::Pow::pow(a, n)))
+                if a.is_zero() {
+                    return match n {
+                        n if n < 0 => None,
+                        0 => Some(Const::int(1)),
+                        _ => Some(Const::int(0)),
+                    };
                 }
+                // |a^n| has at least |n|·(b-1)+1 bits in its longer part; the exact power is
+                // computed only when that is within the limit (then it has at most twice as
+                // many).
+                let b = a.numer().bits().max(a.denom().bits());
+                let k = u64::from(n.unsigned_abs());
+                if b >= 2 && k.saturating_mul(b - 1).saturating_add(1) > MAX_EXACT_BITS {
+                    return Some(Const::float(rat_to_f64(a).powi(n)));
+                }
+                Some(Const::bounded(num_traits::Pow::pow(a, n)))
             }
+            Const::Float(f) if *f == 0.0 && n < 0 => None,
             Const::Float(f) => Some(Const::float(f.powi(n))),
+        }
+    }
+    /// Is it a constant the engine can compute with: a finite `f64`, or a rational that is
+    /// zero or within the range of `f64` (its `f64` neither infinite nor zero)? Else the
+    /// error naming it.
+    pub(crate) fn check(&self) -> Result<()> {
+        match self {
+            Const::Float(f) if !f.is_finite() => Err(ExprError::NonFiniteConstant {
+                value: format!("{f:?}"),
+            }),
+            Const::Rat(r)
+                if !r.is_zero() && !matches!(rat_to_f64(r), x if x.is_finite() && x != 0.0) =>
+            {
+                Err(ExprError::ConstantOutOfRange {
+                    value: approx_text(r),
+                })
+            }
+            _ => Ok(()),
         }
     }
 }
 
-/// Correctly rounded for moderate sizes, finite for huge ones.
+/// A short scientific-notation text of a long rational (`-3.3333e400`) for messages.
+pub(crate) fn approx_text(r: &BigRational) -> String {
+    let n = r.numer().abs().to_string();
+    let d = r.denom().to_string();
+    let lead = |s: &str| -> f64 {
+        let k = s.len().min(17);
+        s[..k].parse::<f64>().unwrap_or(1.0) / 10f64.powi(k as i32 - 1)
+    };
+    let mut m = lead(&n) / lead(&d);
+    let mut e = n.len() as i64 - d.len() as i64;
+    while m < 1.0 && m > 0.0 {
+        m *= 10.0;
+        e -= 1;
+    }
+    let sign = if r.is_negative() { "-" } else { "" };
+    format!("{sign}{m:.4}e{e}")
+}
+
+/// The nearest `f64` (±inf beyond the range of `f64`, 0 below it).
 pub(crate) fn rat_to_f64(r: &BigRational) -> f64 {
     r.to_f64().unwrap_or_else(|| {
         let n = r.numer().to_f64().unwrap_or(f64::NAN);
@@ -368,13 +484,12 @@ impl Graph {
         id
     }
 
-    /// A constant node.
+    /// A constant node. A rational is stored reduced; one with more than
+    /// [`MAX_EXACT_BITS`] bits in its numerator or denominator as its nearest `f64`; one with
+    /// a zero denominator (`BigRational::new_raw(1, 0)`) as the `f64` ±inf or NaN, which
+    /// [`Graph::eval`], [`crate::Tape::new`] and the printers refuse.
     pub fn constant(&mut self, c: Const) -> Id {
-        let c = match c {
-            Const::Float(f) => Const::float(f),
-            c => c,
-        };
-        self.intern(Node::Const(c))
+        self.intern(Node::Const(c.canonical()))
     }
 
     /// The variable called `name` (the same name gives the same id). Any non-empty name is
@@ -384,8 +499,8 @@ impl Graph {
     }
 
     /// An `f64` constant. Never fails; a NaN or infinite constant is stored as given, and
-    /// [`Graph::eval`] and [`crate::Tape::new`] then report [`ExprError::NonFiniteConstant`].
-    /// `-0.0` is stored as `0.0`.
+    /// [`Graph::eval`], [`crate::Tape::new`] and the printers ([`Graph::print`], ...) then
+    /// report [`ExprError::NonFiniteConstant`]. `-0.0` is stored as `0.0`.
     pub fn num(&mut self, x: f64) -> Id {
         self.constant(Const::float(x))
     }
@@ -395,8 +510,9 @@ impl Graph {
         self.constant(Const::int(n))
     }
 
-    /// The exact rational `num/den` (reduced). A zero denominator gives the exact
-    /// expression `num · 0^(-1)`, which evaluates to [`ExprError::DivisionByZero`].
+    /// The exact rational `num/den` (reduced; as its nearest `f64` beyond
+    /// [`MAX_EXACT_BITS`]). A zero denominator gives the exact expression `num · 0^(-1)`,
+    /// which evaluates to [`ExprError::DivisionByZero`].
     pub fn rational(&mut self, num: impl Into<BigInt>, den: impl Into<BigInt>) -> Id {
         let (n, d) = (num.into(), den.into());
         if d.is_zero() {
@@ -404,10 +520,11 @@ impl Graph {
             let z = self.int(0);
             return self.div(a, z);
         }
-        self.constant(Const::Rat(BigRational::new(n, d)))
+        self.constant(Const::Rat(BigRational::new_raw(n, d)))
     }
 
-    /// The exact rational constant `r`.
+    /// The exact rational constant `r` (as [`Graph::constant`]: its nearest `f64` beyond
+    /// [`MAX_EXACT_BITS`]).
     pub fn rat(&mut self, r: BigRational) -> Id {
         self.constant(Const::Rat(r))
     }
@@ -432,7 +549,7 @@ impl Graph {
 
     /// `a - b`.
     pub fn sub(&mut self, a: Id, b: Id) -> Id {
-        self.lin(&[(Const::int(1), a), (Const::int(-1), b)])
+        self.lin_canonical(&[(Const::int(1), a), (Const::int(-1), b)])
     }
 
     /// `-a`.
@@ -450,7 +567,8 @@ impl Graph {
         self.prod(&[(a, 1), (b, -1)])
     }
 
-    /// `a^n` for an integer `n` (`a^0 = 1`).
+    /// `a^n` for an integer `n` (`a^0 = 1`; `n = i32::MIN` is kept as `a^(n/2)·a^(n/2)`, so
+    /// that every exponent can be negated).
     pub fn powi(&mut self, a: Id, n: i32) -> Id {
         self.prod(&[(a, n)])
     }
@@ -459,7 +577,7 @@ impl Graph {
     pub fn sum(&mut self, terms: &[Id]) -> Id {
         let one = Const::int(1);
         let lin: Vec<(Const, Id)> = terms.iter().map(|&t| (one.clone(), t)).collect();
-        self.lin(&lin)
+        self.lin_canonical(&lin)
     }
 
     /// The product of all factors, flattened, with equal bases combined.
@@ -487,6 +605,15 @@ impl Graph {
     /// The linear combination `Σ k_i · t_i`, flattened, like terms collected, constants
     /// folded.
     pub fn lin(&mut self, terms: &[(Const, Id)]) -> Id {
+        let terms: Vec<(Const, Id)> = terms
+            .iter()
+            .map(|(k, t)| (k.clone().canonical(), *t))
+            .collect();
+        self.lin_canonical(&terms)
+    }
+
+    /// [`Graph::lin`] of coefficients already in canonical form (the engine's own).
+    fn lin_canonical(&mut self, terms: &[(Const, Id)]) -> Id {
         let mut c = Const::int(0);
         let mut list: Vec<(Id, Const)> = Vec::with_capacity(terms.len());
         for (k, t) in terms {
@@ -540,7 +667,7 @@ impl Graph {
         for (b, e) in list {
             match merged.last_mut() {
                 Some(last) if last.0 == b && (last.1 > 0) == (e > 0) => {
-                    match last.1.checked_add(e) {
+                    match last.1.checked_add(e).filter(|&s| s != i32::MIN) {
                         Some(s) => last.1 = s,
                         None => merged.push((b, e)),
                     }
@@ -565,7 +692,7 @@ impl Graph {
                 let cc = c0.mul(&c);
                 let cid = self.constant(cc);
                 lin.push((Const::int(1), cid));
-                return self.lin(&lin);
+                return self.lin_canonical(&lin);
             }
         }
         let unit = if c.is_one() {
@@ -586,6 +713,12 @@ impl Graph {
         if e == 0 {
             return;
         }
+        if e == i32::MIN {
+            // No exponent is i32::MIN (its negation overflows): t^(-2^31) = t^(-2^30)·t^(-2^30).
+            self.push_factor(t, e / 2, c, list);
+            self.push_factor(t, e / 2, c, list);
+            return;
+        }
         match self.node(t).clone() {
             Node::Const(x) => match x.powi(e) {
                 Some(p) => *c = c.mul(&p),
@@ -594,7 +727,11 @@ impl Graph {
             Node::Mul(m, fs) => {
                 let scaled: Option<Vec<(Id, i32)>> = fs
                     .iter()
-                    .map(|&(b, k)| k.checked_mul(e).map(|ke| (b, ke)))
+                    .map(|&(b, k)| {
+                        k.checked_mul(e)
+                            .filter(|&ke| ke != i32::MIN)
+                            .map(|ke| (b, ke))
+                    })
                     .collect();
                 match (m.powi(e), scaled) {
                     (Some(p), Some(scaled)) => {
@@ -755,7 +892,7 @@ impl Graph {
                         let mut lin: Vec<(Const, Id)> =
                             ts.iter().map(|(k, t)| (k.clone(), map[t])).collect();
                         lin.push((Const::int(1), cid));
-                        self.lin(&lin)
+                        self.lin_canonical(&lin)
                     } else {
                         id
                     }
@@ -823,7 +960,7 @@ impl Graph {
                         .filter(|(_, t)| d[t] != zero)
                         .map(|(k, t)| (k.clone(), d[t]))
                         .collect();
-                    self.lin(&lin)
+                    self.lin_canonical(&lin)
                 }
                 Node::Mul(c, fs) => {
                     let mut terms = Vec::new();
@@ -844,7 +981,7 @@ impl Graph {
                         let t = self.prod(&f);
                         terms.push((c.mul(&Const::int(e as i64)), t));
                     }
-                    self.lin(&terms)
+                    self.lin_canonical(&terms)
                 }
                 Node::Fun(f, a) => {
                     let da = d[&a];
@@ -962,8 +1099,10 @@ impl Graph {
     /// # Errors
     /// [`ExprError::UnknownVariable`] for a variable without a value,
     /// [`ExprError::DivisionByZero`] for a division by an exact-zero constant,
-    /// [`ExprError::NonFiniteConstant`] for a NaN or infinite constant. A division by a
-    /// sub-expression that happens to be zero follows `f64` (±inf or NaN).
+    /// [`ExprError::NonFiniteConstant`] for a NaN or infinite constant,
+    /// [`ExprError::ConstantOutOfRange`] for an exact constant outside the range of `f64`
+    /// (such as `10^400` or `10^-400`: its `f64` would be infinite or zero). A division by a sub-expression that happens to be zero follows `f64`
+    /// (±inf or NaN), as do values that overflow.
     ///
     /// ```
     /// use geomkit_expr::{parse, Graph};
@@ -985,23 +1124,22 @@ impl Graph {
         Ok(val[&e])
     }
 
-    /// [`ExprError::NonFiniteConstant`] if the node itself holds a NaN or infinite constant
-    /// (as a constant, a constant term or a coefficient).
-    pub(crate) fn check_constants(&self, id: Id) -> Result<()> {
-        let bad = |c: &Const| ExprError::NonFiniteConstant {
-            value: format!("{:?}", c.to_f64()),
+    /// The constants a node holds itself: the constant of a constant node, the constant
+    /// term and coefficients of a sum, the coefficient of a product.
+    pub(crate) fn node_constants(&self, id: Id) -> impl Iterator<Item = &Const> {
+        let (first, rest): (Option<&Const>, &[(Const, Id)]) = match self.node(id) {
+            Node::Const(c) | Node::Mul(c, _) => (Some(c), &[]),
+            Node::Add(c, ts) => (Some(c), ts),
+            Node::Var(_) | Node::Pi | Node::Fun(..) => (None, &[]),
         };
-        match self.node(id) {
-            Node::Const(c) | Node::Mul(c, _) if !c.is_finite() => Err(bad(c)),
-            Node::Add(c, ts) => match std::iter::once(c)
-                .chain(ts.iter().map(|t| &t.0))
-                .find(|k| !k.is_finite())
-            {
-                Some(k) => Err(bad(k)),
-                None => Ok(()),
-            },
-            _ => Ok(()),
-        }
+        first.into_iter().chain(rest.iter().map(|t| &t.0))
+    }
+
+    /// [`ExprError::NonFiniteConstant`] if the node itself holds a NaN or infinite constant
+    /// (as a constant, a constant term or a coefficient), [`ExprError::ConstantOutOfRange`]
+    /// for an exact one outside the range of `f64`.
+    pub(crate) fn check_constants(&self, id: Id) -> Result<()> {
+        self.node_constants(id).try_for_each(Const::check)
     }
 
     /// The value of one node from its children's values.
@@ -1068,7 +1206,12 @@ pub(crate) fn powi(x: f64, n: i32) -> f64 {
 /// Exact or `f64` folding of a function of a constant; `None` keeps it symbolic.
 fn fold_fun(f: Func, c: &Const) -> Option<Const> {
     match c {
-        Const::Float(x) => Some(Const::float(f.apply(*x))),
+        // Folded only to a finite value: `sqrt(-2.5)` or `exp(1e300)` stay as they are (and
+        // evaluate as f64 would), as `sqrt(-2)` does.
+        Const::Float(x) => {
+            let y = f.apply(*x);
+            y.is_finite().then(|| Const::float(y))
+        }
         Const::Rat(r) => {
             let zero = r.is_zero();
             match f {

@@ -23,6 +23,14 @@
 //! - [`Tape`]: the DAG compiled to a register program evaluated over blocks of
 //!   [`tape::LANES`] points.
 //!
+//! Limits: exact constants have at most [`MAX_EXACT_BITS`] bits in numerator and
+//! denominator (longer ones are rounded to `f64`, and the parser refuses those beyond the
+//! range of `f64`); the parser nests at most [`MAX_DEPTH`] levels (graphs built through the
+//! API have no depth limit: every walk is iterative); a printed text is at most
+//! [`MAX_PRINT_BYTES`] long. Evaluation, the tape and the printers refuse NaN and infinite
+//! constants ([`ExprError::NonFiniteConstant`]) and exact ones outside the range of `f64`
+//! ([`ExprError::ConstantOutOfRange`]).
+//!
 //! ```
 //! use geomkit_expr::{parse, Format, Graph, Tape};
 //! let mut g = Graph::new();
@@ -35,8 +43,8 @@
 //! // Exactly 0 and 1 at the knots:
 //! let knot = g.rational(1, 3);
 //! let at = g.substitute(p, "t", knot);
-//! assert_eq!(g.print(at, Format::Maple), "0");
-//! assert_eq!(g.print(p, Format::Maple), "3*abs(t - 1/3)/4 - 3*abs(t - 1)/4 + 1/2");
+//! assert_eq!(g.print(at, Format::Maple).unwrap(), "0");
+//! assert_eq!(g.print(p, Format::Maple).unwrap(), "3*abs(t - 1/3)/4 - 3*abs(t - 1)/4 + 1/2");
 //! let tape = Tape::new(&g, &[p], &["t"]).unwrap();
 //! let mut out = [0.0; 3];
 //! tape.eval_batch(&[&[0.0, 2.0 / 3.0, 5.0]], &mut [&mut out]).unwrap();
@@ -52,10 +60,10 @@ mod print;
 pub mod tape;
 
 pub use error::{ExprError, Result};
-pub use graph::{Const, Func, Graph, Id, Node};
+pub use graph::{Const, Func, Graph, Id, Node, MAX_EXACT_BITS};
 pub use num_bigint::BigInt;
 pub use num_rational::BigRational;
 pub use parse::{parse, parse_with_variables, MAX_DEPTH};
 pub use parse_error::{line_column, render_caret, Expected, ParseError, ParseErrorKind};
-pub use print::Format;
+pub use print::{Format, MAX_PRINT_BYTES};
 pub use tape::Tape;

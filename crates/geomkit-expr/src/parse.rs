@@ -10,7 +10,7 @@ use num_rational::BigRational;
 use num_traits::{ToPrimitive, Zero};
 
 use crate::error::{ExprError, Result};
-use crate::graph::{Const, Func, Graph, Id, Node};
+use crate::graph::{Const, Func, Graph, Id, Node, MAX_EXACT_BITS};
 use crate::parse_error::{Expected, ParseError, ParseErrorKind, MAX_DECIMAL_EXPONENT};
 
 /// Deepest nesting of parentheses, function calls, unary signs and powers accepted.
@@ -29,17 +29,24 @@ const OPERAND: [Expected; 3] = [Expected::Number, Expected::Name, Expected::Open
 /// `Log`, `Pi` as Maple and SymPy print them). Whitespace, newlines included, separates
 /// tokens.
 ///
+/// Constants are exact while their numerator and denominator have at most
+/// [`MAX_EXACT_BITS`] bits (`2^4000` is exact); a longer one becomes its nearest `f64`
+/// (`(1234567/1234568)^300` is 0.99975702944315); one whose `f64` would be infinite or zero
+/// is refused, naming the sub-expression (`1.5^100000`, `(7e-4000)^100`). Exponents are at
+/// most 2^20 in magnitude, decimal exponents of literals at most 4000. Parsing takes time
+/// about linear in the text and never panics, whatever the text.
+///
 /// # Errors
 /// [`ExprError::Parse`] with a [`ParseError`]: the byte span of the mistake in `text`, its
 /// [`ParseErrorKind`] (an unexpected char or end, an unclosed or unmatched parenthesis, an
 /// unknown function, a malformed number, a non-integer exponent, nesting deeper than
-/// [`MAX_DEPTH`]) and what was [`Expected`] there. Parsing never panics, whatever the text.
+/// [`MAX_DEPTH`], a constant out of range) and what was [`Expected`] there.
 ///
 /// ```
 /// use geomkit_expr::{parse, ExprError, Format, Graph, ParseErrorKind};
 /// let mut g = Graph::new();
 /// let e = parse(&mut g, "2*(u - 1)^2 - -v").unwrap();
-/// assert_eq!(g.print(e, Format::Sympy), "2*(u - 1)**2 + v");
+/// assert_eq!(g.print(e, Format::Sympy).unwrap(), "2*(u - 1)**2 + v");
 /// let err = parse(&mut g, "u + * v").unwrap_err();
 /// assert_eq!(err.to_string(), "parse error at byte 4: expected a number, a name or `(`, found `*`");
 /// // What an editor underlines:
@@ -161,8 +168,41 @@ impl Parser<'_, '_> {
         Ok(())
     }
 
+    /// `id`, or [`ParseErrorKind::ConstantOutOfRange`] at `span` if the node just built holds
+    /// a constant that left the range of `f64`. The parser's constants are exact; an `f64`
+    /// constant appears only where an exact one grew beyond [`MAX_EXACT_BITS`], so an
+    /// infinite, NaN or zero `f64` is a value out of range.
+    fn in_range(&self, id: Id, span: Range<usize>) -> Result<Id> {
+        for c in self.g.node_constants(id) {
+            if let Const::Float(x) = c {
+                if !x.is_finite() || *x == 0.0 {
+                    return Err(self.out_of_range(span, *x != 0.0));
+                }
+            }
+        }
+        Ok(id)
+    }
+
+    /// [`ParseErrorKind::ConstantOutOfRange`] for the sub-expression at `span`.
+    fn out_of_range(&self, span: Range<usize>, overflow: bool) -> ExprError {
+        let whole = &self.text[span.clone()];
+        let text = match whole.char_indices().nth(40) {
+            Some((cut, _)) => format!("{}...", &whole[..cut]),
+            None => whole.to_string(),
+        };
+        let kind = ParseErrorKind::ConstantOutOfRange { text, overflow };
+        self.fail(span, kind, Vec::new())
+    }
+
+    /// Where the next token starts.
+    fn start(&mut self) -> usize {
+        self.skip_ws();
+        self.pos
+    }
+
     fn expr(&mut self) -> Result<Id> {
         self.enter()?;
+        let start = self.start();
         let mut terms = vec![self.term()?];
         loop {
             match self.peek() {
@@ -179,10 +219,15 @@ impl Parser<'_, '_> {
             }
         }
         self.depth -= 1;
-        Ok(self.g.sum(&terms))
+        if terms.len() == 1 {
+            return Ok(terms[0]);
+        }
+        let e = self.g.sum(&terms);
+        self.in_range(e, start..self.pos)
     }
 
     fn term(&mut self) -> Result<Id> {
+        let start = self.start();
         let mut fs = vec![(self.unary()?, 1)];
         loop {
             match self.peek() {
@@ -197,11 +242,11 @@ impl Parser<'_, '_> {
                 _ => break,
             }
         }
-        Ok(if fs.len() == 1 {
-            fs[0].0
-        } else {
-            self.g.prod(&fs)
-        })
+        if fs.len() == 1 {
+            return Ok(fs[0].0);
+        }
+        let e = self.g.prod(&fs);
+        self.in_range(e, start..self.pos)
     }
 
     fn unary(&mut self) -> Result<Id> {
@@ -225,6 +270,7 @@ impl Parser<'_, '_> {
     }
 
     fn power(&mut self) -> Result<Id> {
+        let start = self.start();
         let base = self.atom()?;
         let op = self.peek();
         let at = self.pos;
@@ -259,7 +305,8 @@ impl Parser<'_, '_> {
             _ => return Err(bad("exponents must be integer constants (or 1/2 for sqrt)")),
         };
         if r == BigRational::new(1.into(), 2.into()) {
-            return Ok(self.g.sqrt(base));
+            let e = self.g.sqrt(base);
+            return self.in_range(e, start..end);
         }
         if !r.is_integer() {
             return Err(bad("only integer exponents and 1/2 are supported"));
@@ -269,7 +316,10 @@ impl Parser<'_, '_> {
             .to_i32()
             .filter(|n| n.unsigned_abs() <= 1 << 20);
         match n {
-            Some(n) => Ok(self.g.powi(base, n)),
+            Some(n) => {
+                let e = self.g.powi(base, n);
+                self.in_range(e, start..end)
+            }
             None => Err(bad("the exponent is too large")),
         }
     }
@@ -324,7 +374,8 @@ impl Parser<'_, '_> {
                 return Err(self.unclosed(open, Some(name)));
             }
             self.pos += 1;
-            return Ok(self.g.fun(f, a));
+            let e = self.g.fun(f, a);
+            return self.in_range(e, start..self.pos);
         }
         if self.peek() == Some(b'(') {
             let kind = ParseErrorKind::UnknownFunction {
@@ -402,17 +453,35 @@ impl Parser<'_, '_> {
                 exp = -exp;
             }
         }
-        let mantissa: BigInt = format!("{int_part}{frac}")
-            .parse()
-            .unwrap_or_else(|_| BigInt::zero());
-        let scale = exp - frac.len() as i64;
+        self.number_end = Some(self.pos);
+        let span = start..self.pos;
+        // The value is digits · 10^scale, without leading and trailing zeros in the digits.
+        let all = format!("{int_part}{frac}");
+        let digits = all.trim_start_matches('0').trim_end_matches('0');
+        if digits.is_empty() {
+            return Ok(self.g.int(0));
+        }
+        let trailing = all.trim_start_matches('0').len() - digits.len();
+        let scale = exp - frac.len() as i64 + trailing as i64;
+        // Bits of the numerator and of the denominator, over-estimated (log2(10) < 3.33).
+        let bits = |decimal_digits: i64| (decimal_digits.max(0) as f64 * 3.33) as u64;
+        let longest = bits(digits.len() as i64 + scale).max(bits(-scale));
+        if longest > 2 * MAX_EXACT_BITS {
+            // Far too long to keep exact: the f64 it reads as, if there is one.
+            let x: f64 = format!("{digits}e{scale}").parse().unwrap_or(f64::NAN);
+            if x == 0.0 || !x.is_finite() {
+                return Err(self.out_of_range(span, x != 0.0));
+            }
+            return Ok(self.g.num(x));
+        }
+        let mantissa: BigInt = digits.parse().unwrap_or_else(|_| BigInt::zero());
         let ten = BigInt::from(10);
         let r = if scale >= 0 {
             BigRational::from_integer(mantissa * num_traits::Pow::pow(&ten, scale as u64))
         } else {
             BigRational::new(mantissa, num_traits::Pow::pow(&ten, (-scale) as u64))
         };
-        self.number_end = Some(self.pos);
-        Ok(self.g.rat(r))
+        let e = self.g.rat(r);
+        self.in_range(e, span)
     }
 }

@@ -18,6 +18,8 @@
 use std::fmt;
 use std::ops::Range;
 
+use crate::graph::MAX_EXACT_BITS;
+
 /// The function names the parser knows, as the error message lists them.
 const KNOWN_FUNCTIONS: &str =
     "abs, sign, sqrt, sin, cos, tan, exp, ln, atan, asin, acos, sinh, cosh, tanh";
@@ -119,6 +121,16 @@ pub enum ParseErrorKind {
         /// The limit.
         max: usize,
     },
+    /// A constant (a literal such as `7e-4000`, a power such as `1.5^100000`, a product or
+    /// sum of constants) is too long to keep exact ([`crate::MAX_EXACT_BITS`]) and beyond
+    /// the range of `f64`; the span is the sub-expression whose value it is.
+    ConstantOutOfRange {
+        /// The text of the sub-expression (its first 40 chars and `...` when longer).
+        text: String,
+        /// Above the largest `f64` (about 1.8e308) in magnitude; else below the smallest
+        /// (about 4.9e-324), where it would round to zero.
+        overflow: bool,
+    },
 }
 
 /// One item the parser would have accepted where it stopped.
@@ -206,6 +218,18 @@ impl fmt::Display for ParseError {
             }
             ParseErrorKind::TooDeep { max } => {
                 return write!(f, "formula nests deeper than {max} levels at {place}");
+            }
+            ParseErrorKind::ConstantOutOfRange { text, overflow } => {
+                let range = if *overflow {
+                    "above the largest f64 (about 1.8e308)"
+                } else {
+                    "below the smallest f64 (about 4.9e-324)"
+                };
+                return write!(
+                    f,
+                    "constant out of range at {place}: `{text}` is too long to keep exact \
+                     (more than {MAX_EXACT_BITS} bits) and {range}"
+                );
             }
             ParseErrorKind::UnknownVariable { name, known } => {
                 return write!(

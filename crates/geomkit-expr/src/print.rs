@@ -19,15 +19,15 @@
 //!
 //! MATLAB uses the element-wise operators `.*`, `./`, `.^` so formulas work on arrays.
 
-use std::cell::RefCell;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
-use std::rc::Rc;
 
 use num_bigint::BigInt;
+use num_rational::BigRational;
 use num_traits::{One, Signed};
 
-use crate::graph::{Const, Func, Graph, Id, Node};
+use crate::error::{ExprError, Result};
+use crate::graph::{rat_to_f64, Const, Func, Graph, Id, Node};
 
 /// The printer targets.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
@@ -112,7 +112,21 @@ impl Format {
     fn tex(self) -> bool {
         matches!(self, Format::Latex | Format::Desmos)
     }
+    /// Does the target compute in `f64` (so a constant beyond its range would be infinity)?
+    /// Maple, Mathematica, SymPy and LaTeX keep exact rationals exact.
+    fn computes_in_f64(self) -> bool {
+        !matches!(
+            self,
+            Format::Maple | Format::Mathematica | Format::Sympy | Format::Latex
+        )
+    }
 }
+
+/// Most bytes a printer writes (256 MiB): an inline print repeats every shared
+/// sub-expression where it occurs, so a DAG of a few hundred nodes can print exponentially
+/// long; beyond this the printers return [`ExprError::PrintTooLong`] without writing
+/// anything.
+pub const MAX_PRINT_BYTES: usize = 1 << 28;
 
 /// Binding strength of a printed piece (higher binds tighter).
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Debug)]
@@ -124,13 +138,77 @@ enum Prec {
     Atom,
 }
 
-type Piece = (Rc<str>, Prec);
+/// Printed text as literal text and references to the text of other nodes (a temporary's
+/// name, or the node's definition), expanded only when the whole is written. No node's text
+/// is copied into its parent's, so printing is linear in the output, and the length of the
+/// output is known before it is written.
+#[derive(Clone, Default, Debug)]
+struct Tpl(Vec<Seg>);
+
+#[derive(Clone, Debug)]
+enum Seg {
+    Text(String),
+    /// The text of a node where it is used: its temporary's name, or its definition.
+    Node(Id),
+}
+
+impl Tpl {
+    fn text(s: &str) -> Tpl {
+        Tpl::default().s(s)
+    }
+    fn node(id: Id) -> Tpl {
+        Tpl(vec![Seg::Node(id)])
+    }
+    /// Appends literal text.
+    fn s(mut self, text: &str) -> Tpl {
+        if !text.is_empty() {
+            match self.0.last_mut() {
+                Some(Seg::Text(t)) => t.push_str(text),
+                _ => self.0.push(Seg::Text(text.to_string())),
+            }
+        }
+        self
+    }
+    /// Appends another piece of text.
+    fn t(mut self, other: &Tpl) -> Tpl {
+        for seg in &other.0 {
+            self = match seg {
+                Seg::Text(t) => self.s(t),
+                Seg::Node(id) => {
+                    self.0.push(Seg::Node(*id));
+                    self
+                }
+            };
+        }
+        self
+    }
+    fn join(parts: &[Tpl], sep: &str) -> Tpl {
+        let mut out = Tpl::default();
+        for (i, p) in parts.iter().enumerate() {
+            if i > 0 {
+                out = out.s(sep);
+            }
+            out = out.t(p);
+        }
+        out
+    }
+}
+
+type Piece = (Tpl, Prec);
+
+/// The definition of a node: its text, how tightly it binds, its length once expanded.
+struct Def {
+    tpl: Tpl,
+    prec: Prec,
+    len: usize,
+}
 
 struct Printer<'g> {
     g: &'g Graph,
     f: Format,
     names: HashMap<Id, String>,
-    cache: RefCell<HashMap<Id, Piece>>,
+    /// The definition of every node to print (by index), built children first.
+    defs: Vec<Option<Def>>,
 }
 
 impl<'g> Printer<'g> {
@@ -139,17 +217,92 @@ impl<'g> Printer<'g> {
             g,
             f,
             names: HashMap::new(),
-            cache: RefCell::new(HashMap::new()),
+            defs: Vec::new(),
         }
     }
 
-    fn paren(&self, (s, p): Piece, min: Prec) -> String {
+    /// Builds the definitions of every node `roots` reach, children first (no recursion, so
+    /// any depth prints), after the temporaries are named. Refuses a constant the target
+    /// cannot hold: NaN or infinite, or (in a target computing in `f64`) an exact constant
+    /// beyond the range of `f64`.
+    fn prepare(&mut self, roots: &[Id]) -> Result<()> {
+        for id in self.g.reachable(roots) {
+            for c in self.g.node_constants(id) {
+                match c {
+                    Const::Rat(_) if !self.f.computes_in_f64() => {}
+                    c => c.check()?,
+                }
+            }
+            let (tpl, prec) = self.definition(id);
+            let len = self.len(&tpl);
+            if self.defs.len() <= id.index() {
+                self.defs.resize_with(id.index() + 1, || None);
+            }
+            self.defs[id.index()] = Some(Def { tpl, prec, len });
+        }
+        Ok(())
+    }
+
+    /// The definition of a prepared node.
+    fn def(&self, id: Id) -> &Def {
+        self.defs[id.index()]
+            .as_ref()
+            .expect("nodes are prepared children first")
+    }
+
+    /// The length of `tpl` once expanded (saturating).
+    fn len(&self, tpl: &Tpl) -> usize {
+        tpl.0.iter().fold(0usize, |n, seg| {
+            n.saturating_add(match seg {
+                Seg::Text(t) => t.len(),
+                Seg::Node(id) => match self.names.get(id) {
+                    Some(name) => name.len(),
+                    None => self.def(*id).len,
+                },
+            })
+        })
+    }
+
+    /// [`ExprError::PrintTooLong`] unless the pieces fit [`MAX_PRINT_BYTES`] together.
+    fn check_length<'a>(&self, pieces: impl IntoIterator<Item = &'a Tpl>) -> Result<()> {
+        let total = pieces
+            .into_iter()
+            .fold(0usize, |n, t| n.saturating_add(self.len(t)));
+        if total > MAX_PRINT_BYTES {
+            return Err(ExprError::PrintTooLong {
+                max: MAX_PRINT_BYTES,
+            });
+        }
+        Ok(())
+    }
+
+    /// The text of `tpl`, its node references expanded (with an explicit stack: no
+    /// recursion).
+    fn write(&self, tpl: &Tpl) -> String {
+        let mut out = String::with_capacity(self.len(tpl).min(MAX_PRINT_BYTES));
+        let mut stack: Vec<std::slice::Iter<'_, Seg>> = vec![tpl.0.iter()];
+        while let Some(top) = stack.last_mut() {
+            match top.next() {
+                None => {
+                    stack.pop();
+                }
+                Some(Seg::Text(t)) => out.push_str(t),
+                Some(Seg::Node(id)) => match self.names.get(id) {
+                    Some(name) => out.push_str(name),
+                    None => stack.push(self.def(*id).tpl.0.iter()),
+                },
+            }
+        }
+        out
+    }
+
+    fn paren(&self, (t, p): Piece, min: Prec) -> Tpl {
         if p >= min {
-            s.to_string()
+            t
         } else if self.f.tex() {
-            format!("\\left({s}\\right)")
+            Tpl::text("\\left(").t(&t).s("\\right)")
         } else {
-            format!("({s})")
+            Tpl::text("(").t(&t).s(")")
         }
     }
 
@@ -161,36 +314,15 @@ impl<'g> Printer<'g> {
         }
     }
 
+    /// A positive rational the target computes in `f64` but whose numerator or denominator
+    /// does not fit an `f64` literal: printed as its nearest `f64` instead (`prepare` has
+    /// checked that the value itself is in range).
+    fn too_long_for_f64(&self, r: &BigRational) -> bool {
+        self.f.computes_in_f64() && (r.numer().bits() > 1023 || r.denom().bits() > 1023)
+    }
+
     fn float_text(&self, x: f64) -> String {
-        if !x.is_finite() {
-            return match self.f {
-                Format::C => if x.is_nan() { "NAN" } else { "INFINITY" }.into(),
-                Format::Rust => if x.is_nan() {
-                    "f64::NAN"
-                } else {
-                    "f64::INFINITY"
-                }
-                .into(),
-                Format::Numpy => if x.is_nan() { "np.nan" } else { "np.inf" }.into(),
-                Format::Sympy => if x.is_nan() { "nan" } else { "oo" }.into(),
-                Format::Mathematica => if x.is_nan() {
-                    "Indeterminate"
-                } else {
-                    "Infinity"
-                }
-                .into(),
-                Format::Maple => if x.is_nan() { "undefined" } else { "infinity" }.into(),
-                Format::Js => if x.is_nan() { "NaN" } else { "Infinity" }.into(),
-                Format::Latex | Format::Desmos => if x.is_nan() {
-                    "\\mathrm{NaN}"
-                } else {
-                    "\\infty"
-                }
-                .into(),
-                Format::Matlab => if x.is_nan() { "NaN" } else { "Inf" }.into(),
-                Format::Glsl => if x.is_nan() { "(0.0/0.0)" } else { "(1.0/0.0)" }.into(),
-            };
-        }
+        // Non-finite constants never get here: `prepare` refuses them.
         let s = format!("{:?}", x.abs());
         match s.split_once('e') {
             None => s,
@@ -207,6 +339,9 @@ impl<'g> Printer<'g> {
         let neg = c.is_negative();
         let (s, p): (String, Prec) = match c {
             Const::Float(x) => (self.float_text(*x), Prec::Atom),
+            Const::Rat(r) if self.too_long_for_f64(r) => {
+                (self.float_text(rat_to_f64(r)), Prec::Atom)
+            }
             Const::Rat(r) => {
                 let r = r.abs();
                 let (n, d) = (r.numer(), r.denom());
@@ -231,11 +366,11 @@ impl<'g> Printer<'g> {
         };
         if neg {
             (
-                format!("-{}", self.paren((s.into(), p), Prec::Power)).into(),
+                Tpl::text("-").t(&self.paren((Tpl::text(&s), p), Prec::Power)),
                 Prec::Unary,
             )
         } else {
-            (s.into(), p)
+            (Tpl::text(&s), p)
         }
     }
 
@@ -254,24 +389,22 @@ impl<'g> Printer<'g> {
         }
     }
 
-    /// The text of `id` (a temporary's name if it has one).
+    /// The text of `id` where it is used (a temporary's name if it has one). `id` must be
+    /// prepared.
     fn piece(&self, id: Id) -> Piece {
         if let Some(n) = self.names.get(&id) {
-            return (n.as_str().into(), Prec::Atom);
+            return (Tpl::text(n), Prec::Atom);
         }
-        self.definition(id)
+        (Tpl::node(id), self.def(id).prec)
     }
 
-    /// The text of `id` itself, ignoring its own temporary name.
+    /// The text of `id` itself, ignoring its own temporary name (its children prepared).
     fn definition(&self, id: Id) -> Piece {
-        if let Some(p) = self.cache.borrow().get(&id) {
-            return p.clone();
-        }
-        let p = match self.g.node(id) {
+        match self.g.node(id) {
             Node::Const(c) => self.konst(c),
-            Node::Var(n) => (self.var_name(n).into(), Prec::Atom),
+            Node::Var(n) => (Tpl::text(&self.var_name(n)), Prec::Atom),
             Node::Pi => (
-                match self.f {
+                Tpl::text(match self.f {
                     Format::Maple | Format::Mathematica => "Pi",
                     Format::Sympy | Format::Matlab => "pi",
                     Format::Numpy => "np.pi",
@@ -279,84 +412,80 @@ impl<'g> Printer<'g> {
                     Format::C | Format::Glsl => "3.141592653589793",
                     Format::Rust => "std::f64::consts::PI",
                     Format::Js => "Math.PI",
-                }
-                .into(),
+                }),
                 Prec::Atom,
             ),
             Node::Add(c, ts) => self.sum(c, ts),
             Node::Mul(c, fs) => {
-                let (s, neg) = self.product(c, fs);
+                let (t, neg) = self.product(c, fs);
                 if neg {
-                    (format!("-{s}").into(), Prec::Unary)
+                    (Tpl::text("-").t(&t), Prec::Unary)
                 } else {
-                    (s.into(), Prec::Product)
+                    (t, Prec::Product)
                 }
             }
             Node::Fun(f, a) => self.call(*f, *a),
-        };
-        self.cache.borrow_mut().insert(id, p.clone());
-        p
+        }
     }
 
     fn sum(&self, c: &Const, ts: &[(Const, Id)]) -> Piece {
-        let mut out = String::new();
+        let mut out = Tpl::default();
         let mut first = true;
-        let mut push = |out: &mut String, text: &str, neg: bool| {
-            match (first, neg) {
-                (true, false) => {}
-                (true, true) => out.push('-'),
-                (false, false) => out.push_str(" + "),
-                (false, true) => out.push_str(" - "),
-            }
+        let mut push = |out: Tpl, text: &Tpl, neg: bool| {
+            let sep = match (first, neg) {
+                (true, false) => "",
+                (true, true) => "-",
+                (false, false) => " + ",
+                (false, true) => " - ",
+            };
             first = false;
-            out.push_str(text);
+            out.s(sep).t(text)
         };
         for (k, t) in ts {
             let (text, neg) = match (self.g.node(*t), self.names.contains_key(t)) {
                 (Node::Mul(m, fs), false) if m.is_one() => self.product(k, fs),
                 _ => self.product(k, &[(*t, 1)]),
             };
-            push(&mut out, &text, neg);
+            out = push(out, &text, neg);
         }
         if !c.is_zero() {
-            let (s, p) = self.konst(&c.abs());
-            push(
-                &mut out,
-                &self.paren((s, p), Prec::Product),
-                c.is_negative(),
-            );
+            let text = self.paren(self.konst(&c.abs()), Prec::Product);
+            out = push(out, &text, c.is_negative());
         }
-        (out.into(), Prec::Sum)
+        (out, Prec::Sum)
     }
 
     /// `|c| · Π b^e` as text and whether `c` is negative.
-    fn product(&self, c: &Const, fs: &[(Id, i32)]) -> (String, bool) {
+    fn product(&self, c: &Const, fs: &[(Id, i32)]) -> (Tpl, bool) {
         let f = self.f;
-        let mut num: Vec<String> = Vec::new();
-        let mut den: Vec<String> = Vec::new();
+        let mut num: Vec<Tpl> = Vec::new();
+        let mut den: Vec<Tpl> = Vec::new();
         let mut den_simple = true;
         match c.abs() {
+            Const::Rat(r) if self.too_long_for_f64(&r) => {
+                num.push(Tpl::text(&self.float_text(rat_to_f64(&r))));
+            }
             Const::Rat(r) => {
                 if !r.numer().is_one() {
-                    num.push(self.int_text(r.numer()));
+                    num.push(Tpl::text(&self.int_text(r.numer())));
                 }
                 if !r.denom().is_one() {
-                    den.push(self.int_text(r.denom()));
+                    den.push(Tpl::text(&self.int_text(r.denom())));
                 }
             }
             Const::Float(x) => {
                 if x != 1.0 {
-                    num.push(self.float_text(x));
+                    num.push(Tpl::text(&self.float_text(x)));
                 }
             }
         }
         for &(b, e) in fs {
             let (s, p) = self.power(b, e.unsigned_abs());
             if e > 0 {
-                num.push(self.paren((s.into(), p), Prec::Product));
+                num.push(self.paren((s, p), Prec::Product));
             } else {
                 den_simple &= p >= Prec::Power;
-                den.push(self.paren((s.into(), p), Prec::Product));
+                den.push(self.paren((s, p), Prec::Product));
             }
         }
         let (mul, div) = match f {
@@ -367,71 +496,83 @@ impl<'g> Printer<'g> {
         };
         let one = if f.c_like() { "1.0" } else { "1" };
         let num_s = if num.is_empty() {
-            one.to_string()
+            Tpl::text(one)
         } else {
-            num.join(mul)
+            Tpl::join(&num, mul)
         };
         let text = if den.is_empty() {
             num_s
         } else if f.tex() {
-            format!("\\frac{{{num_s}}}{{{}}}", den.join(mul))
+            Tpl::text("\\frac{")
+                .t(&num_s)
+                .s("}{")
+                .t(&Tpl::join(&den, mul))
+                .s("}")
         } else if den.len() == 1 && den_simple {
-            format!("{num_s}{div}{}", den[0])
+            num_s.s(div).t(&den[0])
         } else {
-            format!("{num_s}{div}({})", den.join(mul))
+            num_s.s(div).s("(").t(&Tpl::join(&den, mul)).s(")")
         };
         (text, c.is_negative())
     }
 
     /// `b^n` for `n >= 1`.
-    fn power(&self, b: Id, n: u32) -> (String, Prec) {
+    fn power(&self, b: Id, n: u32) -> Piece {
         let base = self.piece(b);
         if n == 1 {
-            let s = self.paren(base, Prec::Power);
-            return (s, Prec::Power);
+            return (self.paren(base, Prec::Power), Prec::Power);
         }
         let atom = self.paren(base, Prec::Atom);
+        let a = || atom.clone();
         match self.f {
-            Format::Maple | Format::Mathematica => (format!("{atom}^{n}"), Prec::Power),
-            Format::Matlab => (format!("{atom}.^{n}"), Prec::Power),
-            Format::Sympy | Format::Numpy => (format!("{atom}**{n}"), Prec::Power),
-            Format::Latex | Format::Desmos => (format!("{{{atom}}}^{{{n}}}"), Prec::Power),
-            Format::Rust if self.g.as_const(b).is_some() => {
-                (format!("f64::powi({atom}, {n})"), Prec::Atom)
-            }
-            Format::Rust => (format!("{atom}.powi({n})"), Prec::Atom),
+            Format::Maple | Format::Mathematica => (a().s(&format!("^{n}")), Prec::Power),
+            Format::Matlab => (a().s(&format!(".^{n}")), Prec::Power),
+            Format::Sympy | Format::Numpy => (a().s(&format!("**{n}")), Prec::Power),
+            Format::Latex | Format::Desmos => (
+                Tpl::text("{").t(&atom).s(&format!("}}^{{{n}}}")),
+                Prec::Power,
+            ),
+            Format::Rust if self.g.as_const(b).is_some() => (
+                Tpl::text("f64::powi(").t(&atom).s(&format!(", {n})")),
+                Prec::Atom,
+            ),
+            Format::Rust => (a().s(&format!(".powi({n})")), Prec::Atom),
             Format::C | Format::Js | Format::Glsl if n <= 4 => {
-                (vec![atom; n as usize].join("*"), Prec::Product)
+                (Tpl::join(&vec![atom; n as usize], "*"), Prec::Product)
             }
-            Format::C => (format!("pow({atom}, {n}.0)"), Prec::Atom),
-            Format::Js => (format!("Math.pow({atom}, {n})"), Prec::Atom),
+            Format::C => (
+                Tpl::text("pow(").t(&atom).s(&format!(", {n}.0)")),
+                Prec::Atom,
+            ),
+            Format::Js => (
+                Tpl::text("Math.pow(").t(&atom).s(&format!(", {n})")),
+                Prec::Atom,
+            ),
             Format::Glsl => {
                 // pow(x, y) is undefined for x < 0 in GLSL: |x|^n, times sign(x) when n is odd.
+                let p = Tpl::text("pow(abs(").t(&atom).s(&format!("), {n}.0)"));
                 if n.is_multiple_of(2) {
-                    (format!("pow(abs({atom}), {n}.0)"), Prec::Atom)
+                    (p, Prec::Atom)
                 } else {
-                    (
-                        format!("pow(abs({atom}), {n}.0)*sign({atom})"),
-                        Prec::Product,
-                    )
+                    (p.s("*sign(").t(&atom).s(")"), Prec::Product)
                 }
             }
         }
     }
 
     fn call(&self, fun: Func, a: Id) -> Piece {
-        let arg = self.piece(a);
-        let plain = |p: Piece| p.0.to_string();
+        let (arg, arg_prec) = self.piece(a);
         let f = self.f;
+        let wrap = |pre: &str, post: &str| Tpl::text(pre).t(&arg).s(post);
         if f.tex() {
             let s = match fun {
-                Func::Abs => format!("\\left|{}\\right|", plain(arg)),
-                Func::Sqrt => format!("\\sqrt{{{}}}", plain(arg)),
-                Func::Exp => return (format!("e^{{{}}}", plain(arg)).into(), Prec::Power),
+                Func::Abs => wrap("\\left|", "\\right|"),
+                Func::Sqrt => wrap("\\sqrt{", "}"),
+                Func::Exp => return (wrap("e^{", "}"), Prec::Power),
                 Func::Sign if f == Format::Desmos => {
-                    format!("\\operatorname{{sign}}\\left({}\\right)", plain(arg))
+                    wrap("\\operatorname{sign}\\left(", "\\right)")
                 }
-                Func::Sign => format!("\\operatorname{{sgn}}\\left({}\\right)", plain(arg)),
+                Func::Sign => wrap("\\operatorname{sgn}\\left(", "\\right)"),
                 _ => {
                     let name = match fun {
                         Func::Ln => "ln",
@@ -440,24 +581,26 @@ impl<'g> Printer<'g> {
                         Func::Acos => "arccos",
                         other => other.name(),
                     };
-                    format!("\\{name}\\left({}\\right)", plain(arg))
+                    wrap(&format!("\\{name}\\left("), "\\right)")
                 }
             };
-            return (s.into(), Prec::Atom);
+            return (s, Prec::Atom);
         }
         if f == Format::Rust {
             if self.g.as_const(a).is_some() {
                 // `2.0.sqrt()` does not compile (ambiguous float type): `f64::sqrt(2.0)`.
                 let m = if fun == Func::Ln { "ln" } else { fun.name() };
                 if fun != Func::Sign {
-                    return (format!("f64::{m}({})", plain(arg)).into(), Prec::Atom);
+                    return (wrap(&format!("f64::{m}("), ")"), Prec::Atom);
                 }
             }
-            let recv = self.paren(arg, Prec::Atom);
+            let recv = self.paren((arg.clone(), arg_prec), Prec::Atom);
             let s = match fun {
-                Func::Sign => format!(
-                    "(if {recv} > 0.0 {{ 1.0 }} else if {recv} < 0.0 {{ -1.0 }} else {{ 0.0 }})"
-                ),
+                Func::Sign => Tpl::text("(if ")
+                    .t(&recv)
+                    .s(" > 0.0 { 1.0 } else if ")
+                    .t(&recv)
+                    .s(" < 0.0 { -1.0 } else { 0.0 })"),
                 _ => {
                     let m = match fun {
                         Func::Abs => "abs",
@@ -465,15 +608,19 @@ impl<'g> Printer<'g> {
                         Func::Ln => "ln",
                         other => other.name(),
                     };
-                    format!("{recv}.{m}()")
+                    recv.s(&format!(".{m}()"))
                 }
             };
-            return (s.into(), Prec::Atom);
+            return (s, Prec::Atom);
         }
         if f == Format::C && fun == Func::Sign {
-            let x = self.paren(arg, Prec::Atom);
+            let x = self.paren((arg.clone(), arg_prec), Prec::Atom);
             return (
-                format!("(double)(({x} > 0.0) - ({x} < 0.0))").into(),
+                Tpl::text("(double)((")
+                    .t(&x)
+                    .s(" > 0.0) - (")
+                    .t(&x)
+                    .s(" < 0.0))"),
                 Prec::Atom,
             );
         }
@@ -536,11 +683,11 @@ impl<'g> Printer<'g> {
             _ => fun.name(),
         };
         let s = if f == Format::Mathematica {
-            format!("{name}[{}]", plain(arg))
+            wrap(&format!("{name}["), "]")
         } else {
-            format!("{name}({})", plain(arg))
+            wrap(&format!("{name}("), ")")
         };
-        (s.into(), Prec::Atom)
+        (s, Prec::Atom)
     }
 
     /// Chooses temporaries for a program printing `roots`: nodes used more than once, and
@@ -551,7 +698,7 @@ impl<'g> Printer<'g> {
         for &r in roots {
             *uses.entry(r).or_default() += 1;
         }
-        let mut repeated: Vec<Id> = Vec::new();
+        let mut repeated: HashSet<Id> = HashSet::new();
         for &id in &order {
             self.g
                 .for_each_child(id, |c| *uses.entry(c).or_default() += 1);
@@ -564,19 +711,17 @@ impl<'g> Printer<'g> {
                     );
                 }
                 Node::Fun(Func::Sign, a) if matches!(self.f, Format::C | Format::Rust) => {
-                    repeated.push(*a)
+                    repeated.insert(*a);
                 }
                 _ => {}
             }
         }
         let leaf = |id: Id| matches!(self.g.node(id), Node::Const(_) | Node::Var(_) | Node::Pi);
-        let mut temps: Vec<Id> = order
+        let temps: Vec<Id> = order
             .iter()
             .copied()
             .filter(|id| !leaf(*id) && (uses[id] >= 2 || repeated.contains(id)))
             .collect();
-        temps.sort();
-        temps.dedup();
         for (i, &t) in temps.iter().enumerate() {
             let name = if self.f.tex() {
                 format!("{prefix}_{{{i}}}")
@@ -586,6 +731,20 @@ impl<'g> Printer<'g> {
             self.names.insert(t, name);
         }
         temps
+    }
+
+    /// Prepares `roots` and returns the definitions of `temps` and the texts of `roots`, or
+    /// the error of a constant the target cannot hold or of a text too long.
+    fn texts(&mut self, temps: &[Id], roots: &[Id]) -> Result<(Vec<String>, Vec<String>)> {
+        self.prepare(roots)?;
+        let results: Vec<Tpl> = roots.iter().map(|&r| self.piece(r).0).collect();
+        self.check_length(temps.iter().map(|t| &self.def(*t).tpl).chain(&results))?;
+        let defs = temps
+            .iter()
+            .map(|t| self.write(&self.def(*t).tpl))
+            .collect();
+        let results = results.iter().map(|t| self.write(t)).collect();
+        Ok((defs, results))
     }
 }
 
@@ -603,16 +762,34 @@ impl Graph {
     /// `e` as one inline expression in the target's syntax (no temporaries: shared
     /// sub-expressions are printed again where they occur).
     ///
+    /// Every printer walks the graph without recursion (any depth prints; the parser reads
+    /// back at most [`crate::MAX_DEPTH`] levels) and knows the length of its text before
+    /// writing it.
+    ///
+    /// # Errors
+    /// Every printer refuses, rather than print a number the target would read as infinity,
+    /// NaN or zero: [`ExprError::NonFiniteConstant`] for a NaN or infinite constant (in any
+    /// target), [`ExprError::ConstantOutOfRange`] for an exact constant outside the range of
+    /// `f64` in a target that computes in `f64` (all but Maple, Mathematica, SymPy and
+    /// LaTeX, which print it exactly); and [`ExprError::PrintTooLong`] for a text longer than
+    /// [`MAX_PRINT_BYTES`] (an inline print of a DAG can be exponentially long: print a
+    /// program instead).
+    ///
     /// ```
-    /// use geomkit_expr::{parse, Format, Graph};
+    /// use geomkit_expr::{parse, ExprError, Format, Graph};
     /// let mut g = Graph::new();
     /// let e = parse(&mut g, "abs(u - 1)^3 / 3").unwrap();
-    /// assert_eq!(g.print(e, Format::C), "fabs(u - 1.0)*fabs(u - 1.0)*fabs(u - 1.0)/3.0");
-    /// assert_eq!(g.print(e, Format::Rust), "(u - 1.0).abs().powi(3)/3.0");
-    /// assert_eq!(g.print(e, Format::Mathematica), "Abs[u - 1]^3/3");
+    /// assert_eq!(g.print(e, Format::C).unwrap(), "fabs(u - 1.0)*fabs(u - 1.0)*fabs(u - 1.0)/3.0");
+    /// assert_eq!(g.print(e, Format::Rust).unwrap(), "(u - 1.0).abs().powi(3)/3.0");
+    /// assert_eq!(g.print(e, Format::Mathematica).unwrap(), "Abs[u - 1]^3/3");
+    /// let u = g.var("u");
+    /// let inf = g.num(f64::INFINITY);
+    /// let bad = g.mul(u, inf);
+    /// assert!(matches!(g.print(bad, Format::C), Err(ExprError::NonFiniteConstant { .. })));
     /// ```
-    pub fn print(&self, e: Id, f: Format) -> String {
-        Printer::new(self, f).piece(e).0.to_string()
+    pub fn print(&self, e: Id, f: Format) -> Result<String> {
+        let (_, mut texts) = Printer::new(self, f).texts(&[], &[e])?;
+        Ok(texts.pop().unwrap_or_default())
     }
 
     /// One definition `name(params) = e` that the target accepts as it is (inline, no
@@ -624,17 +801,26 @@ impl Graph {
     /// JavaScript `const x = (u, v) => e;`, LaTeX `x(u, v) = e`, Desmos `f_{x}(u,v)=e`
     /// (Desmos reserves x, y, z, so a coordinate is the subscript of f).
     ///
+    /// # Errors
+    /// As [`Graph::print`].
+    ///
     /// ```
     /// use geomkit_expr::{parse, Format, Graph};
     /// let mut g = Graph::new();
     /// let e = parse(&mut g, "abs(u) - v").unwrap();
-    /// assert_eq!(g.print_definition("x", &["u", "v"], e, Format::Mathematica), "x[u_, v_] := Abs[u] - v");
-    /// assert_eq!(g.print_definition("x", &["u", "v"], e, Format::Maple), "x := (u, v) -> abs(u) - v;");
-    /// assert_eq!(g.print_definition("x", &["u", "v"], e, Format::Js), "const x = (u, v) => Math.abs(u) - v;");
+    /// assert_eq!(g.print_definition("x", &["u", "v"], e, Format::Mathematica).unwrap(), "x[u_, v_] := Abs[u] - v");
+    /// assert_eq!(g.print_definition("x", &["u", "v"], e, Format::Maple).unwrap(), "x := (u, v) -> abs(u) - v;");
+    /// assert_eq!(g.print_definition("x", &["u", "v"], e, Format::Js).unwrap(), "const x = (u, v) => Math.abs(u) - v;");
     /// ```
-    pub fn print_definition(&self, name: &str, params: &[&str], e: Id, f: Format) -> String {
-        let p = Printer::new(self, f);
-        let rhs = p.piece(e).0.to_string();
+    pub fn print_definition(
+        &self,
+        name: &str,
+        params: &[&str],
+        e: Id,
+        f: Format,
+    ) -> Result<String> {
+        let mut p = Printer::new(self, f);
+        let rhs = p.texts(&[], &[e])?.1.pop().unwrap_or_default();
         let name = p.var_name(name);
         let vars: Vec<String> = params.iter().map(|v| p.var_name(v)).collect();
         let list = vars.join(", ");
@@ -644,7 +830,7 @@ impl Graph {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
-        match f {
+        Ok(match f {
             Format::Maple => format!("{name} := ({list}) -> {rhs};"),
             Format::Mathematica => {
                 let pats: Vec<String> = vars.iter().map(|v| format!("{v}_")).collect();
@@ -662,7 +848,7 @@ impl Graph {
             Format::Glsl => format!("float {name}({}) {{ return {rhs}; }}", typed("float ", "")),
             Format::Js => format!("const {name} = ({list}) => {rhs};"),
             Format::Desmos => format!("f_{{{name}}}({})={rhs}", vars.join(",")),
-        }
+        })
     }
 
     /// What must come before the definitions of [`Graph::print_definition`] in format `f`
@@ -689,17 +875,22 @@ impl Graph {
     /// SymPy/NumPy/MATLAB assignments, Maple `:=`, Mathematica `=` (wrap it in `Module`
     /// yourself or use [`Graph::print_function`]), LaTeX `\begin{aligned}` lines, Desmos
     /// lines. Temporaries are named `t0, t1, ...` (a prefix no variable starts with).
-    pub fn print_program(&self, outputs: &[(&str, Id)], f: Format) -> String {
+    ///
+    /// # Errors
+    /// As [`Graph::print`] (each shared sub-expression is printed once, so only a DAG of
+    /// hundreds of MB of text is too long here).
+    pub fn print_program(&self, outputs: &[(&str, Id)], f: Format) -> Result<String> {
         let roots: Vec<Id> = outputs.iter().map(|o| o.1).collect();
         let mut p = Printer::new(self, f);
         let temps = p.plan(&roots, &temp_prefix(self, &roots));
+        let (defs, results) = p.texts(&temps, &roots)?;
         let mut out = String::new();
         let mut lines: Vec<(String, String)> = Vec::new();
-        for t in temps {
-            lines.push((p.names[&t].clone(), p.definition(t).0.to_string()));
+        for (t, d) in temps.iter().zip(defs) {
+            lines.push((p.names[t].clone(), d));
         }
-        for (name, r) in outputs {
-            lines.push((p.var_name(name), p.piece(*r).0.to_string()));
+        for ((name, _), r) in outputs.iter().zip(results) {
+            lines.push((p.var_name(name), r));
         }
         if f == Format::Latex {
             out.push_str("\\begin{aligned}\n");
@@ -720,7 +911,7 @@ impl Graph {
         if f == Format::Latex {
             out.push_str("\\end{aligned}\n");
         }
-        out
+        Ok(out)
     }
 
     /// A batched Rust function over slices — the generated-code fast path: compile it
@@ -729,21 +920,24 @@ impl Graph {
     /// Signature: `pub fn name(u: &[f64], v: &[f64], out0: &mut [f64], ...)`; all slices
     /// must have the length of the first parameter's (the function panics otherwise).
     ///
+    /// # Errors
+    /// As [`Graph::print_program`].
+    ///
     /// ```
     /// use geomkit_expr::{parse, Graph};
     /// let mut g = Graph::new();
     /// let x = parse(&mut g, "abs(u - 1)*v").unwrap();
-    /// let text = g.print_batch_rust("f", &["u", "v"], &[x]);
+    /// let text = g.print_batch_rust("f", &["u", "v"], &[x]).unwrap();
     /// assert!(text.starts_with("pub fn f(u: &[f64], v: &[f64], out0: &mut [f64]) {"));
     /// ```
-    pub fn print_batch_rust(&self, name: &str, params: &[&str], roots: &[Id]) -> String {
+    pub fn print_batch_rust(&self, name: &str, params: &[&str], roots: &[Id]) -> Result<String> {
         let outs: Vec<String> = (0..roots.len()).map(|i| format!("out{i}")).collect();
         let pairs: Vec<(&str, Id)> = outs
             .iter()
             .map(String::as_str)
             .zip(roots.iter().copied())
             .collect();
-        let body = self.print_program(&pairs, Format::Rust);
+        let body = self.print_program(&pairs, Format::Rust)?;
         let first = params.first().copied().unwrap_or("x");
         let mut out = String::new();
         let args: Vec<String> = params
@@ -770,7 +964,7 @@ impl Graph {
             let _ = writeln!(out, "        {o}_s[i] = {o};");
         }
         out.push_str("    }\n}\n");
-        out
+        Ok(out)
     }
 
     /// A complete function `name(params...)` returning all `roots`, with
@@ -781,21 +975,31 @@ impl Graph {
     /// Desmos get the program lines of [`Graph::print_program`] with outputs
     /// `name_0, name_1, ...`.
     ///
+    /// # Errors
+    /// As [`Graph::print_program`].
+    ///
     /// ```
     /// use geomkit_expr::{parse, Format, Graph};
     /// let mut g = Graph::new();
     /// let x = parse(&mut g, "abs(u) + sin(abs(u))").unwrap();
-    /// let text = g.print_function("f", &["u"], &[x], Format::C);
+    /// let text = g.print_function("f", &["u"], &[x], Format::C).unwrap();
     /// assert_eq!(text, "void f(double u, double *out) {\n    const double t0 = fabs(u);\n    out[0] = t0 + sin(t0);\n}\n");
     /// ```
-    pub fn print_function(&self, name: &str, params: &[&str], roots: &[Id], f: Format) -> String {
+    pub fn print_function(
+        &self,
+        name: &str,
+        params: &[&str],
+        roots: &[Id],
+        f: Format,
+    ) -> Result<String> {
         let mut p = Printer::new(self, f);
         let temps = p.plan(roots, &temp_prefix(self, roots));
+        let (texts, results) = p.texts(&temps, roots)?;
         let defs: Vec<(String, String)> = temps
             .iter()
-            .map(|t| (p.names[t].clone(), p.definition(*t).0.to_string()))
+            .map(|t| p.names[t].clone())
+            .zip(texts)
             .collect();
-        let results: Vec<String> = roots.iter().map(|r| p.piece(*r).0.to_string()).collect();
         let n = roots.len();
         let mut out = String::new();
         let ind = "    ";
@@ -916,6 +1120,6 @@ impl Graph {
                 return self.print_program(&outputs, f);
             }
         }
-        out
+        Ok(out)
     }
 }

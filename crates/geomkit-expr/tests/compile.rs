@@ -90,11 +90,14 @@ fn c_output_compiles_and_matches_eval() {
     let roots = cases(&mut g);
     let dir = tempfile::tempdir().unwrap();
     let mut src = String::from("#include <math.h>\n#include <stdio.h>\n\n");
-    src.push_str(&g.print_function("f", &["u", "v"], &roots, Format::C));
+    src.push_str(
+        &g.print_function("f", &["u", "v"], &roots, Format::C)
+            .unwrap(),
+    );
     // The inline printer too, for every root.
     src.push_str("\nstatic void inline_f(double u, double v, double *out) {\n");
     for (i, r) in roots.iter().enumerate() {
-        let _ = writeln!(src, "    out[{i}] = {};", g.print(*r, Format::C));
+        let _ = writeln!(src, "    out[{i}] = {};", g.print(*r, Format::C).unwrap());
     }
     src.push_str("}\n\n");
     let n = roots.len();
@@ -124,11 +127,14 @@ fn rust_output_compiles_and_matches_eval() {
     let roots = cases(&mut g);
     let dir = tempfile::tempdir().unwrap();
     let mut src = String::from("#![allow(clippy::all, unused_parens)]\nuse std::io::BufRead;\n\n");
-    src.push_str(&g.print_function("f", &["u", "v"], &roots, Format::Rust));
+    src.push_str(
+        &g.print_function("f", &["u", "v"], &roots, Format::Rust)
+            .unwrap(),
+    );
     let n = roots.len();
     src.push_str("\nfn inline_f(u: f64, v: f64) -> Vec<f64> {\n    vec![\n");
     for r in &roots {
-        let _ = writeln!(src, "        {},", g.print(*r, Format::Rust));
+        let _ = writeln!(src, "        {},", g.print(*r, Format::Rust).unwrap());
     }
     let _ = write!(
         src,

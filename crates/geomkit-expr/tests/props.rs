@@ -120,7 +120,7 @@ proptest! {
         tape.eval_batch(&[&[u], &[v]], &mut [&mut out]).unwrap();
         prop_assert!(close(out[0], want), "tape {} vs eval {}", out[0], want);
         for f in [Format::Maple, Format::Mathematica] {
-            let text = g.print(id, f);
+            let text = g.print(id, f).unwrap();
             let text = if f == Format::Mathematica {
                 // Mathematica's brackets and float exponents back to the parser's syntax.
                 text.replace('[', "(")

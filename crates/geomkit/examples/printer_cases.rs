@@ -74,10 +74,10 @@ fn case(name: &str, f: &Formula, points: &[Vec<f64>]) -> Value {
                 .collect();
             json!({
                 "name": n,
-                "js": g.print(r, Format::Js),
-                "latex": g.print(r, Format::Latex),
-                "desmos": g.print(r, Format::Desmos),
-                "mathematica": g.print(r, Format::Mathematica),
+                "js": g.print(r, Format::Js).unwrap(),
+                "latex": g.print(r, Format::Latex).unwrap(),
+                "desmos": g.print(r, Format::Desmos).unwrap(),
+                "mathematica": g.print(r, Format::Mathematica).unwrap(),
                 "values": values,
             })
         })
@@ -88,10 +88,10 @@ fn case(name: &str, f: &Formula, points: &[Vec<f64>]) -> Value {
         "names": f.names,
         "points": points,
         "outputs": outputs,
-        "js_definitions": f.print(Format::Js),
-        "js_program": f.print_program(Format::Js),
-        "latex_definitions": f.print(Format::Latex),
-        "desmos_definitions": f.print(Format::Desmos),
+        "js_definitions": f.print(Format::Js).unwrap(),
+        "js_program": f.print_program(Format::Js).unwrap(),
+        "latex_definitions": f.print(Format::Latex).unwrap(),
+        "desmos_definitions": f.print(Format::Desmos).unwrap(),
     })
 }
 

@@ -55,7 +55,7 @@ pub fn main() -> geomkit::Result<()> {
 
     // 3. The paper's cube as one formula, printed for Mathematica, and meshed watertight.
     let cube = bodies::cube()?;
-    let formula = cube.formula()?.print(Format::Mathematica);
+    let formula = cube.formula()?.print(Format::Mathematica)?;
     let mesh = tessellate_surface(&cube, &SurfaceOptions::uniform(9, 7))?;
     println!("{formula}volume {}", mesh.volume()); // 8
 

@@ -34,16 +34,16 @@ fn cube_formula_is_the_papers() {
             paper,
             f.roots[k],
             "coordinate {k}: {}",
-            g.print(f.roots[k], Format::Maple)
+            g.print(f.roots[k], Format::Maple).unwrap()
         );
     }
     assert_eq!(
-        f.print(Format::Maple),
+        f.print(Format::Maple).unwrap(),
         format!(
             "x := (u, v) -> {};\ny := (u, v) -> {};\nz := (u, v) -> {};\n",
-            g.print(f.roots[0], Format::Maple),
-            g.print(f.roots[1], Format::Maple),
-            g.print(f.roots[2], Format::Maple)
+            g.print(f.roots[0], Format::Maple).unwrap(),
+            g.print(f.roots[1], Format::Maple).unwrap(),
+            g.print(f.roots[2], Format::Maple).unwrap()
         )
     );
 }

@@ -69,9 +69,15 @@ fn main() {
     let build_s = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let sympy = g.print_function("f", &["u", "v"], &roots, Format::Sympy);
-    let c = g.print_function("f", &["u", "v"], &roots, Format::C);
-    let rust = g.print_function("f", &["u", "v"], &roots, Format::Rust);
+    let sympy = g
+        .print_function("f", &["u", "v"], &roots, Format::Sympy)
+        .unwrap();
+    let c = g
+        .print_function("f", &["u", "v"], &roots, Format::C)
+        .unwrap();
+    let rust = g
+        .print_function("f", &["u", "v"], &roots, Format::Rust)
+        .unwrap();
     let print_s = t.elapsed().as_secs_f64();
     std::fs::write(out_dir.join(format!("{tag}.sympy.py")), &sympy).unwrap();
 
@@ -144,7 +150,7 @@ fn js(x: f64) -> String {
 /// evaluates the same grid and prints `points_per_second checksum`.
 fn compiled(g: &Graph, roots: &[Id], case: &str, dir: &Path, tag: &str) -> (f64, f64, f64) {
     let mut src = String::from("#![allow(clippy::all, unused_parens, unused_variables)]\n");
-    src.push_str(&g.print_batch_rust("f", &["u", "v"], roots));
+    src.push_str(&g.print_batch_rust("f", &["u", "v"], roots).unwrap());
     let (su, sv, nu, nv) = if case == "cube" {
         (4.0, 3.0, 1000, 1000)
     } else {

@@ -85,6 +85,8 @@ pub struct BodyArgs {
 pub struct PatchesArgs {
     /// The scene (JSON), or a saved B-spline surface ({"type":"bspline_surface",...}, e.g.
     /// from `geomkit interpolate surface -o fit.json`: one patch per knot cell).
+    /// Formulas: exact constants of up to 4096 bits (longer ones become their nearest f64,
+    /// those beyond the range of f64 are an error), at most 200 nested levels.
     pub scene: PathBuf,
     /// Print the continuity report as JSON {"max_jump":..,"jumps":[..]} instead of the formula.
     #[arg(long)]
@@ -101,6 +103,8 @@ pub struct RuledArgs {
     /// {"x":"expr","y":"expr","z":"expr","t":[t0,t1]} (formulas in t), {"point":[x,y,z]},
     /// {"polygon":[[x,y,z],...]}, {"polyline":[[x,y,z],...]} or
     /// {"circle":{"center":[x,y,z],"radius":r}}; "u" defaults to [0,1].
+    /// Formulas: exact constants of up to 4096 bits (longer ones become their nearest f64,
+    /// those beyond the range of f64 are an error), at most 200 nested levels.
     pub curves: PathBuf,
     /// Output options, as for `compose body`.
     #[command(flatten)]
@@ -115,6 +119,8 @@ pub struct PiecewiseArgs {
     /// for a composite curve, {"type":"polyline"|"polygon","points":[[x,y],...]
     /// [,"knots":[...]]}, or a saved B-spline curve ({"type":"bspline_curve",...}, e.g. from
     /// `geomkit interpolate curve -o fit.json`: one polynomial piece per knot span).
+    /// Formulas: exact constants of up to 4096 bits (longer ones become their nearest f64,
+    /// those beyond the range of f64 are an error), at most 200 nested levels.
     pub pieces: PathBuf,
     /// Print the continuity report as JSON instead of the formula.
     #[arg(long)]
@@ -128,7 +134,8 @@ pub struct PiecewiseArgs {
 /// Formula syntax and output file of every `compose` command.
 #[derive(Debug, Args)]
 pub struct FormulaOutput {
-    /// Syntax of the formula.
+    /// Syntax of the formula. A printed formula is at most 256 MiB (inline, shared
+    /// subexpressions are repeated: --program prints each once).
     #[arg(long, value_name = "F", default_value = "maple", value_parser = parse_format)]
     pub format: Format,
     /// Print with common subexpressions in temporaries.

@@ -107,7 +107,7 @@ fn run_body(args: BodyArgs) -> Result<()> {
 fn write_ruled(body: &RuledSurface, what: &str, out: &SurfaceOutput) -> Result<()> {
     let f = body.formula()?;
     let model = geomkit_model::ruled_file(body).map(ModelFile::Ruled);
-    let subtitle = formula_line(&f);
+    let subtitle = formula_line(&f)?;
     write_surface(
         Box::new(body.clone()),
         &f,
@@ -135,7 +135,7 @@ fn write_surface(
     let format = o.format;
     let dest = Destination::from_option(o.output.as_deref());
     let Some(path) = o.output.as_deref() else {
-        return dest.write(formula_text(f, format, o.program).as_bytes());
+        return dest.write(formula_text(f, format, o.program)?.as_bytes());
     };
     let loaded = || Loaded {
         what: what.to_string(),
@@ -146,7 +146,7 @@ fn write_surface(
         },
     };
     match extension(path).unwrap_or_default().as_str() {
-        "txt" => dest.write(formula_text(f, format, o.program).as_bytes()),
+        "txt" => dest.write(formula_text(f, format, o.program)?.as_bytes()),
         "json" => dest.write(formula_json(f, what, continuity, model)?.as_bytes()),
         ext @ ("obj" | "stl" | "ply" | "glb") => {
             let sampling = match out.samples {

@@ -7,12 +7,12 @@ use geomkit_model::schema::FormulaFile;
 use geomkit_model::ModelFile;
 use serde_json::Value;
 
-pub fn formula_text(f: &Formula, format: Format, program: bool) -> String {
-    if program {
-        f.print_program(format)
+pub fn formula_text(f: &Formula, format: Format, program: bool) -> anyhow::Result<String> {
+    Ok(if program {
+        f.print_program(format)?
     } else {
-        f.print(format)
-    }
+        f.print(format)?
+    })
 }
 
 /// The formula file (`-o OUT.json`): the formula in every syntax, its size, the continuity
@@ -31,20 +31,20 @@ pub fn formula_json(
         op_count: f.op_count(),
         formulas: Format::ALL
             .into_iter()
-            .map(|fmt| (fmt.name().to_string(), f.print(fmt)))
-            .collect(),
+            .map(|fmt| Ok((fmt.name().to_string(), f.print(fmt)?)))
+            .collect::<geomkit::Result<_>>()?,
         continuity,
         model: model.map(Box::new),
     }))?)
 }
 
 /// The first line of the Maple formula, shortened to 140 characters (a picture's subtitle).
-pub fn formula_line(f: &Formula) -> String {
-    let first = f.print(Format::Maple);
+pub fn formula_line(f: &Formula) -> anyhow::Result<String> {
+    let first = f.print(Format::Maple)?;
     let line = first.lines().next().unwrap_or_default();
-    if line.chars().count() > 140 {
+    Ok(if line.chars().count() > 140 {
         line.chars().take(137).collect::<String>() + "..."
     } else {
         line.to_string()
-    }
+    })
 }

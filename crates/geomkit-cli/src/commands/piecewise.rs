@@ -81,16 +81,16 @@ pub fn run(args: PiecewiseArgs) -> Result<()> {
     };
     let f = p.formula()?;
     match out.output.as_deref().map(extension) {
-        None => dest.write(formula_text(&f, format, out.program).as_bytes())?,
+        None => dest.write(formula_text(&f, format, out.program)?.as_bytes())?,
         Some(Some(e)) if e == "txt" => {
-            dest.write(formula_text(&f, format, out.program).as_bytes())?
+            dest.write(formula_text(&f, format, out.program)?.as_bytes())?
         }
         Some(Some(e)) if e == "json" => {
             let json = formula_json(&f, &what, Some(report_json(&p)), Some(file))?;
             dest.write(json.as_bytes())?
         }
         Some(Some(e)) if e == "svg" => {
-            dest.write(piecewise_svg(&p, &what, &formula_line(&f))?.as_bytes())?
+            dest.write(piecewise_svg(&p, &what, &formula_line(&f)?)?.as_bytes())?
         }
         _ => bail!(
             "cannot tell the output format of {}: name it .json, .svg or .txt",

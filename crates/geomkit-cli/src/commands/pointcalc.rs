@@ -448,7 +448,7 @@ fn formula(args: FormulaArgs) -> Result<()> {
     let params: Vec<&str> = params.iter().map(String::as_str).collect();
     let mut out = g.print_preamble(&params, args.format);
     for (name, e) in lines {
-        out.push_str(&g.print_definition(&name, &params, e, args.format));
+        out.push_str(&g.print_definition(&name, &params, e, args.format)?);
         out.push('\n');
     }
     write_stdout(out.as_bytes())

@@ -247,7 +247,9 @@ fn trajectory(ctx: &Context) -> Result<Report> {
     r.file(
         ctx,
         "traj6.m",
-        printed.print(geomkit::expr::Format::Mathematica).as_bytes(),
+        printed
+            .print(geomkit::expr::Format::Mathematica)?
+            .as_bytes(),
         "the curve as one formula x(t), y(t) (Mathematica)",
     )?;
     let (a, b) = curve.domain();

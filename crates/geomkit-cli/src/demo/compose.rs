@@ -107,7 +107,7 @@ fn expr_patches(ctx: &Context) -> Result<Report> {
         &format!("3×2 patches, {} DAG operations", f.op_count()),
         13,
     )?;
-    let text = f.print(Format::Maple);
+    let text = f.print(Format::Maple)?;
     r.picture(
         ctx,
         "compose-expr-patches.svg",
@@ -168,7 +168,7 @@ fn piecewise(ctx: &Context) -> Result<Report> {
     ];
     let p = Piecewise::function(vec![-2.0, -1.0, 0.0, 1.0, 2.0], &pieces)?;
     let f = p.formula()?;
-    let text = f.print(Format::Maple);
+    let text = f.print(Format::Maple)?;
     let svg = piecewise_svg(&p, "piecewise function", "four pieces, one formula")?;
     r.picture(ctx, "compose-piecewise.svg", &svg, text.trim())?;
     r.html.push_str(&format!("<pre>{}</pre>\n", escape(&text)));
@@ -232,7 +232,7 @@ fn body_item(
     s: &RuledSurface,
 ) -> Result<()> {
     let f = s.formula()?;
-    let text = f.print(Format::Maple);
+    let text = f.print(Format::Maple)?;
     let svg = wireframe_svg(s, name, text.lines().next().unwrap_or_default(), 16)?;
     r.picture(
         ctx,

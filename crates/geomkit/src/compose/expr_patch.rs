@@ -107,8 +107,13 @@ impl ExprPatch {
             .collect();
         let texts = roots
             .iter()
-            .map(|&r| graph.print(r, crate::expr::Format::Sympy))
-            .collect();
+            .zip(&names)
+            .map(|(&r, name)| {
+                graph
+                    .print(r, crate::expr::Format::Sympy)
+                    .map_err(|e| engine_error(name, e))
+            })
+            .collect::<Result<_>>()?;
         Self::new(graph, roots, names, texts, &vars, Some(vec![(0.0, 1.0); 2]))
     }
 
@@ -134,8 +139,13 @@ impl ExprPatch {
             .collect();
         let texts = roots
             .iter()
-            .map(|&r| graph.print(r, crate::expr::Format::Sympy))
-            .collect();
+            .zip(names)
+            .map(|(&r, name)| {
+                graph
+                    .print(r, crate::expr::Format::Sympy)
+                    .map_err(|e| engine_error(name, e))
+            })
+            .collect::<Result<_>>()?;
         Self::new(
             graph,
             roots,
@@ -494,7 +504,7 @@ mod tests {
         assert_eq!(g.eval(e, &[("s", 0.5), ("t", 1.0)]).unwrap(), 4.0 + 1.5);
         let one = g.int(1);
         let corner = p.place_local(&mut g, &[one, one], &d)[0];
-        assert_eq!(g.print(corner, crate::expr::Format::Maple), "21/2");
+        assert_eq!(g.print(corner, crate::expr::Format::Maple).unwrap(), "21/2");
         let poly = PolyPatch::new((1, 2), 1, vec![1.0, 2.0, -0.5, 4.0, 0.25, 3.0]).unwrap();
         let q = ExprPatch::from_poly(&poly, &["z"], ["s", "t"]).unwrap();
         let mut out = [0.0];

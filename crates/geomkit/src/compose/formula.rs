@@ -102,7 +102,7 @@ pub fn abs_sum_expr(g: &mut Graph, f: &AbsSum, t: Id) -> Id {
 /// use geomkit::compose::bodies;
 /// let f = bodies::cube().unwrap().formula().unwrap();
 /// assert_eq!(f.names, vec!["x", "y", "z"]);
-/// assert!(f.print(geomkit::expr::Format::Maple).starts_with("x := (u, v) -> "));
+/// assert!(f.print(geomkit::expr::Format::Maple).unwrap().starts_with("x := (u, v) -> "));
 /// ```
 #[derive(Debug, Clone)]
 pub struct Formula {
@@ -127,26 +127,35 @@ impl Formula {
     /// double v) { return ...; }`, ...: [`Graph::print_definition`]), after the lines the
     /// target needs first (SymPy's import and symbols, NumPy's import, C's `<math.h>`).
     /// Inline: shared subexpressions are repeated; see [`Formula::print_program`] for
-    /// temporaries.
-    pub fn print(&self, f: Format) -> String {
+    /// temporaries. Errors: [`Error::Expression`] naming the coordinate for a constant the
+    /// target cannot hold or a text longer than [`crate::expr::MAX_PRINT_BYTES`]
+    /// ([`Graph::print_definition`]).
+    pub fn print(&self, f: Format) -> Result<String> {
         let vars: Vec<&str> = self.vars.iter().map(String::as_str).collect();
         let mut out = self.graph.print_preamble(&vars, f);
         for (name, &root) in self.names.iter().zip(&self.roots) {
-            out.push_str(&self.graph.print_definition(name, &vars, root, f));
+            let text = self
+                .graph
+                .print_definition(name, &vars, root, f)
+                .map_err(|e| Error::expression(format!("coordinate {name}"), e))?;
+            out.push_str(&text);
             out.push('\n');
         }
-        out
+        Ok(out)
     }
 
     /// The formula as a program with common subexpressions in temporaries, in format `f`.
-    pub fn print_program(&self, f: Format) -> String {
+    /// Errors: as [`Formula::print`] ([`Graph::print_program`]).
+    pub fn print_program(&self, f: Format) -> Result<String> {
         let outputs: Vec<(&str, Id)> = self
             .names
             .iter()
             .map(String::as_str)
             .zip(self.roots.iter().copied())
             .collect();
-        self.graph.print_program(&outputs, f)
+        self.graph
+            .print_program(&outputs, f)
+            .map_err(|e| Error::expression("formula".into(), e))
     }
 
     /// Evaluates every coordinate at points given per variable (`inputs[k][i]`: variable k

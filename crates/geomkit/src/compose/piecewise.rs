@@ -12,7 +12,7 @@
 //! let f = Piecewise::function(vec![-1.0, 0.0, 1.0, 2.0], &["-x", "x", "1"]).unwrap();
 //! assert!(f.continuity().is_continuous());
 //! assert_eq!(f.eval(-0.5), vec![0.5]);
-//! let text = f.formula().unwrap().print(geomkit::expr::Format::Maple);
+//! let text = f.formula().unwrap().print(geomkit::expr::Format::Maple).unwrap();
 //! assert!(text.starts_with("f := (x) -> "), "{text}");
 //! ```
 
@@ -595,7 +595,7 @@ mod tests {
         ];
         let p = Piecewise::polyline(sq, None, true).unwrap();
         let f = p.formula().unwrap();
-        let text = f.print(crate::expr::Format::Maple);
+        let text = f.print(crate::expr::Format::Maple).unwrap();
         assert!(
             text.starts_with("x := (t) -> 1 - abs(t) + abs(t - 1) + abs(t - 2) - abs(t - 3)")
                 || text

@@ -135,7 +135,7 @@ mod tests {
                 assert!((v - want[d]).abs() < 1e-14);
             }
         }
-        assert!(g.print(e[0], Format::Maple).contains('t'));
+        assert!(g.print(e[0], Format::Maple).unwrap().contains('t'));
     }
 
     #[test]
