@@ -28,6 +28,8 @@ pub struct RationalBezierCurve {
     /// [`RationalBezierCurve::points`] gives back the very numbers a curve was made from
     /// (u_i w_i / w_i may differ from u_i in the last bit).
     points: Vec<f64>,
+    /// The weights as given (the homogeneous points may hold them scaled by a power of two).
+    weights: Vec<f64>,
 }
 
 fn check_weights(weights: &[f64]) -> Result<()> {
@@ -42,9 +44,8 @@ fn check_weights(weights: &[f64]) -> Result<()> {
 
 impl RationalBezierCurve {
     /// A curve from control points and weights (finite, > 0, one per point). When some
-    /// w_i·u_i would overflow or underflow f64, all weights are scaled by a common power of
-    /// two (the same curve; [`RationalBezierCurve::weights`] then returns the scaled
-    /// weights).
+    /// w_i·u_i would overflow or underflow f64, the homogeneous points hold the weights
+    /// scaled by a common power of two (the same curve).
     pub fn new(points: Vec<Vec<f64>>, weights: Vec<f64>) -> Result<Self> {
         let (dim, flat) = flatten_points("control points", &points)?;
         if weights.len() != points.len() {
@@ -88,6 +89,7 @@ impl RationalBezierCurve {
         Ok(RationalBezierCurve {
             homogeneous: BezierCurve::from_flat(dim + 1, h)?,
             points: flat,
+            weights,
         })
     }
 
@@ -112,6 +114,7 @@ impl RationalBezierCurve {
         Ok(RationalBezierCurve {
             homogeneous: h,
             points,
+            weights,
         })
     }
 
@@ -125,14 +128,10 @@ impl RationalBezierCurve {
         &self.homogeneous
     }
 
-    /// The weights.
+    /// The weights: those the curve was made from by [`RationalBezierCurve::new`], bit for
+    /// bit; the homogeneous points' last coordinates for a curve made from them.
     pub fn weights(&self) -> Vec<f64> {
-        let d = self.homogeneous.dim();
-        self.homogeneous
-            .points_flat()
-            .chunks_exact(d)
-            .map(|p| p[d - 1])
-            .collect()
+        self.weights.clone()
     }
 
     /// The (Cartesian) control points: those the curve was made from by
