@@ -147,9 +147,10 @@ pub const MAX_POLYGON_VERTICES: usize = 10_000;
 ///
 /// O(k) for a valid polygon: one star-shaped about its centroid that winds around it once is
 /// simple (every ray from the centroid meets it once). Only an invalid one is searched for
-/// crossing edges (O(k²), up to 4096 vertices) to say why. Computed on the vertices divided
-/// per axis by a power of two near the largest |coordinate| along it, so sizes from 1e-300
-/// to 1e300 neither underflow nor overflow.
+/// crossing edges (O(k²), up to 4096 vertices) to say why. Computed on the vertices centred
+/// on their bounding box and divided per axis by a power of two near the largest
+/// |coordinate| along it, so sizes from 1e-300 to 1e300 neither underflow nor overflow and a
+/// polygon far from the origin keeps its digits.
 pub fn check_polygon(polygon: &[[f64; 2]]) -> Result<[f64; 2]> {
     let k = polygon.len();
     if k < 3 {
@@ -181,17 +182,29 @@ pub fn check_polygon(polygon: &[[f64; 2]]) -> Result<[f64; 2]> {
         what: "polygon",
         reason,
     };
-    // Exact scaling of each axis by a power of two, coordinates within [-2, 2]: an affine
+    // Centred on the bounding box (no cancellation in the area of a polygon far from the
+    // origin) and each axis scaled by a power of two, coordinates within [-2, 2]: an affine
     // map, which keeps simplicity, the centroid and star-shapedness about it.
+    let mid = [0, 1].map(|a| {
+        let lo = polygon.iter().fold(f64::INFINITY, |m, p| m.min(p[a]));
+        let hi = polygon.iter().fold(f64::NEG_INFINITY, |m, p| m.max(p[a]));
+        lo / 2.0 + hi / 2.0
+    });
     let s = [0, 1].map(|a| {
-        let big = polygon.iter().fold(0.0f64, |m, p| m.max(p[a].abs()));
-        if big == 0.0 {
+        let big = polygon
+            .iter()
+            .fold(0.0f64, |m, p| m.max((p[a] - mid[a]).abs()));
+        if big == 0.0 || !big.is_finite() {
             1.0
         } else {
             big.log2().ceil().clamp(-1022.0, 1023.0).exp2()
         }
     });
-    let poly: Vec<[f64; 2]> = polygon.iter().map(|p| [p[0] / s[0], p[1] / s[1]]).collect();
+    let poly: Vec<[f64; 2]> = polygon
+        .iter()
+        .map(|p| [(p[0] - mid[0]) / s[0], (p[1] - mid[1]) / s[1]])
+        .collect();
+    let back = |c: [f64; 2]| [mid[0] + c[0] * s[0], mid[1] + c[1] * s[1]];
     let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
         (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
     };
@@ -221,7 +234,7 @@ pub fn check_polygon(polygon: &[[f64; 2]]) -> Result<[f64; 2]> {
             })
             .sum();
         if (turn - std::f64::consts::TAU).abs() < std::f64::consts::PI {
-            return Ok([c[0] * s[0], c[1] * s[1]]);
+            return Ok(back(c));
         }
     }
     // Invalid: say why.
@@ -258,8 +271,8 @@ pub fn check_polygon(polygon: &[[f64; 2]]) -> Result<[f64; 2]> {
         Some(i) => Err(bad(format!(
             "it is not star-shaped about its centroid ({}, {}): edge {i} faces away, so the \
              caps ruled from the centroid would fold",
-            c[0] * s[0],
-            c[1] * s[1]
+            back(c)[0],
+            back(c)[1]
         ))),
         None => Err(bad(
             "it winds more than once around its centroid: the polygon is not simple".into(),

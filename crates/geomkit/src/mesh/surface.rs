@@ -10,11 +10,11 @@ use crate::{Error, Result};
 pub const MAX_TRIANGLES: usize = 2_000_000;
 
 /// Relative weld tolerance per axis: vertices closer than this fraction of the mesh's extent
-/// along every axis are merged (plus [`NOISE_ULPS`] ulps of the largest coordinate along it).
+/// along every axis are merged (plus [`NOISE_ULPS`] ulps of the largest coordinate).
 const WELD_RELATIVE: f64 = 1e-9;
 
 /// Rounding noise of evaluated coordinates, in units of f64's epsilon times the largest
-/// |coordinate| along the axis: seams computed two ways (cos 0 and cos 2π) differ by a few.
+/// |coordinate|: seams computed two ways (cos 0 and cos 2π) differ by a few of them.
 const NOISE_ULPS: f64 = 16.0;
 
 /// The default tolerance of adaptive sampling: this fraction of the model's extent along each
@@ -404,10 +404,12 @@ fn half_extents(points: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
 }
 
 /// The weld tolerance per axis: [`WELD_RELATIVE`] of the extent along the axis plus
-/// [`NOISE_ULPS`] ulps of the largest coordinate along it.
+/// [`NOISE_ULPS`] ulps of the largest coordinate of any axis (rounding noise crosses axes:
+/// r sin 2π is 2.4e-16 r along y however flat the points are along y).
 fn weld_tolerance(points: &[[f64; 3]]) -> [f64; 3] {
     let (half, big) = half_extents(points);
-    [0, 1, 2].map(|k| 2.0 * WELD_RELATIVE * half[k] + NOISE_ULPS * f64::EPSILON * big[k])
+    let noise = NOISE_ULPS * f64::EPSILON * big.iter().fold(0.0f64, |m, &b| m.max(b));
+    half.map(|h| 2.0 * WELD_RELATIVE * h + noise)
 }
 
 /// Whether the grid's parameter rectangle closes on itself: each of its four sides either
@@ -429,7 +431,8 @@ fn closes(grid: &[[f64; 3]], nu: usize, nv: usize, weld: [f64; 3]) -> bool {
 /// diagonal into two triangles oriented like (∂/∂u × ∂/∂v); coincident vertices are welded
 /// per axis within 1e-9 of the mesh's extent along that axis plus 16 ulps of its largest
 /// coordinate (closing seams and collapsing poles without merging the two faces of a
-/// 1e-9 × 1 × 1 box), and a closed result is oriented outwards. See the
+/// 1e-9 × 1 × 1 box; features below 16 ulps of the model's size, an aspect ratio beyond
+/// about 3e14, are merged), and a closed result is oriented outwards. See the
 /// [module docs](super) for the normals.
 ///
 /// The mesh keeps its promises or is an error ([`Error::MeshFailed`]): it has triangles, and
@@ -620,9 +623,10 @@ pub fn tessellate_surface_report(
             return Err(Error::MeshFailed {
                 check: "not watertight",
                 reason: format!(
-                    "the surface closes on itself but its mesh has {} open edges ({}): the \
-                     model is too thin or too small for f64 at its own size",
-                    mesh.boundary_edge_count(),
+                    "the surface closes on itself but {} edges of its mesh are not shared by \
+                     exactly two triangles ({}): the model is too thin or too small for f64 at \
+                     its own size",
+                    mesh.unpaired_edge_count(),
                     weld_text()
                 ),
             });

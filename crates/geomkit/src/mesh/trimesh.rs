@@ -290,6 +290,17 @@ impl TriMesh {
             .count()
     }
 
+    /// Directed edges that break watertightness: those used more than once, or whose
+    /// reverse is not used exactly once (0 for a watertight mesh; an open border counts its
+    /// edges, a fold or a collapse the edges it doubles).
+    pub fn unpaired_edge_count(&self) -> usize {
+        let edges = self.edge_counts();
+        edges
+            .iter()
+            .filter(|&(&(a, b), &n)| n != 1 || edges.get(&(b, a)) != Some(&1))
+            .count()
+    }
+
     /// Whether the mesh is closed and consistently oriented: every directed edge occurs
     /// exactly once and its reverse exactly once (each edge shared by exactly two triangles
     /// that traverse it in opposite directions). An empty mesh is not watertight.
