@@ -252,6 +252,17 @@ pub fn coordinate_names(dim: usize) -> Vec<String> {
     }
 }
 
+/// A number for a message: plain, or in exponent form when that is shorter (1e-300, not
+/// 0.000…1 with 300 digits).
+pub fn short(x: f64) -> String {
+    let (plain, exp) = (format!("{x}"), format!("{x:e}"));
+    if exp.len() < plain.len() {
+        exp
+    } else {
+        plain
+    }
+}
+
 /// "OUT: V vertices, T triangles, closed, volume X" (or the polyline's size).
 pub fn mesh_summary(path: &Path, t: &Tessellation) -> String {
     match t {
@@ -262,12 +273,7 @@ pub fn mesh_summary(path: &Path, t: &Tessellation) -> String {
             m.triangles().len(),
             if m.is_watertight() {
                 match m.volume() {
-                    v if v.is_finite() => {
-                        // Plain, or in exponent form when that is shorter (1e-300).
-                        let (plain, exp) = (format!("{v}"), format!("{v:e}"));
-                        let v = if exp.len() < plain.len() { exp } else { plain };
-                        format!(", closed, volume {v}")
-                    }
+                    v if v.is_finite() => format!(", closed, volume {}", short(v)),
                     _ => ", closed, volume beyond f64's range".to_string(),
                 }
             } else {

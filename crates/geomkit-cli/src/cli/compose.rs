@@ -64,7 +64,12 @@ pub struct BodyArgs {
     #[arg(long, value_name = "A", allow_negative_numbers = true)]
     pub side: Option<f64>,
     /// Regular polygon with N vertices (3 to 10000) as the base of a prism or pyramid.
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(3..=10_000))]
+    #[arg(
+        long,
+        value_name = "N",
+        allow_negative_numbers = true,
+        value_parser = clap::value_parser!(u64).range(3..=10_000)
+    )]
     pub ngon: Option<u64>,
     /// Polygon "x,y;x,y;..." as the base of a prism or pyramid.
     #[arg(

@@ -16,7 +16,7 @@
 
 use super::formula::{formula_json, formula_line, formula_text};
 use crate::cli::{BodyArgs, BodyKind, ComposeCommand, PatchesArgs, RuledArgs, SurfaceOutput};
-use crate::output::{mesh_summary, write_mesh_to, Destination};
+use crate::output::{mesh_summary, short as num, write_mesh_to, Destination};
 use crate::table::extension;
 use anyhow::{bail, Context, Result};
 use geomkit::compose::{
@@ -49,17 +49,6 @@ fn polygon_of(args: &BodyArgs) -> Result<Vec<[f64; 2]>> {
     // --ngon is at most 10000 (clap checks it).
     let n = args.ngon.map_or(6, |n| n as usize);
     Ok(bodies::regular_polygon(n, args.radius.unwrap_or(1.0))?)
-}
-
-/// A number for a description: plain, or in exponent form when that is shorter (1e-308).
-fn num(x: f64) -> String {
-    let plain = format!("{x}");
-    let exp = format!("{x:e}");
-    if exp.len() < plain.len() {
-        exp
-    } else {
-        plain
-    }
 }
 
 /// The body of `args` and a description.
@@ -168,8 +157,13 @@ fn write_surface(
                 None => Sampling::Tolerance(None),
             };
             // Errors name the body with its options (`what`) and --samples.
-            let t = super::mesh::tessellate(&loaded(), sampling, what)?;
-            write_mesh_to(&dest, &t, ext, false, out.obj_normals)?;
+            let option = match out.samples {
+                Some((k, l)) => format!("--samples {k}x{l}"),
+                None => String::new(),
+            };
+            let t = super::mesh::tessellate(&loaded(), sampling, what, &option)?;
+            write_mesh_to(&dest, &t, ext, false, out.obj_normals)
+                .with_context(|| what.to_string())?;
             let _ = writeln!(std::io::stderr(), "{}", mesh_summary(path, &t));
             Ok(())
         }

@@ -4,7 +4,7 @@
 use crate::cli::MeshArgs;
 use crate::cli::Samples;
 use crate::model::load_shape as load;
-use crate::output::{mesh_summary, write_mesh_to, Destination, MESH_FORMATS};
+use crate::output::{mesh_summary, short, write_mesh_to, Destination, MESH_FORMATS};
 use crate::table::extension;
 use anyhow::{anyhow, bail, Result};
 use geomkit::Error;
@@ -29,30 +29,47 @@ pub fn run(args: MeshArgs) -> Result<()> {
         Some(Samples(k, l)) => Sampling::Samples(k, l.unwrap_or(k)),
         None => Sampling::Tolerance(args.tolerance),
     };
+    let option = match (&args.samples, args.tolerance) {
+        (Some(s), _) => format!("--samples {s}"),
+        (None, Some(t)) => format!("--tolerance {}", short(t)),
+        (None, None) => String::new(),
+    };
     let loaded = load(&args.model)?;
-    let t = tessellate(&loaded, sampling, &args.model.display().to_string())?;
+    let t = tessellate(
+        &loaded,
+        sampling,
+        &args.model.display().to_string(),
+        &option,
+    )?;
     let dest = Destination::File(args.output.clone());
     write_mesh_to(&dest, &t, &ext, args.ascii, args.obj_normals)?;
     let _ = writeln!(std::io::stderr(), "{}", mesh_summary(&args.output, &t));
     Ok(())
 }
 
-/// Tessellates `loaded` for a command: errors name the model (`name`) and the option behind
-/// them (`--tolerance`, `--samples`); a mesh that the triangle cap stopped short of the
-/// default tolerance comes with a warning on stderr naming the deviation reached.
-pub fn tessellate(loaded: &Loaded, sampling: Sampling, name: &str) -> Result<Tessellation> {
+/// Tessellates `loaded` for a command: errors name the model (`name`) and, for an error of
+/// the sampling, the option as given (`option`: "--tolerance 1e-300", "--samples 5x4", or
+/// empty for the defaults); a mesh that the triangle cap stopped short of the default
+/// tolerance comes with a warning on stderr naming the deviation reached.
+pub fn tessellate(
+    loaded: &Loaded,
+    sampling: Sampling,
+    name: &str,
+    option: &str,
+) -> Result<Tessellation> {
     let (t, report) = loaded.tessellate_report(sampling).map_err(|e| {
-        let option = match (&e, sampling) {
-            (
-                Error::ToleranceOutOfReach { .. } | Error::ToleranceBelowResolution { .. },
-                Sampling::Tolerance(Some(t)),
-            ) => format!("--tolerance {t}: "),
-            (Error::MeshTooLarge { .. }, Sampling::Samples(k, l)) => {
-                format!("--samples {k}x{l}: ")
-            }
-            _ => String::new(),
-        };
-        anyhow!("{name}: {option}{e}")
+        let of_sampling = matches!(
+            e,
+            Error::ToleranceOutOfReach { .. }
+                | Error::ToleranceBelowResolution { .. }
+                | Error::InvalidTolerance { .. }
+                | Error::MeshTooLarge { .. }
+                | Error::InvalidOption { .. }
+        );
+        match (of_sampling, option.is_empty()) {
+            (true, false) => anyhow!("{name}: {option}: {e}"),
+            _ => anyhow!("{name}: {e}"),
+        }
     })?;
     if let Some(r) = report.filter(|r| r.capped) {
         let _ = writeln!(
