@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Independent check of geomkit's mesh writers with trimesh: vertex/face counts,
-# watertightness and volumes of the closed bodies (the cube's volume is 8) in every format.
+# Independent check of geomkit's mesh writers with trimesh, meshio and manifold3d: vertex/face
+# counts, watertightness and volumes of the closed bodies (the cube's volume is 8) in every
+# format, every OBJ read by meshio, and the --obj-normals layouts.
 #
 #   bash bench/compat_mesh.sh               # builds geomkit (release), runs the demo into a
 #                                           # temporary folder, checks its meshes, prints a table

@@ -311,6 +311,17 @@ pub fn coordinate_names(dim: usize) -> Vec<String> {
     }
 }
 
+/// A number for a message: plain, or in exponent form when that is shorter (1e-300, not
+/// 0.000…1 with 300 digits).
+pub fn short(x: f64) -> String {
+    let (plain, exp) = (format!("{x}"), format!("{x:e}"));
+    if exp.len() < plain.len() {
+        exp
+    } else {
+        plain
+    }
+}
+
 /// "OUT: V vertices, T triangles, closed, volume X" (or the polyline's size).
 pub fn mesh_summary(path: &Path, t: &Tessellation) -> String {
     match t {
@@ -320,7 +331,10 @@ pub fn mesh_summary(path: &Path, t: &Tessellation) -> String {
             m.positions().len(),
             m.triangles().len(),
             if m.is_watertight() {
-                format!(", closed, volume {}", m.volume())
+                match m.volume() {
+                    v if v.is_finite() => format!(", closed, volume {}", short(v)),
+                    _ => ", closed, volume beyond f64's range".to_string(),
+                }
             } else {
                 String::new()
             }
@@ -329,10 +343,24 @@ pub fn mesh_summary(path: &Path, t: &Tessellation) -> String {
     }
 }
 
-/// Writes a tessellation in the format named by `ext`.
-pub fn write_mesh(t: &Tessellation, ext: &str, ascii: bool, w: &mut Vec<u8>) -> Result<()> {
+/// The mesh formats by extension: "obj", "stl", "ply", "glb".
+pub const MESH_FORMATS: [&str; 4] = ["obj", "stl", "ply", "glb"];
+
+/// Writes a tessellation in the format named by `ext` (OBJ with the default normals).
+pub fn write_mesh(t: &Tessellation, ext: &str, ascii: bool, w: &mut dyn Write) -> Result<()> {
+    write_mesh_with(t, ext, ascii, mesh::ObjNormals::Auto, w)
+}
+
+/// Writes a tessellation in the format named by `ext`, OBJ normals as `obj` says.
+pub fn write_mesh_with(
+    t: &Tessellation,
+    ext: &str,
+    ascii: bool,
+    obj: mesh::ObjNormals,
+    w: &mut dyn Write,
+) -> Result<()> {
     match (t, ext) {
-        (Tessellation::Mesh(m), "obj") => mesh::write_obj(m, w)?,
+        (Tessellation::Mesh(m), "obj") => mesh::write_obj_with(m, obj, w)?,
         (Tessellation::Mesh(m), "stl") if ascii => mesh::write_stl_ascii(m, w)?,
         (Tessellation::Mesh(m), "stl") => mesh::write_stl_binary(m, w)?,
         (Tessellation::Mesh(m), "ply") => mesh::write_ply(m, w)?,
@@ -346,6 +374,29 @@ pub fn write_mesh(t: &Tessellation, ext: &str, ascii: bool, w: &mut Vec<u8>) -> 
         (_, other) => bail!("unknown mesh format .{other}"),
     }
     Ok(())
+}
+
+/// Writes a tessellation to `dest` (streamed: no copy of the file in memory), OBJ normals as
+/// `obj` says; a failure leaves no file.
+pub fn write_mesh_to(
+    dest: &Destination,
+    t: &Tessellation,
+    ext: &str,
+    ascii: bool,
+    obj: mesh::ObjNormals,
+) -> Result<()> {
+    if matches!(t, Tessellation::Polyline(_)) && ext == "stl" {
+        bail!("STL holds triangles only: write a curve as .obj, .ply or .glb");
+    }
+    if !MESH_FORMATS.contains(&ext) {
+        bail!("unknown mesh format .{ext}");
+    }
+    dest.write_with(|w| {
+        write_mesh_with(t, ext, ascii, obj, w).map_err(|e| match e.downcast::<io::Error>() {
+            Ok(io) => io,
+            Err(e) => io::Error::other(format!("{e:#}")),
+        })
+    })
 }
 
 #[cfg(test)]

@@ -16,6 +16,7 @@ mod bad_input {
     pub mod eval;
     pub mod expr;
     pub mod interpolate;
+    pub mod mesh;
 }
 
 use std::collections::BTreeMap;
@@ -135,6 +136,7 @@ fn the_catalogue_covers_every_command() {
         bad_input::eval::CASES.len(),
         bad_input::expr::CASES.len(),
         bad_input::interpolate::CASES.len(),
+        bad_input::mesh::CASES.len(),
     ]
     .iter()
     .sum();

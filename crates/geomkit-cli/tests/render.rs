@@ -314,3 +314,52 @@ fn bad_requests_fail_cleanly() {
     let out = geomkit(d, &["render", "s.json", "-o", "s.png", "--size", "10x10"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn obj_normal_layouts() {
+    let dir = setup();
+    let d = dir.path();
+    let count = |file: &str, prefix: &str| {
+        std::fs::read_to_string(d.join(file))
+            .unwrap()
+            .lines()
+            .filter(|l| l.starts_with(prefix))
+            .count()
+    };
+    // A body with sharp edges: no normals by default (meshio reads it, positions shared),
+    // six face normals when indexed, one per (split) vertex when per-vertex.
+    ok_stderr(d, &["compose", "body", "cube", "-o", "cube.obj"]);
+    assert_eq!(count("cube.obj", "vn "), 0);
+    let shared = count("cube.obj", "v ");
+    let err = ok_stderr(
+        d,
+        &[
+            "compose",
+            "body",
+            "cube",
+            "-o",
+            "i.obj",
+            "--obj-normals",
+            "indexed",
+        ],
+    );
+    assert!(err.contains("closed, volume 8"), "{err}");
+    assert_eq!((count("i.obj", "v "), count("i.obj", "vn ")), (shared, 6));
+    ok_stderr(
+        d,
+        &[
+            "compose",
+            "body",
+            "cube",
+            "-o",
+            "p.obj",
+            "--obj-normals",
+            "per-vertex",
+        ],
+    );
+    assert!(count("p.obj", "v ") > shared);
+    assert_eq!(count("p.obj", "v "), count("p.obj", "vn "));
+    // A smooth surface: one normal per vertex by default.
+    ok_stderr(d, &["mesh", "s.json", "-o", "s.obj", "--samples", "5x4"]);
+    assert_eq!((count("s.obj", "v "), count("s.obj", "vn ")), (20, 20));
+}

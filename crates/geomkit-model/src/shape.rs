@@ -8,7 +8,8 @@ use geomkit::bezier::BezierSurface;
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
 use geomkit::geom::{Curve, Surface};
 use geomkit::mesh::{
-    tessellate_curve, tessellate_surface, CurveOptions, Polyline, SurfaceOptions, TriMesh,
+    tessellate_curve, tessellate_surface_report, CurveOptions, MeshReport, Polyline,
+    SurfaceOptions, TriMesh,
 };
 use geomkit::pointcalc::{Nodes, PointEquation, PointSurface};
 
@@ -206,9 +207,20 @@ impl Loaded {
 
     /// Tessellates the model: a polyline of a curve, a triangle mesh of a surface.
     ///
-    /// Errors: fewer than 2 samples of a curve, and the tessellators' errors (a tolerance
-    /// that is not finite and > 0, points of a dimension that cannot be meshed).
+    /// Errors: fewer than 2 or more than 1 000 000 samples of a curve, and the tessellators'
+    /// errors (a tolerance that is not finite and > 0 or out of reach within the caps,
+    /// points of a dimension that cannot be meshed, a mesh that is empty or, for a surface
+    /// that closes, not watertight; see [`geomkit::mesh::tessellate_surface`]).
     pub fn tessellate(&self, sampling: Sampling) -> geomkit::Result<Tessellation> {
+        self.tessellate_report(sampling).map(|(t, _)| t)
+    }
+
+    /// [`Loaded::tessellate`] with the surface mesher's report (None for a curve): whether
+    /// the triangle cap stopped adaptive refinement and the deviation it reached.
+    pub fn tessellate_report(
+        &self,
+        sampling: Sampling,
+    ) -> geomkit::Result<(Tessellation, Option<MeshReport>)> {
         Ok(match &self.shape {
             Shape::Curve { curve, .. } => {
                 let mut opts = CurveOptions::default();
@@ -226,7 +238,10 @@ impl Loaded {
                         opts.tolerance = Some(f64::MAX);
                     }
                 }
-                Tessellation::Polyline(tessellate_curve(curve.as_ref(), &opts)?)
+                (
+                    Tessellation::Polyline(tessellate_curve(curve.as_ref(), &opts)?),
+                    None,
+                )
             }
             Shape::Surface { surface, .. } => {
                 let opts = match sampling {
@@ -234,7 +249,8 @@ impl Loaded {
                     Sampling::Tolerance(None) => SurfaceOptions::default(),
                     Sampling::Samples(k, l) => SurfaceOptions::uniform(k, l),
                 };
-                Tessellation::Mesh(tessellate_surface(surface.as_ref(), &opts)?)
+                let (mesh, report) = tessellate_surface_report(surface.as_ref(), &opts)?;
+                (Tessellation::Mesh(mesh), Some(report))
             }
         })
     }

@@ -348,6 +348,52 @@ pub enum Error {
         /// Why, and what the type can give instead.
         reason: &'static str,
     },
+    /// Adaptive meshing reached its work cap (triangles, points or grid lines) before the
+    /// requested tolerance: `reached` is the largest deviation measured at the cap.
+    #[error(
+        "tolerance {tolerance:e} is out of reach within {cap}: the finest mesh within the cap \
+         deviates up to {reached:.2e} from the model; ask for a tolerance of at least {reached:.2e}"
+    )]
+    ToleranceOutOfReach {
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// The largest deviation (model units) at the checks when the cap stopped refinement.
+        reached: f64,
+        /// The cap ("2000000 triangles").
+        cap: String,
+    },
+    /// A meshing tolerance below the resolution of f64 at the model's size: no mesh can be
+    /// checked to it.
+    #[error(
+        "tolerance {tolerance:e} is below what f64 coordinates resolve at this model's size \
+         (about {resolution:.1e}): no mesh can be checked to it"
+    )]
+    ToleranceBelowResolution {
+        /// The tolerance asked for.
+        tolerance: f64,
+        /// The smallest deviation the model's coordinates can show.
+        resolution: f64,
+    },
+    /// A mesh or polyline that would exceed its size cap.
+    #[error("{what} gives {count} {unit}, above the cap of {max}")]
+    MeshTooLarge {
+        /// What was asked ("a 4000 × 4000 sample grid").
+        what: String,
+        /// How many it gives.
+        count: usize,
+        /// "triangles" or "points".
+        unit: &'static str,
+        /// The cap.
+        max: usize,
+    },
+    /// A mesh that cannot keep its promises: empty, or a closed surface whose mesh leaks.
+    #[error("the mesh is {check}: {reason}")]
+    MeshFailed {
+        /// What failed ("empty", "not watertight").
+        check: &'static str,
+        /// Why, with the numbers.
+        reason: String,
+    },
     /// An error of the expression engine (parse error with its position, unknown
     /// variable, division by exact zero, ...).
     #[error(transparent)]

@@ -5,9 +5,9 @@
 use geomkit::bezier::BezierCurve;
 use geomkit::compose::bodies;
 use geomkit::mesh::{
-    tessellate_curve, tessellate_surface, write_glb, write_glb_polyline, write_obj,
-    write_obj_polyline, write_ply, write_ply_polyline, write_stl_ascii, write_stl_binary,
-    CurveOptions, SurfaceOptions, TriMesh,
+    tessellate_curve, tessellate_surface, write_glb, write_glb_polyline, write_obj_polyline,
+    write_obj_with, write_ply, write_ply_polyline, write_stl_ascii, write_stl_binary, CurveOptions,
+    ObjNormals, SurfaceOptions, TriMesh,
 };
 
 fn cube() -> TriMesh {
@@ -24,44 +24,130 @@ fn volume(tris: &[[[f64; 3]; 3]]) -> f64 {
         / 6.0
 }
 
-#[test]
-fn obj_round_trip_keeps_topology_and_exact_coordinates() {
-    let m = cube();
-    let mut buf = Vec::new();
-    write_obj(&m, &mut buf).unwrap();
-    let text = String::from_utf8(buf).unwrap();
-    let mut v = Vec::new();
-    let mut vn = Vec::new();
-    let mut f = Vec::new();
+/// An OBJ file's `v`, `vn` and faces (0-based vertex and optional normal indices).
+type Obj = (
+    Vec<[f64; 3]>,
+    Vec<[f64; 3]>,
+    Vec<[(usize, Option<usize>); 3]>,
+);
+
+fn parse_obj(text: &str) -> Obj {
+    let (mut v, mut vn, mut f) = (Vec::new(), Vec::new(), Vec::new());
     for line in text.lines() {
         let mut it = line.split_whitespace();
         match it.next() {
             Some("v") => v.push([0; 3].map(|_| it.next().unwrap().parse::<f64>().unwrap())),
             Some("vn") => vn.push([0; 3].map(|_| it.next().unwrap().parse::<f64>().unwrap())),
             Some("f") => f.push([0; 3].map(|_| {
-                let (a, b) = it.next().unwrap().split_once("//").unwrap();
-                (
-                    a.parse::<usize>().unwrap() - 1,
-                    b.parse::<usize>().unwrap() - 1,
-                )
+                let corner = it.next().unwrap();
+                match corner.split_once("//") {
+                    Some((a, b)) => (
+                        a.parse::<usize>().unwrap() - 1,
+                        Some(b.parse::<usize>().unwrap() - 1),
+                    ),
+                    None => (corner.parse::<usize>().unwrap() - 1, None),
+                }
             })),
             _ => {}
         }
     }
+    (v, vn, f)
+}
+
+fn obj_text(m: &TriMesh, normals: ObjNormals) -> String {
+    let mut buf = Vec::new();
+    write_obj_with(m, normals, &mut buf).unwrap();
+    String::from_utf8(buf).unwrap()
+}
+
+#[test]
+fn obj_round_trip_keeps_topology_and_exact_coordinates() {
+    let m = cube();
+    // Indexed: shared positions, the distinct normals, f v//vn.
+    let (v, vn, f) = parse_obj(&obj_text(&m, ObjNormals::Indexed));
     assert_eq!(v, m.positions());
     assert_eq!(vn, m.normals());
     assert_eq!(f.len(), m.triangles().len());
     let tris: Vec<[[f64; 3]; 3]> = f.iter().map(|t| t.map(|(a, _)| v[a])).collect();
     assert_eq!(volume(&tris), 8.0);
     // Rebuilt from the file, the mesh is still closed.
-    let back = TriMesh::new(
-        v,
+    assert!(closed_by_index(v, &f));
+}
+
+/// Whether the file's faces, by vertex index alone (a reader that merges nothing), close.
+fn closed_by_index(v: Vec<[f64; 3]>, f: &[[(usize, Option<usize>); 3]]) -> bool {
+    let tris = f.iter().map(|t| t.map(|(a, _)| a as u32)).collect();
+    // Weld tolerance 0 merges exactly equal positions only.
+    let distinct = v.len();
+    let m = TriMesh::new(v, tris, 0.0, 40.0).unwrap();
+    m.positions().len() == distinct && m.is_watertight()
+}
+
+/// What meshio 5.x's OBJ reader needs (meshio/obj/_obj.py): it takes the k-th `vn` as the
+/// normal of the k-th `v` and refuses a file whose counts differ; it reads only the vertex
+/// index of each face corner.
+fn meshio_reads(text: &str) -> bool {
+    let (v, vn, f) = parse_obj(text);
+    (vn.is_empty() || vn.len() == v.len())
+        && f.iter().all(|t| {
+            t.iter()
+                .all(|&(a, n)| a < v.len() && n.is_none_or(|n| n == a))
+        })
+}
+
+#[test]
+fn obj_layouts_serve_meshio_and_keep_bodies_watertight() {
+    let m = cube();
+    // The cube has creases: the indexed layout has 6 normals for 74 vertices (meshio refuses).
+    assert!(!meshio_reads(&obj_text(&m, ObjNormals::Indexed)));
+    // The default writes no normals for a creased body: meshio reads it, positions shared.
+    let auto = obj_text(&m, ObjNormals::Auto);
+    assert_eq!(auto, obj_text(&m, ObjNormals::None));
+    assert!(meshio_reads(&auto));
+    let (v, vn, f) = parse_obj(&auto);
+    assert!(vn.is_empty());
+    assert!(closed_by_index(v, &f));
+    // Per-vertex: one vn per v, meshio reads the normals; watertight after merging equal
+    // positions (the crease vertices are split).
+    let per = obj_text(&m, ObjNormals::Vertex);
+    assert!(meshio_reads(&per));
+    let (v, vn, f) = parse_obj(&per);
+    assert_eq!(v.len(), vn.len());
+    assert!(v.len() > m.positions().len());
+    // Not closed by index (the split crease vertices); closed once equal positions merge.
+    assert!(!closed_by_index(v.clone(), &f));
+    let merged = TriMesh::new(
+        v.clone(),
         f.iter().map(|t| t.map(|(a, _)| a as u32)).collect(),
         0.0,
         40.0,
     )
     .unwrap();
-    assert!(back.is_watertight());
+    assert!(merged.is_watertight());
+    for t in &f {
+        for &(a, n) in t {
+            // The normal of a corner is its vertex's: one of the cube's six face normals.
+            let n = vn[n.unwrap()];
+            assert_eq!(
+                n.iter().map(|x| x.abs()).sum::<f64>(),
+                1.0,
+                "{n:?} at {:?}",
+                v[a]
+            );
+        }
+    }
+    // A smooth surface: one normal per position, so the default writes one vn per v.
+    let s = geomkit::bezier::BezierSurface::new(vec![
+        vec![vec![0., 0., 0.], vec![0., 1., 0.5]],
+        vec![vec![1., 0., 0.5], vec![1., 1., 0.]],
+    ])
+    .unwrap();
+    let smooth = tessellate_surface(&s, &SurfaceOptions::uniform(6, 5)).unwrap();
+    let text = obj_text(&smooth, ObjNormals::Auto);
+    assert!(meshio_reads(&text));
+    let (v, vn, _) = parse_obj(&text);
+    assert_eq!((v.len(), vn.len()), (30, 30));
+    assert_eq!(v, smooth.positions());
 }
 
 #[test]

@@ -63,9 +63,14 @@ pub struct BodyArgs {
     /// Base side of a square pyramid [default: 2].
     #[arg(long, value_name = "A", allow_negative_numbers = true)]
     pub side: Option<f64>,
-    /// Regular polygon with N vertices as the base of a prism or pyramid.
-    #[arg(long, value_name = "N")]
-    pub ngon: Option<usize>,
+    /// Regular polygon with N vertices (3 to 10000) as the base of a prism or pyramid.
+    #[arg(
+        long,
+        value_name = "N",
+        allow_negative_numbers = true,
+        value_parser = clap::value_parser!(u64).range(3..=10_000)
+    )]
+    pub ngon: Option<u64>,
     /// Polygon "x,y;x,y;..." as the base of a prism or pyramid.
     #[arg(
         long,
@@ -156,10 +161,15 @@ pub struct SurfaceOutput {
     /// Formula syntax and output file.
     #[command(flatten)]
     pub formula: FormulaOutput,
-    /// A mesh on a uniform KxL sample grid (break lines added) [default: adaptive, within
-    /// 1/1000 of the size].
+    /// A mesh on a uniform KxL sample grid (break lines added; at most 2000000 triangles)
+    /// [default: adaptive, per axis within 1/1000 of the model's extent along it, at most
+    /// 2000000 triangles]. A mesh that would be empty or, for a closed body, not watertight
+    /// (a model too thin or too small for f64 at its own size) is an error.
     #[arg(long, value_name = "KxL", value_parser = parse_grid)]
     pub samples: Option<(usize, usize)>,
+    /// Normals in OBJ output, as for `geomkit mesh`: auto, indexed, per-vertex or none.
+    #[arg(long, value_name = "LAYOUT", default_value = "auto", value_parser = super::parse_obj_normals)]
+    pub obj_normals: geomkit::mesh::ObjNormals,
 }
 
 /// The vertices of a `--polygon` (a type of its own: clap takes a `Vec` for a repeated

@@ -325,6 +325,13 @@ impl std::fmt::Display for Samples {
     }
 }
 
+/// An OBJ normal layout by name (`--obj-normals`).
+pub fn parse_obj_normals(s: &str) -> Result<geomkit::mesh::ObjNormals, String> {
+    geomkit::mesh::ObjNormals::from_name(s.trim()).ok_or_else(|| {
+        format!("unknown OBJ normals {s:?}: expected auto, indexed, per-vertex or none")
+    })
+}
+
 /// Parses `K` or `KxL` sample counts.
 pub fn parse_samples(s: &str) -> Result<Samples, String> {
     let parse = |x: &str| {

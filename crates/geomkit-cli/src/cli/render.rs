@@ -75,7 +75,11 @@ pub struct MeshArgs {
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
     /// Adaptive sampling: the largest distance between the model and the mesh, in model
-    /// units [default: 1/1000 of the model's size].
+    /// units [default: per axis 1/1000 of the model's extent along it]. Work is capped at
+    /// 2000000 triangles for a surface (1000000 points for a curve): a tolerance the cap
+    /// stops short of is an error naming the deviation reached there (ask for that); the
+    /// default tolerance stopped by the cap writes the mesh with a warning. A tolerance below
+    /// f64's resolution at the model's size (16 ulps of its largest coordinate) is refused.
     #[arg(
         long,
         value_name = "T",
@@ -83,11 +87,18 @@ pub struct MeshArgs {
         allow_negative_numbers = true
     )]
     pub tolerance: Option<f64>,
-    /// Uniform sampling instead: K×L grid for surfaces (break lines added), K points for
-    /// curves.
+    /// Uniform sampling instead: K×L grid for surfaces (break lines added; at most 2000000
+    /// triangles), K points for curves (at most 1000000).
     #[arg(long, value_name = "KxL", value_parser = super::parse_samples)]
     pub samples: Option<Samples>,
     /// ASCII STL instead of binary.
     #[arg(long)]
     pub ascii: bool,
+    /// Normals in OBJ: auto (one `vn` per `v` where the mesh is smooth, none where it has
+    /// sharp edges: every reader, meshio included, takes it and a closed body stays
+    /// watertight), indexed (`f v//vn`, sharp creases, shared positions: trimesh, Blender,
+    /// OCCT; meshio refuses it), per-vertex (one `vn` per `v`, vertices split at creases:
+    /// meshio reads the normals, watertight only after merging coincident vertices), none.
+    #[arg(long, value_name = "LAYOUT", default_value = "auto", value_parser = super::parse_obj_normals)]
+    pub obj_normals: geomkit::mesh::ObjNormals,
 }

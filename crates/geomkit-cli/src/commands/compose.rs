@@ -16,7 +16,7 @@
 
 use super::formula::{formula_json, formula_line, formula_text};
 use crate::cli::{BodyArgs, BodyKind, ComposeCommand, PatchesArgs, RuledArgs, SurfaceOutput};
-use crate::output::{mesh_summary, write_mesh, Destination};
+use crate::output::{mesh_summary, short as num, write_mesh_to, Destination};
 use crate::table::extension;
 use anyhow::{bail, Context, Result};
 use geomkit::compose::{
@@ -46,53 +46,56 @@ fn polygon_of(args: &BodyArgs) -> Result<Vec<[f64; 2]>> {
     if let Some(p) = &args.polygon {
         return Ok(p.0.clone());
     }
-    Ok(bodies::regular_polygon(
-        args.ngon.unwrap_or(6),
-        args.radius.unwrap_or(1.0),
-    )?)
+    // --ngon is at most 10000 (clap checks it).
+    let n = args.ngon.map_or(6, |n| n as usize);
+    Ok(bodies::regular_polygon(n, args.radius.unwrap_or(1.0))?)
 }
 
 /// The body of `args` and a description.
 pub fn build_body(args: &BodyArgs) -> Result<(RuledSurface, String)> {
     let h = args.height.unwrap_or(2.0);
     let r = args.radius.unwrap_or(1.0);
+    let (hs, rs) = (num(h), num(r));
     Ok(match args.body {
         BodyKind::Cube => (bodies::cube()?, "the paper's cube (±1, ±1, ±1)".into()),
         BodyKind::Box => {
             let [a, b, c] = args.size.unwrap_or([2.0; 3]);
             (
                 bodies::rectangular_box(a, b, c)?,
-                format!("box {a}×{b}×{c}"),
+                format!("box {}×{}×{}", num(a), num(b), num(c)),
             )
         }
         BodyKind::Pyramid => {
             if args.ngon.is_some() || args.polygon.is_some() {
                 (
                     bodies::pyramid(&polygon_of(args)?, h)?,
-                    format!("pyramid of height {h}"),
+                    format!("pyramid of height {hs}"),
                 )
             } else {
                 let a = args.side.unwrap_or(2.0);
                 (
                     bodies::square_pyramid(a, h)?,
-                    format!("square pyramid, side {a}, height {h}"),
+                    format!("square pyramid, side {}, height {hs}", num(a)),
                 )
             }
         }
-        BodyKind::Cone => (bodies::cone(r, h)?, format!("cone, radius {r}, height {h}")),
+        BodyKind::Cone => (
+            bodies::cone(r, h)?,
+            format!("cone, radius {rs}, height {hs}"),
+        ),
         BodyKind::Cylinder => (
             bodies::cylinder(r, h)?,
-            format!("cylinder with caps, radius {r}, height {h}"),
+            format!("cylinder with caps, radius {rs}, height {hs}"),
         ),
         BodyKind::Prism => (
             bodies::prism(&polygon_of(args)?, h)?,
-            format!("prism of height {h}"),
+            format!("prism of height {hs}"),
         ),
         BodyKind::Frustum => {
             let r1 = args.top_radius.unwrap_or(r / 2.0);
             (
                 bodies::frustum(r, r1, h)?,
-                format!("frustum, radii {r} and {r1}, height {h}"),
+                format!("frustum, radii {rs} and {}, height {hs}", num(r1)),
             )
         }
     })
@@ -153,10 +156,14 @@ fn write_surface(
                 Some((k, l)) => Sampling::Samples(k, l),
                 None => Sampling::Tolerance(None),
             };
-            let t = loaded().tessellate(sampling)?;
-            let mut buf = Vec::new();
-            write_mesh(&t, ext, false, &mut buf)?;
-            dest.write(&buf)?;
+            // Errors name the body with its options (`what`) and --samples.
+            let option = match out.samples {
+                Some((k, l)) => format!("--samples {k}x{l}"),
+                None => String::new(),
+            };
+            let t = super::mesh::tessellate(&loaded(), sampling, what, &option)?;
+            write_mesh_to(&dest, &t, ext, false, out.obj_normals)
+                .with_context(|| what.to_string())?;
             let _ = writeln!(std::io::stderr(), "{}", mesh_summary(path, &t));
             Ok(())
         }

@@ -67,7 +67,7 @@ fn mesh_files(r: &mut Report, ctx: &Context, id: &str, mesh: &TriMesh, what: &st
     let t = Tessellation::Mesh(mesh.clone());
     for (ext, label) in [
         ("glb", "glTF binary"),
-        ("obj", "OBJ with normals"),
+        ("obj", "OBJ"),
         ("stl", "binary STL"),
     ] {
         let mut buf = Vec::new();

@@ -135,10 +135,22 @@ pub fn frustum(r0: f64, r1: f64, h: f64) -> Result<RuledSurface> {
     )
 }
 
-/// Checks a polygon for a body and returns its centroid: at least 3 finite vertices, no two
-/// equal, no two edges crossing or touching (simple), non-zero area, and star-shaped about
-/// the centroid (every edge seen from it with the same orientation), so that the caps ruled
-/// from the centroid do not fold.
+/// The most vertices of a body's polygon ([`check_polygon`], [`regular_polygon`]): its
+/// formula has a term per vertex and its mesh a grid line per vertex, so 10000 keeps both at
+/// about a second; a smoother base is a [`cylinder`] or [`cone`].
+pub const MAX_POLYGON_VERTICES: usize = 10_000;
+
+/// Checks a polygon for a body and returns its centroid: at least 3 and at most
+/// [`MAX_POLYGON_VERTICES`] finite vertices, no two equal, no two edges crossing or touching
+/// (simple), non-zero area, and star-shaped about the centroid (every edge seen from it with
+/// the same orientation), so that the caps ruled from the centroid do not fold.
+///
+/// O(k) for a valid polygon: one star-shaped about its centroid that winds around it once is
+/// simple (every ray from the centroid meets it once). Only an invalid one is searched for
+/// crossing edges (O(k²), up to 4096 vertices) to say why. Computed on the vertices centred
+/// on their bounding box and divided per axis by a power of two near the largest
+/// |coordinate| along it, so sizes from 1e-300 to 1e300 neither underflow nor overflow and a
+/// polygon far from the origin keeps its digits.
 pub fn check_polygon(polygon: &[[f64; 2]]) -> Result<[f64; 2]> {
     let k = polygon.len();
     if k < 3 {
@@ -146,6 +158,15 @@ pub fn check_polygon(polygon: &[[f64; 2]]) -> Result<[f64; 2]> {
             what: "polygon vertices",
             got: k,
             min: 3,
+        });
+    }
+    if k > MAX_POLYGON_VERTICES {
+        return Err(Error::InvalidShape {
+            what: "polygon",
+            reason: format!(
+                "{k} vertices: at most {MAX_POLYGON_VERTICES} (use a cylinder or cone for a \
+                 round base)"
+            ),
         });
     }
     if let Some(index) = polygon
@@ -161,65 +182,118 @@ pub fn check_polygon(polygon: &[[f64; 2]]) -> Result<[f64; 2]> {
         what: "polygon",
         reason,
     };
-    for i in 0..k {
-        for j in i + 1..k {
-            if polygon[i] == polygon[j] {
-                return Err(bad(format!("vertices {i} and {j} coincide")));
-            }
+    // Centred on the bounding box (no cancellation in the area of a polygon far from the
+    // origin) and each axis scaled by a power of two, coordinates within [-2, 2]: an affine
+    // map, which keeps simplicity, the centroid and star-shapedness about it.
+    let mid = [0, 1].map(|a| {
+        let lo = polygon.iter().fold(f64::INFINITY, |m, p| m.min(p[a]));
+        let hi = polygon.iter().fold(f64::NEG_INFINITY, |m, p| m.max(p[a]));
+        lo / 2.0 + hi / 2.0
+    });
+    let s = [0, 1].map(|a| {
+        let big = polygon
+            .iter()
+            .fold(0.0f64, |m, p| m.max((p[a] - mid[a]).abs()));
+        if big == 0.0 || !big.is_finite() {
+            1.0
+        } else {
+            big.log2().ceil().clamp(-1022.0, 1023.0).exp2()
         }
-    }
+    });
+    let poly: Vec<[f64; 2]> = polygon
+        .iter()
+        .map(|p| [(p[0] - mid[0]) / s[0], (p[1] - mid[1]) / s[1]])
+        .collect();
+    let back = |c: [f64; 2]| [mid[0] + c[0] * s[0], mid[1] + c[1] * s[1]];
     let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
         (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
     };
-    for i in 0..k {
-        let (a, b) = (polygon[i], polygon[(i + 1) % k]);
-        for j in i + 1..k {
-            if j == i + 1 || (i == 0 && j == k - 1) {
-                continue; // neighbours share a vertex
-            }
-            let (c, d) = (polygon[j], polygon[(j + 1) % k]);
-            let (d1, d2) = (cross(a, b, c), cross(a, b, d));
-            let (d3, d4) = (cross(c, d, a), cross(c, d, b));
-            if (d1 * d2 <= 0.0) && (d3 * d4 <= 0.0) {
-                return Err(bad(format!(
-                    "edges {i} and {j} intersect: the polygon is not simple"
-                )));
-            }
-        }
-    }
     // Area-weighted centroid.
     let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
     for i in 0..k {
-        let (a, b) = (polygon[i], polygon[(i + 1) % k]);
+        let (a, b) = (poly[i], poly[(i + 1) % k]);
         let w = a[0] * b[1] - b[0] * a[1];
         area += w;
         cx += (a[0] + b[0]) * w;
         cy += (a[1] + b[1]) * w;
     }
+    let c = [cx / (3.0 * area), cy / (3.0 * area)];
+    let sign = if area > 0.0 { 1.0 } else { -1.0 };
+    let star = area != 0.0
+        && c[0].is_finite()
+        && c[1].is_finite()
+        && (0..k).all(|i| sign * cross(c, poly[i], poly[(i + 1) % k]) > 0.0);
+    if star {
+        // Each edge turns the same way about c: the angles add up to 2π times the number of
+        // turns, and one turn means a simple polygon.
+        let turn: f64 = (0..k)
+            .map(|i| {
+                let (a, b) = (poly[i], poly[(i + 1) % k]);
+                let (u, v) = ([a[0] - c[0], a[1] - c[1]], [b[0] - c[0], b[1] - c[1]]);
+                (sign * (u[0] * v[1] - u[1] * v[0])).atan2(u[0] * v[0] + u[1] * v[1])
+            })
+            .sum();
+        if (turn - std::f64::consts::TAU).abs() < std::f64::consts::PI {
+            return Ok(back(c));
+        }
+    }
+    // Invalid: say why.
+    let mut seen = std::collections::HashMap::with_capacity(k);
+    for (j, p) in polygon.iter().enumerate() {
+        if let Some(i) = seen.insert([p[0].to_bits(), p[1].to_bits()], j) {
+            return Err(bad(format!("vertices {i} and {j} coincide")));
+        }
+    }
+    // Straddling without multiplying the two crosses (their product may underflow).
+    let straddle = |d1: f64, d2: f64| (d1 <= 0.0 && d2 >= 0.0) || (d1 >= 0.0 && d2 <= 0.0);
+    if k <= 4096 {
+        for i in 0..k {
+            let (a, b) = (poly[i], poly[(i + 1) % k]);
+            for j in i + 1..k {
+                if j == i + 1 || (i == 0 && j == k - 1) {
+                    continue; // neighbours share a vertex
+                }
+                let (c, d) = (poly[j], poly[(j + 1) % k]);
+                if straddle(cross(a, b, c), cross(a, b, d))
+                    && straddle(cross(c, d, a), cross(c, d, b))
+                {
+                    return Err(bad(format!(
+                        "edges {i} and {j} intersect: the polygon is not simple"
+                    )));
+                }
+            }
+        }
+    }
     if area == 0.0 {
         return Err(bad("its area is zero".into()));
     }
-    let c = [cx / (3.0 * area), cy / (3.0 * area)];
-    for i in 0..k {
-        if cross(c, polygon[i], polygon[(i + 1) % k]) * area <= 0.0 {
-            return Err(bad(format!(
-                "it is not star-shaped about its centroid ({}, {}): edge {i} faces away, so the \
-                 caps ruled from the centroid would fold",
-                c[0], c[1]
-            )));
-        }
+    match (0..k).find(|&i| sign * cross(c, poly[i], poly[(i + 1) % k]) <= 0.0) {
+        Some(i) => Err(bad(format!(
+            "it is not star-shaped about its centroid ({}, {}): edge {i} faces away, so the \
+             caps ruled from the centroid would fold",
+            back(c)[0],
+            back(c)[1]
+        ))),
+        None => Err(bad(
+            "it winds more than once around its centroid: the polygon is not simple".into(),
+        )),
     }
-    Ok(c)
 }
 
 /// The regular n-gon of circumradius r centred at the origin, vertex 0 at (r, 0).
-/// Errors: n < 3, r not > 0.
+/// Errors: n < 3 or above [`MAX_POLYGON_VERTICES`], r not > 0.
 pub fn regular_polygon(n: usize, r: f64) -> Result<Vec<[f64; 2]>> {
     if n < 3 {
         return Err(Error::TooFewPoints {
             what: "polygon vertices",
             got: n,
             min: 3,
+        });
+    }
+    if n > MAX_POLYGON_VERTICES {
+        return Err(Error::InvalidShape {
+            what: "regular polygon",
+            reason: format!("{n} vertices: at most {MAX_POLYGON_VERTICES}"),
         });
     }
     positive("regular polygon", "radius", r)?;

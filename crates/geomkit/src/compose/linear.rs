@@ -12,6 +12,10 @@ use num_integer::Integer;
 use num_traits::{One, Signed, Zero};
 use std::collections::BTreeMap;
 
+/// Bits of the common denominator above which [`AbsSum::content`] divides by the first
+/// coefficient instead.
+const CONTENT_BITS: u64 = 256;
+
 /// f(t) = constant + slope·t + Σ_k coef_k |t - knot_k| with exact rational numbers.
 ///
 /// ```
@@ -87,10 +91,23 @@ impl AbsSum {
         Ok(f)
     }
 
+    /// Adds coef·|t - knot|, dropping the term if it cancels: O(log n) (a `retain` over all
+    /// terms here made every polygon's formula quadratic in its vertex count).
     fn add_term(&mut self, knot: Rational, coef: Rational) {
-        let entry = self.terms.entry(knot).or_insert_with(Rational::zero);
-        *entry += coef;
-        self.terms.retain(|_, c| !c.is_zero());
+        use std::collections::btree_map::Entry;
+        match self.terms.entry(knot) {
+            Entry::Vacant(e) => {
+                if !coef.is_zero() {
+                    e.insert(coef);
+                }
+            }
+            Entry::Occupied(mut e) => {
+                *e.get_mut() += coef;
+                if e.get().is_zero() {
+                    e.remove();
+                }
+            }
+        }
     }
 
     /// self += factor · other.
@@ -165,7 +182,9 @@ impl AbsSum {
 
     /// f = content · primitive, the primitive part with coprime integer coefficients and its
     /// first term (constant, then t, then the |t - c| by increasing c) positive. The zero
-    /// function gives (0, 0).
+    /// function gives (0, 0). When the coefficients' denominators have a common multiple of
+    /// more than 256 bits, the primitive part has first coefficient 1 instead (f and c·f
+    /// still share it): linear work instead of cubic.
     pub fn content(&self) -> (Rational, AbsSum) {
         let coefs: Vec<&Rational> = std::iter::once(&self.constant)
             .chain(std::iter::once(&self.slope))
@@ -180,6 +199,13 @@ impl AbsSum {
         for c in &coefs {
             num = num.gcd(c.numer());
             den = den.lcm(c.denom());
+            if den.bits() > CONTENT_BITS {
+                // Unrelated denominators (a polygon's rounded cosines): the lcm would grow
+                // with every term and each division by it cost as much, cubic in the count.
+                // The first coefficient is a content as canonical for the grouping.
+                let content = (*first).clone();
+                return (content.clone(), self.scaled(&content.recip()));
+            }
         }
         let mut content = Rational::new(num, den);
         if first.is_negative() {

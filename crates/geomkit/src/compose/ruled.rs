@@ -129,13 +129,16 @@ impl RuledCurve {
                 center[1] + radius * tau.sin(),
                 center[2],
             ],
-            RuledCurve::Polyline { .. } => {
-                let v = self.vertices_closed();
-                let last = (v.len() - 1) as f64;
+            RuledCurve::Polyline { vertices, closed } => {
+                // Vertex k of the closed list without building it (O(1) per point: a copy of
+                // the vertices here made meshing quadratic in a polygon's size).
+                let n = vertices.len() + usize::from(*closed);
+                let v = |k: usize| vertices[k % vertices.len()];
+                let last = (n - 1) as f64;
                 let t = tau.clamp(0.0, last);
-                let k = (t.floor() as usize).min(v.len() - 2);
+                let k = (t.floor() as usize).min(n - 2);
                 let f = t - k as f64;
-                let (a, b) = (v[k], v[k + 1]);
+                let (a, b) = (v(k), v(k + 1));
                 [0, 1, 2].map(|c| a[c] + f * (b[c] - a[c]))
             }
         }

@@ -110,9 +110,13 @@ fn distance_to_segment(p: &[f64], a: &[f64], b: &[f64]) -> f64 {
 /// Starts from `min_segments` equal steps plus the break points, then bisects every segment
 /// whose curve points at 1/4, 1/2 and 3/4 of its parameter interval lie further than the
 /// tolerance from the segment (the three points catch an inflection that the midpoint alone
-/// misses). Stops at `max_points`.
+/// misses). Stops at `max_points` (1 000 000 by default) and at segments shorter than 1e-12
+/// of the parameter range (a jump of a discontinuous curve).
 ///
-/// Errors: a tolerance that is not finite and > 0, a non-finite curve point.
+/// Errors: a tolerance that is not finite and > 0, a non-finite curve point; more starting
+/// points than `max_points` ([`Error::MeshTooLarge`]); an explicit tolerance that the
+/// `max_points` cap stops short of ([`Error::ToleranceOutOfReach`], naming the deviation
+/// reached; the default tolerance returns the capped polyline).
 ///
 /// ```
 /// use geomkit::bezier::BezierCurve;
@@ -135,11 +139,24 @@ pub fn tessellate_curve(curve: &dyn Curve, options: &CurveOptions) -> Result<Pol
         }
         Ok(p)
     };
-    let start = with_breaks(
-        linspace(a, b, options.min_segments.max(1) + 1),
-        &curve.breaks(),
-        (a, b),
-    );
+    let segments = options.min_segments.max(1);
+    if segments >= options.max_points {
+        return Err(Error::MeshTooLarge {
+            what: format!("{segments} segments"),
+            count: segments.saturating_add(1),
+            unit: "points",
+            max: options.max_points,
+        });
+    }
+    let start = with_breaks(linspace(a, b, segments + 1), &curve.breaks(), (a, b));
+    if start.len() > options.max_points {
+        return Err(Error::MeshTooLarge {
+            what: format!("{segments} segments and the curve's breaks"),
+            count: start.len(),
+            unit: "points",
+            max: options.max_points,
+        });
+    }
     let tol = match options.tolerance {
         Some(t) if t.is_finite() && t > 0.0 => t,
         Some(t) => return Err(Error::InvalidTolerance { value: t }),
@@ -149,16 +166,22 @@ pub fn tessellate_curve(curve: &dyn Curve, options: &CurveOptions) -> Result<Pol
                 .enumerate()
                 .map(|(k, &t)| eval(t, k))
                 .collect::<Result<_>>()?;
-            let diag = (0..d)
+            // Half extents, and the diagonal / 2000 scaled by the largest (no overflow).
+            let half: Vec<f64> = (0..d)
                 .map(|k| {
                     let lo = probe.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min);
                     let hi = probe.iter().map(|p| p[k]).fold(f64::NEG_INFINITY, f64::max);
-                    (hi - lo) * (hi - lo)
+                    hi / 2.0 - lo / 2.0
                 })
-                .sum::<f64>()
-                .sqrt();
+                .collect();
+            let m = half.iter().fold(0.0f64, |m, &h| m.max(h));
+            let diag = if m > 0.0 {
+                m / 1000.0 * half.iter().map(|h| (h / m) * (h / m)).sum::<f64>().sqrt()
+            } else {
+                0.0
+            };
             if diag > 0.0 {
-                diag / 2000.0
+                diag
             } else {
                 1e-9
             }
@@ -170,19 +193,29 @@ pub fn tessellate_curve(curve: &dyn Curve, options: &CurveOptions) -> Result<Pol
     let first = eval(start[0], 0)?;
     params.push(start[0]);
     points.extend_from_slice(&first);
-    let budget = options.max_points.max(start.len());
+    let budget = options.max_points;
+    // The largest deviation left where the budget stopped the bisection.
+    let mut capped = 0.0f64;
+    // Segments still to draw after the current window: they each need a point.
+    let mut later = start.len() - 1;
     for w in start.windows(2) {
+        later -= 1;
         let mut stack = vec![(w[0], w[1])];
         while let Some((t0, t1)) = stack.pop() {
             let p0 = points[points.len() - d..].to_vec();
             let p1 = eval(t1, params.len())?;
-            let far = if params.len() + stack.len() + 1 < budget && t1 - t0 > (b - a) * 1e-12 {
+            let far = if t1 - t0 > (b - a) * 1e-12 {
                 let mut worst = 0.0f64;
                 for f in [0.25, 0.5, 0.75] {
                     let q = eval(t0 + f * (t1 - t0), params.len())?;
                     worst = worst.max(distance_to_segment(&q, &p0, &p1));
                 }
-                worst > tol
+                if worst > tol && params.len() + stack.len() + later + 2 > budget {
+                    capped = capped.max(worst);
+                    false
+                } else {
+                    worst > tol
+                }
             } else {
                 false
             };
@@ -195,6 +228,13 @@ pub fn tessellate_curve(curve: &dyn Curve, options: &CurveOptions) -> Result<Pol
                 points.extend_from_slice(&p1);
             }
         }
+    }
+    if let (Some(t), true) = (options.tolerance, capped > 0.0) {
+        return Err(Error::ToleranceOutOfReach {
+            tolerance: t,
+            reached: capped,
+            cap: format!("{budget} points"),
+        });
     }
     Ok(Polyline {
         dim: d,

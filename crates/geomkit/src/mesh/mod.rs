@@ -13,11 +13,16 @@
 //! ruled polygons), so corners and creases such as the cube's edges are kept exactly.
 //!
 //! Closed bodies come out watertight: coincident vertices (the seam u0 = u1, the poles where a
-//! ruled surface starts at a point) are welded within a tolerance scaled to the size of the
-//! body, degenerate triangles are dropped, and a closed mesh is oriented with its normals
-//! pointing outwards (positive volume). Normals are per triangle corner: the area-weighted
-//! mean of the face normals around the vertex that lie within a crease angle, so smooth
-//! surfaces shade smoothly and edges stay sharp.
+//! ruled surface starts at a point) are welded within a tolerance scaled per axis to the size
+//! of the body, degenerate triangles are dropped, and a closed mesh is oriented with its
+//! normals pointing outwards (positive volume); a mesh that cannot keep these promises (empty,
+//! leaking, enclosing no volume in f64) is an error. Normals are per triangle corner: the
+//! faces around a vertex fall into smooth sectors separated by edges sharper than a crease
+//! angle, and each corner gets the area-weighted mean normal of its sector, so smooth surfaces
+//! shade smoothly and edges stay sharp.
+//!
+//! Work is bounded: at most [`MAX_TRIANGLES`] triangles per surface mesh (2 000 000) and
+//! 1 000 000 points per polyline; see [`tessellate_surface`] for what happens at the cap.
 //!
 //! ```
 //! use geomkit::compose::bodies;
@@ -37,9 +42,12 @@ mod trimesh;
 mod write;
 
 pub use curve::{tessellate_curve, CurveOptions, Polyline};
-pub use surface::{tessellate_surface, Sampling, SurfaceOptions};
+pub use surface::{
+    tessellate_surface, tessellate_surface_report, MeshReport, Sampling, SurfaceOptions,
+    MAX_TRIANGLES,
+};
 pub use trimesh::TriMesh;
 pub use write::{
-    write_glb, write_glb_polyline, write_obj, write_obj_polyline, write_ply, write_ply_polyline,
-    write_stl_ascii, write_stl_binary,
+    write_glb, write_glb_polyline, write_obj, write_obj_polyline, write_obj_with, write_ply,
+    write_ply_polyline, write_stl_ascii, write_stl_binary, ObjNormals,
 };
