@@ -15,7 +15,6 @@ use crate::output::{write_stdout, Destination};
 use anyhow::{anyhow, bail, Context, Result};
 use geomkit::exact::Rational;
 use geomkit::expr::Graph;
-use geomkit::geom::Curve;
 use geomkit::geom::Surface;
 use geomkit::pointcalc::{
     optimize, Goal, Hypersurface, NodePreset, Nodes, OptimizeOptions, PointEquation, PointOptions,
@@ -307,7 +306,16 @@ fn eval(args: PcEvalArgs) -> Result<()> {
     let rows = csv.numbers(&names)?;
     let xs: Vec<f64> = rows.iter().flatten().copied().collect();
     let mut out = vec![0.0; rows.len() * model.dim()];
-    model.eval_many(&xs, &mut out)?;
+    if let Err(e) = model.eval_many(&xs, &mut out) {
+        // The first point that fails, by its line (a result beyond f64, or extrapolated so far
+        // that rounding swamps it).
+        for (x, (line, _)) in rows.iter().zip(&csv.rows) {
+            if let Err(e) = model.eval(x) {
+                bail!("{} line {line}: {e}", csv.name);
+            }
+        }
+        return Err(anyhow!(e).context(csv.name.clone()));
+    }
     let mut text = names.join(",");
     for r in &response {
         text.push(',');
@@ -369,7 +377,7 @@ fn json_string(s: &str) -> String {
 fn shares(args: SharesArgs) -> Result<()> {
     let (model, _) = read_model(&args.model)?;
     let x = parse_at(&model, &args.at)?;
-    let shares = model.shares(&x)?;
+    let shares = model.shares(&x).context("--at")?;
     let items: Vec<String> = shares
         .iter()
         .enumerate()
@@ -385,13 +393,26 @@ fn shares(args: SharesArgs) -> Result<()> {
 }
 
 fn optimize_cmd(args: OptimizeArgs) -> Result<()> {
-    let (model, _) = read_model(&args.model)?;
+    let (model, response) = read_model(&args.model)?;
+    let name = args.model.display();
+    if model.dim() != 1 {
+        bail!(
+            "{name}: the model has {} responses ({}): --max/--min search one; fit a model \
+             with a single --response column (e.g. `pointcalc fit ... --response {}`)",
+            model.dim(),
+            response.join(", "),
+            response.first().map_or("Y", String::as_str)
+        );
+    }
     let goal = if args.max { Goal::Max } else { Goal::Min };
     let mut opts = OptimizeOptions::default();
     if let Some(t) = args.tolerance {
+        if !t.is_finite() || t < 0.0 {
+            bail!("--tolerance must be a finite number >= 0, got {t}");
+        }
         opts = opts.with_tolerance(t);
     }
-    let best = optimize(&model, goal, &opts)?;
+    let best = optimize(&model, goal, &opts).with_context(|| name.to_string())?;
     if !best.certified {
         warn_text(&format!(
             "the box budget ran out: the optimum is within {} of the value (not certified to the tolerance)",
@@ -431,12 +452,16 @@ fn formula(args: FormulaArgs) -> Result<()> {
             .map(|f| f.name().to_string())
             .collect();
         let vars: Vec<_> = params.iter().map(|p| g.var(p)).collect();
-        let exprs = model.to_expr(&mut g, &vars);
+        let exprs = model
+            .to_expr(&mut g, &vars)
+            .with_context(|| args.model.display().to_string())?;
         (params, response.into_iter().zip(exprs).collect())
     } else {
         let eq = read_curve(&args.model, args.nodes.as_deref(), false)?;
         let t = g.var("t");
-        let exprs = eq.to_expr(&mut g, t);
+        let exprs = eq
+            .to_expr(&mut g, t)
+            .with_context(|| args.model.display().to_string())?;
         let names = ["x", "y", "z"];
         let lines = exprs
             .into_iter()
@@ -482,18 +507,38 @@ fn read_curve(path: &Path, nodes: Option<&str>, strict: bool) -> Result<PointEqu
         PointsFile::Bare(p) | PointsFile::Wrapped { points: p } => p,
     };
     let nodes = match nodes {
-        Some(spec) => parse_nodes(spec, Some(points.len()))?,
-        None => default_nodes(points.len().max(1))?,
+        Some(spec) => parse_nodes(spec, Some(points.len())).context("--nodes")?,
+        None => default_nodes(points.len().max(1)).with_context(|| path.display().to_string())?,
     };
     let eq = PointEquation::with_options(nodes, points, &options(strict))
         .with_context(|| path.display().to_string())?;
     Ok(eq)
 }
 
-fn check_samples(samples: Option<usize>, default: usize) -> Result<usize> {
+/// The most samples of `pointcalc curve` (points of the curve).
+pub const MAX_CURVE_SAMPLES: usize = 1_000_000;
+
+/// The most samples per direction of `pointcalc surface` (K × K points of the surface).
+pub const MAX_SURFACE_SAMPLES: usize = 1_000;
+
+/// The most multiply-adds of the samples of `pointcalc curve` and `surface` (a few seconds).
+pub const MAX_SAMPLE_WORK: usize = 2_000_000_000;
+
+/// Refuses --samples whose evaluation would cost more than [`MAX_SAMPLE_WORK`].
+fn check_sample_work(work: usize, k: usize) -> Result<()> {
+    if work > MAX_SAMPLE_WORK {
+        bail!(
+            "--samples {k} is too many for these source points: about {work} multiply-adds, at \
+             most {MAX_SAMPLE_WORK} (use fewer samples)"
+        );
+    }
+    Ok(())
+}
+
+fn check_samples(samples: Option<usize>, default: usize, max: usize) -> Result<usize> {
     let k = samples.unwrap_or(default);
-    if !(2..=1_000_000).contains(&k) {
-        bail!("--samples must be between 2 and 1000000, got {k}");
+    if !(2..=max).contains(&k) {
+        bail!("--samples must be between 2 and {max}, got {k}");
     }
     Ok(k)
 }
@@ -501,7 +546,7 @@ fn check_samples(samples: Option<usize>, default: usize) -> Result<usize> {
 fn curve(args: PcCurveArgs) -> Result<()> {
     let eq = read_curve(&args.input, args.nodes.as_deref(), args.strict)?;
     warn(eq.warnings());
-    let k = check_samples(args.samples, 201)?;
+    let k = check_samples(args.samples, 201, MAX_CURVE_SAMPLES)?;
     let dest = Destination::from_option(args.output.as_deref());
     if args
         .output
@@ -516,12 +561,18 @@ fn curve(args: PcCurveArgs) -> Result<()> {
         )?;
         return dest.write(svg.as_bytes());
     }
+    check_sample_work(k.saturating_mul(eq.points_flat().len()), k)?;
     let (a, b) = eq.domain();
-    let samples: Vec<String> = linspace(a, b, k)
-        .into_iter()
-        .map(|t| {
+    let ts = linspace(a, b, k);
+    let mut points = vec![0.0; k * eq.dim()];
+    eq.eval_params(&ts, &mut points)
+        .with_context(|| args.input.display().to_string())?;
+    let samples: Vec<String> = ts
+        .iter()
+        .zip(points.chunks_exact(eq.dim()))
+        .map(|(&t, p)| {
             let p: Vec<String> = std::iter::once(t)
-                .chain(eq.eval(t))
+                .chain(p.iter().copied())
                 .map(json_number)
                 .collect();
             format!("[{}]", p.join(","))
@@ -575,13 +626,13 @@ fn build_surface(args: &PcSurfaceArgs, net: Vec<Vec<Vec<f64>>>) -> Result<AnySur
                 .zip(&net)
                 .enumerate()
                 .map(|(i, (s, row))| {
-                    parse_nodes(s, Some(row.len())).with_context(|| format!("row {i}"))
+                    parse_nodes(s, Some(row.len())).with_context(|| format!("--row-nodes: row {i}"))
                 })
                 .collect::<Result<_>>()?
         }
         (None, Some(spec)) => net
             .iter()
-            .map(|row| parse_nodes(spec, Some(row.len())))
+            .map(|row| parse_nodes(spec, Some(row.len())).context("--nodes"))
             .collect::<Result<_>>()?,
         (None, None) => net
             .iter()
@@ -605,7 +656,7 @@ fn surface(args: PcSurfaceArgs) -> Result<()> {
     let cols = net.iter().map(Vec::len).max().unwrap_or(0);
     let surface =
         build_surface(&args, net.clone()).with_context(|| args.input.display().to_string())?;
-    let k = check_samples(args.samples, 21)?;
+    let k = check_samples(args.samples, 21, MAX_SURFACE_SAMPLES)?;
     let dest = Destination::from_option(args.output.as_deref());
     let view = surface.view();
     let dim = view.dim();
@@ -643,10 +694,17 @@ fn surface(args: PcSurfaceArgs) -> Result<()> {
         )?;
         return dest.write(svg.as_bytes());
     }
+    // Each row at every u, then K × K combinations across the rows.
+    let rows = net.len();
+    let work = k
+        .saturating_mul(flat.len())
+        .saturating_add(k.saturating_mul(k).saturating_mul(rows.saturating_mul(dim)));
+    check_sample_work(work, k)?;
     let ((u0, u1), (v0, v1)) = view.domain();
     let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, k));
     let mut out = vec![0.0; k * k * dim];
-    view.eval_grid(&us, &vs, &mut out)?;
+    view.eval_grid(&us, &vs, &mut out)
+        .with_context(|| args.input.display().to_string())?;
     let pts: Vec<String> = out
         .chunks_exact(dim)
         .map(|p| {
