@@ -116,7 +116,7 @@ pub struct OptimizeArgs {
     pub min: bool,
     /// Relative tolerance of the certified gap (to the range of the data), a finite number
     /// >= 0 [default: 1e-9].
-    #[arg(long, value_name = "T")]
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
 }
 
@@ -150,7 +150,7 @@ pub struct PcCurveArgs {
     pub strict: bool,
     /// Samples over the node interval for JSON output, 2 to 1000000, and at most 2·10^9
     /// multiply-adds (samples × source numbers) [default: 201].
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
     pub samples: Option<usize>,
     /// Output: .svg (a picture) or .json (nodes, Lebesgue constant, samples); default: JSON
     /// to standard output.
@@ -183,7 +183,7 @@ pub struct PcSurfaceArgs {
     pub printed: bool,
     /// Samples per direction for JSON output (K × K points), 2 to 1000, and at most 2·10^9
     /// multiply-adds (K × source numbers + K² × rows) [default: 21].
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
     pub samples: Option<usize>,
     /// Output: .svg or .json (a K×K grid of points); default: JSON to standard output.
     #[arg(short, long, value_name = "OUT")]

@@ -64,7 +64,11 @@ pub fn parse_nodes(spec: &str, count: Option<usize>) -> Result<Nodes> {
             let num = |i: usize, default: f64| -> Result<f64> {
                 parts.get(i).map_or(Ok(default), |x| {
                     x.parse::<f64>()
-                        .map_err(|_| anyhow!("'{x}' is not a number (in node preset '{s}')"))
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| {
+                            anyhow!("'{x}' is not a finite number (in node preset '{s}')")
+                        })
                 })
             };
             if parts.len() != 2 && parts.len() != 4 {
@@ -554,6 +558,14 @@ fn curve(args: PcCurveArgs) -> Result<()> {
         .and_then(|p| p.extension())
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
     {
+        // The figure's samples (400 over the node interval) and the source points.
+        let (a, b) = eq.domain();
+        let ts = linspace(a, b, 400);
+        let mut drawn = vec![0.0; ts.len() * eq.dim()];
+        eq.eval_params(&ts, &mut drawn)
+            .with_context(|| args.input.display().to_string())?;
+        check_svg_extent(&drawn, &args.input)?;
+        check_svg_extent(eq.points_flat(), &args.input)?;
         let svg = point_curves_svg(
             "Point-equation curve",
             &format!("{} source points", eq.nodes().len()),
@@ -591,6 +603,22 @@ fn curve(args: PcCurveArgs) -> Result<()> {
         samples.join(",\n")
     );
     dest.write(text.as_bytes())
+}
+
+/// The largest coordinate an SVG picture is laid out with: its layout computes with the
+/// extent of the drawing (differences, paddings, scales), which must stay well inside f64.
+const MAX_SVG_COORDINATE: f64 = 1e300;
+
+/// Refuses SVG output of coordinates beyond [`MAX_SVG_COORDINATE`].
+fn check_svg_extent(values: &[f64], input: &Path) -> Result<()> {
+    if let Some(v) = values.iter().find(|v| v.abs() > MAX_SVG_COORDINATE) {
+        bail!(
+            "{}: a coordinate of {v:e} to draw: SVG output needs coordinates within ±1e300 (the \
+             picture is laid out with their extent); rescale the points or write JSON",
+            input.display()
+        );
+    }
+    Ok(())
 }
 
 /// The surface of `pointcalc surface` (either kind).
@@ -666,6 +694,18 @@ fn surface(args: PcSurfaceArgs) -> Result<()> {
         .and_then(|p| p.extension())
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
     {
+        // The wireframe's samples (12 iso-lines of 64 points each way) and the source points.
+        let ((u0, u1), (v0, v1)) = view.domain();
+        for (us, vs) in [
+            (linspace(u0, u1, 12), linspace(v0, v1, 64)),
+            (linspace(u0, u1, 64), linspace(v0, v1, 12)),
+        ] {
+            let mut drawn = vec![0.0; us.len() * vs.len() * dim];
+            view.eval_grid(&us, &vs, &mut drawn)
+                .with_context(|| args.input.display().to_string())?;
+            check_svg_extent(&drawn, &args.input)?;
+        }
+        check_svg_extent(&flat, &args.input)?;
         let regular = net.iter().all(|r| r.len() == cols);
         let svg = surface_svg(
             "Point-equation surface",
