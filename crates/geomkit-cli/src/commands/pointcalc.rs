@@ -216,21 +216,29 @@ impl NamedCsv {
         })
     }
 
-    fn column(&self, want: &str) -> Result<usize> {
-        self.columns.iter().position(|c| c == want).ok_or_else(|| {
-            anyhow!(
-                "{}: no column '{want}' in the header (columns: {})",
-                self.name,
-                self.columns.join(", ")
-            )
-        })
-    }
-
     /// The numbers of `columns` in every row; errors name the line and column.
     fn numbers(&self, columns: &[String]) -> Result<Vec<Vec<f64>>> {
+        // Header positions by name (the first of a repeated name), looked up once each.
+        let mut position = std::collections::HashMap::with_capacity(self.columns.len());
+        for (i, c) in self.columns.iter().enumerate() {
+            position.entry(c.as_str()).or_insert(i);
+        }
         let idx = columns
             .iter()
-            .map(|c| self.column(c))
+            .map(|want| {
+                position.get(want.as_str()).copied().ok_or_else(|| {
+                    let mut known: Vec<&str> =
+                        self.columns.iter().take(20).map(String::as_str).collect();
+                    if self.columns.len() > 20 {
+                        known.push("...");
+                    }
+                    anyhow!(
+                        "{}: no column '{want}' in the header (columns: {})",
+                        self.name,
+                        known.join(", ")
+                    )
+                })
+            })
             .collect::<Result<Vec<_>>>()?;
         self.rows
             .iter()
@@ -260,8 +268,9 @@ fn fit(args: FitArgs) -> Result<()> {
     let csv = NamedCsv::read(&args.input)?;
     let mut columns = args.factors.clone();
     columns.extend(args.response.iter().cloned());
-    for (i, c) in columns.iter().enumerate() {
-        if columns[..i].contains(c) {
+    let mut seen = std::collections::HashSet::with_capacity(columns.len());
+    for c in &columns {
+        if !seen.insert(c) {
             bail!("column '{c}' is named twice in --factors/--response");
         }
     }
@@ -419,7 +428,7 @@ fn optimize_cmd(args: OptimizeArgs) -> Result<()> {
     let best = optimize(&model, goal, &opts).with_context(|| name.to_string())?;
     if !best.certified {
         warn_text(&format!(
-            "the box budget ran out: the optimum is within {} of the value (not certified to the tolerance)",
+            "the box or work budget ran out: the optimum is within {} of the value (not certified to the tolerance)",
             json_number(best.gap)
         ));
     }

@@ -92,13 +92,13 @@ impl Hypersurface {
                 what: "source points",
             });
         }
-        for (i, f) in factors.iter().enumerate() {
-            if factors[..i].iter().any(|g| g.name == f.name) {
-                return Err(Error::InvalidOption {
-                    option: "factors",
-                    reason: "duplicate factor name",
-                });
-            }
+        // A set, not pairs: a model file may hold many factors.
+        let mut names = std::collections::HashSet::with_capacity(factors.len());
+        if !factors.iter().all(|f| names.insert(f.name.as_str())) {
+            return Err(Error::InvalidOption {
+                option: "factors",
+                reason: "duplicate factor name",
+            });
         }
         let expected = value_count(&factors, dim)?;
         if values.len() != expected {
