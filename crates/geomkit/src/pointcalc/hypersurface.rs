@@ -551,24 +551,42 @@ impl Hypersurface {
             .next_multiple_of(LANES);
         let d = self.dim;
         let grid = self.grid();
+        let domain = self.domain();
+        // Per chunk: whether a point needs the wide evaluation (checked where the chunk ran,
+        // in one branch-free pass).
+        let mut flagged = vec![false; xs.len().div_ceil(chunk * k)];
         xs.par_chunks(chunk * k)
             .zip(out.par_chunks_mut(chunk * d))
+            .zip(flagged.par_iter_mut())
             .for_each_init(
                 || Buffers::new(&grid),
-                |buffers, (xc, oc)| {
+                |buffers, ((xc, oc), flag)| {
                     kernel::dispatch(EvalPoints {
                         grid: &grid,
                         xs: xc,
-                        out: oc,
+                        out: &mut *oc,
                         buffers,
-                    })
+                    });
+                    let mut bad = false;
+                    for x in xc.chunks_exact(k) {
+                        for (&t, &(lo, hi)) in x.iter().zip(&domain) {
+                            bad |= (t < lo) | (t > hi);
+                        }
+                    }
+                    for v in oc.iter() {
+                        bad |= !v.is_finite();
+                    }
+                    *flag = bad;
                 },
             );
         let mut scaled = None;
-        for (x, o) in xs.chunks_exact(k).zip(out.chunks_exact_mut(d)) {
-            if self.needs_wide(x, o) {
-                let scaled = scaled.get_or_insert_with(|| self.scaled());
-                self.eval_wide(x, scaled, o)?;
+        let chunks = xs.chunks(chunk * k).zip(out.chunks_mut(chunk * d));
+        for ((xc, oc), _) in chunks.zip(&flagged).filter(|(_, &f)| f) {
+            for (x, o) in xc.chunks_exact(k).zip(oc.chunks_exact_mut(d)) {
+                if self.needs_wide(x, o) {
+                    let scaled = scaled.get_or_insert_with(|| self.scaled());
+                    self.eval_wide(x, scaled, o)?;
+                }
             }
         }
         Ok(())
