@@ -8,7 +8,7 @@
 mod fuzz;
 
 use geomkit::expr::{Format, Graph};
-use geomkit::geom::Curve;
+use geomkit::geom::{BatchOptions, Curve};
 use geomkit::pointcalc::{
     optimize, Factor, Goal, Hypersurface, Nodes, OptimizeOptions, PointEquation, PointOptions,
     PointSurface,
@@ -291,8 +291,16 @@ proptest! {
         let eq = PointEquation::new(nodes.clone(), (0..n).map(point).collect()).unwrap();
         let ts: Vec<f64> = ats.iter().map(|&a| place(a, &nodes)).collect();
         let mut out = vec![0.0; ts.len() * 2];
-        if eq.eval_params(&ts, &mut out).is_ok() {
+        let single = eq.eval_params(&ts, &mut out);
+        if single.is_ok() {
             prop_assert!(out.iter().all(|v| v.is_finite()), "{ts:?}: {out:?}");
+        }
+        // The batch (parallel chunks) agrees: the same values, or an error too.
+        let mut batch = vec![0.0; out.len()];
+        let r = Curve::eval_batch(&eq, &ts, &mut batch, &BatchOptions::default());
+        prop_assert_eq!(r.is_ok(), single.is_ok());
+        if r.is_ok() {
+            prop_assert_eq!(&batch, &out);
         }
         for &t in &ts {
             prop_assert!(eq.eval(t).iter().all(|v| !v.is_nan()), "{t}");

@@ -306,3 +306,17 @@ fn shares_never_nan_inside_ill_conditioned_nodes() {
         }
     }
 }
+
+/// A batch of a curve's points with one beyond f64: `eval_batch` panicked on the `expect` of
+/// its chunks once `eval_params` could refuse; now the same error.
+#[test]
+fn curve_batches_beyond_f64_are_refused() {
+    use geomkit::geom::BatchOptions;
+    let eq =
+        PointEquation::new(Nodes::paper_half(), vec![vec![0.0], vec![0.25], vec![1.0]]).unwrap();
+    let mut out = [0.0; 3];
+    let r = Curve::eval_batch(&eq, &[0.5, 1e200, 2.0], &mut out, &BatchOptions::default());
+    overflow(r, "t=1e200");
+    Curve::eval_batch(&eq, &[0.5, 1e5, 2.0], &mut out, &BatchOptions::default()).unwrap();
+    assert_eq!(out, [0.25, 1e10, 4.0]);
+}

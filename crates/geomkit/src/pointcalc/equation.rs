@@ -261,20 +261,34 @@ impl PointEquation {
     /// parameter far outside the nodes, or source points near f64::MAX).
     pub fn eval_params(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         check_eval_args("parameter", ts, ts.len(), self.dim, out)?;
+        self.fill(ts, out);
+        self.check_finite(ts, out)
+    }
+
+    /// M(t) at every parameter into `out` (checked lengths, finite parameters): the values of
+    /// [`Curve::eval_into`], ±infinity where M(t) is beyond f64.
+    fn fill(&self, ts: &[f64], out: &mut [f64]) {
         let mut l = vec![0.0; self.nodes.len()];
         for (t, o) in ts.iter().zip(out.chunks_exact_mut(self.dim)) {
             self.nodes.basis_into(*t, &mut l);
             self.combine(&l, o);
             if o.iter().any(|x| !x.is_finite()) {
                 self.eval_wide(*t, o);
-                if o.iter().any(|x| !x.is_finite()) {
-                    return Err(Error::Overflow {
-                        what: format!("the point of the curve at t={}", short(*t)),
-                    });
-                }
             }
         }
-        Ok(())
+    }
+
+    /// [`Error::Overflow`] naming the first parameter whose point is not finite.
+    fn check_finite(&self, ts: &[f64], out: &[f64]) -> Result<()> {
+        match out
+            .chunks_exact(self.dim)
+            .position(|o| o.iter().any(|x| !x.is_finite()))
+        {
+            Some(i) => Err(Error::Overflow {
+                what: format!("the point of the curve at t={}", short(ts[i])),
+            }),
+            None => Ok(()),
+        }
     }
 }
 
@@ -321,15 +335,15 @@ impl Curve for PointEquation {
     }
 
     /// [`PointEquation::eval_params`] (the basis buffer reused), in parallel chunks for
-    /// large batches: the values of [`Curve::eval_into`], bit for bit.
+    /// large batches: the values of [`Curve::eval_into`], bit for bit. Errors as
+    /// [`PointEquation::eval_params`] ([`Error::Overflow`] for a point beyond f64).
     fn eval_batch(&self, ts: &[f64], out: &mut [f64], options: &BatchOptions) -> Result<()> {
         check_eval_args("parameter", ts, ts.len(), self.dim, out)?;
         let parallel = options.parallel() && ts.len() > 4096;
         crate::par::zip_chunks(parallel, out, 4096 * self.dim, ts, 4096, |o, t| {
-            self.eval_params(t, o)
-                .expect("checked parameters and buffer")
+            self.fill(t, o)
         });
-        Ok(())
+        self.check_finite(ts, out)
     }
 }
 
