@@ -16,6 +16,15 @@
 //! - [`cardinal_expr`], `to_expr`: point equations as formulas (exact rational nodes) for the
 //!   expression printers of [`crate::expr`].
 //!
+//! Results are finite or an error: a value, share, bound or formula coefficient beyond f64
+//! is [`crate::Error::Overflow`] naming the step; a model value far outside the nodes whose
+//! rounding error exceeds both it and the data is [`crate::Error::LostToRounding`]. No step
+//! overflows on the way to a representable result (exponents of their own, values scaled by
+//! powers of two). Limits ([`crate::Error::TooMany`]): [`Nodes::MAX_LEN`] nodes per set (5000),
+//! [`Hypersurface::MAX_VALUES`] numbers per model (10^8), [`MAX_FORMULA_TERMS`] factors per
+//! formula (10^7); [`optimize`] stops at 4000 boxes or 10^9 operations
+//! ([`OptimizeOptions`]).
+//!
 //! ```
 //! use geomkit::pointcalc::{Nodes, PointEquation};
 //! use geomkit::geom::Curve;
