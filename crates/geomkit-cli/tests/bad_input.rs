@@ -17,6 +17,7 @@ mod bad_input {
     pub mod expr;
     pub mod interpolate;
     pub mod mesh;
+    pub mod pointcalc;
 }
 
 use std::collections::BTreeMap;
@@ -137,6 +138,7 @@ fn the_catalogue_covers_every_command() {
         bad_input::expr::CASES.len(),
         bad_input::interpolate::CASES.len(),
         bad_input::mesh::CASES.len(),
+        bad_input::pointcalc::CASES.len(),
     ]
     .iter()
     .sum();

@@ -401,3 +401,54 @@ fn bad_experiments_name_the_line_and_leave_no_file() {
     );
     assert!(err.contains("unknown factor 'd'"), "{err}");
 }
+
+/// Responses near f64::MAX (issue 21): eval printed inf, optimize `"bound": null` with
+/// `"certified": true`, formula INFINITY, curve samples null. Now the results are finite and
+/// right, or refused with one error line naming the step.
+#[test]
+fn responses_near_the_f64_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(
+        d,
+        "m.json",
+        r#"{"type":"pointcalc-model","factors":[{"name":"a","nodes":[0,0.5,1]}],"response":["y"],"values":[1e308,1.5e308,1e308]}"#,
+    );
+    write(d, "at.csv", "a\n0.25\n0.5\n");
+    let out = ok(d, &["pointcalc", "eval", "m.json", "at.csv"]);
+    // y(1/4) = 1e308 (1 + 0.5 · 4 · 1/4 · 3/4) = 1.375e308.
+    let y: Vec<f64> = out
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert!(
+        (y[0] / 1.375e308 - 1.0).abs() < 1e-15 && y[1] == 1.5e308,
+        "{out}"
+    );
+    let best: Value =
+        serde_json::from_str(&ok(d, &["pointcalc", "optimize", "m.json", "--max"])).unwrap();
+    assert_eq!(best["certified"], true);
+    let (value, bound) = (
+        best["value"].as_f64().unwrap(),
+        best["bound"].as_f64().unwrap(),
+    );
+    assert!((value / 1.5e308 - 1.0).abs() < 1e-12 && bound >= value && bound.is_finite());
+    let err = fails(
+        d,
+        &["pointcalc", "formula", "m.json", "--format", "c"],
+        None,
+    );
+    assert!(err.contains("m.json") && err.contains("overflows"), "{err}");
+    // Far outside the levels: the line of the point.
+    write(d, "far.csv", "a\n0.5\n1e200\n");
+    let err = fails(
+        d,
+        &["pointcalc", "eval", "m.json", "far.csv", "-o", "y.csv"],
+        Some("y.csv"),
+    );
+    assert!(
+        err.contains("far.csv line 3") && err.contains("a=1e200"),
+        "{err}"
+    );
+}

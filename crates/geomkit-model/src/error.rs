@@ -93,6 +93,30 @@ impl Error {
         self
     }
 
+    /// A syntax error with the text around its position ("near '[0, 1/0, 1]'"), so that
+    /// the value at fault (`1/0`, `NaN`, `1e999`) is named, not only its line and column.
+    pub(crate) fn with_snippet(mut self, text: &str) -> Error {
+        if let ErrorKind::Syntax {
+            line,
+            column,
+            message,
+        } = &mut self.0.kind
+        {
+            if let Some(l) = text.lines().nth(line.saturating_sub(1)) {
+                let chars: Vec<char> = l.chars().collect();
+                let at = column.saturating_sub(1).min(chars.len());
+                let from = at.saturating_sub(12);
+                let to = (at + 12).min(chars.len());
+                let near: String = chars[from..to].iter().collect();
+                let near = near.trim();
+                if !near.is_empty() {
+                    message.push_str(&format!(" (near '{near}')"));
+                }
+            }
+        }
+        self
+    }
+
     /// The same error one level down: `field` is prepended to its JSON path.
     pub(crate) fn under(mut self, field: &str) -> Error {
         if let ErrorKind::Model { path, .. } | ErrorKind::Schema { path, .. } = &mut self.0.kind {

@@ -55,7 +55,8 @@ use std::path::Path;
 /// JSON path, line and column) for JSON that is not a model file.
 pub fn parse_file(text: &str) -> Result<ModelFile> {
     let mut de = serde_json::Deserializer::from_str(text);
-    let file: ModelFile = serde_path_to_error::deserialize(&mut de).map_err(Error::from_json)?;
+    let file: ModelFile = serde_path_to_error::deserialize(&mut de)
+        .map_err(|e| Error::from_json(e).with_snippet(text))?;
     de.end()
         .map_err(|e| Error::from_json_at(String::new(), e))?;
     Ok(file)

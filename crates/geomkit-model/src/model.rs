@@ -720,6 +720,12 @@ fn rational(x: &str) -> Option<Rational> {
 }
 
 fn pointcalc_model(f: PointcalcModelFile) -> Result<PointcalcModel> {
+    if f.response.is_empty() {
+        return Err(Error::model(
+            "response",
+            "is empty: a model has at least one response name",
+        ));
+    }
     let mut factors = Vec::with_capacity(f.factors.len());
     for (k, factor) in f.factors.into_iter().enumerate() {
         let place = format!("factors[{k}]");
@@ -739,24 +745,44 @@ fn pointcalc_model(f: PointcalcModelFile) -> Result<PointcalcModel> {
                     .iter()
                     .enumerate()
                     .map(|(i, x)| {
-                        rational(x).ok_or_else(|| {
+                        let r = rational(x).ok_or_else(|| {
                             Error::model(
                                 format!("{place}.exact[{i}]"),
                                 format!("is {x:?}, which is not a number or fraction"),
                             )
-                        })
+                        })?;
+                        // The exact level and its f64 value must be the same number.
+                        let v = geomkit::exact::rational_to_f64(&r);
+                        if v != factor.nodes[i] {
+                            return Err(Error::model(
+                                format!("{place}.exact[{i}]"),
+                                format!(
+                                    "is {x:?} ({v}), but \"nodes\"[{i}] is {}: they \
+                                     must be the same level",
+                                    factor.nodes[i]
+                                ),
+                            ));
+                        }
+                        Ok(r)
                     })
                     .collect::<Result<Vec<_>>>()?;
                 Nodes::from_rationals(exact)
+                    .map_err(|e| Error::geometry(format!("{place}.exact"), e))?
             }
-            None => Nodes::new(factor.nodes),
-        }
-        .map_err(|e| Error::geometry(format!("{place}.nodes"), e))?;
+            None => Nodes::new(factor.nodes)
+                .map_err(|e| Error::geometry(format!("{place}.nodes"), e))?,
+        };
         factors.push(Factor::new(factor.name, nodes));
     }
     let dim = f.response.len();
-    let model = Hypersurface::new(factors, dim, f.values, &PointOptions::default())
-        .map_err(|e| Error::geometry("", e))?;
+    let model =
+        Hypersurface::new(factors, dim, f.values, &PointOptions::default()).map_err(|e| {
+            let place = match &e {
+                geomkit::Error::InvalidOption { .. } | geomkit::Error::Empty { .. } => "factors",
+                _ => "values",
+            };
+            Error::geometry(place, e)
+        })?;
     Ok(PointcalcModel {
         model,
         response: f.response,

@@ -603,7 +603,7 @@ fn nice_step(range: f64, target: f64) -> f64 {
 fn tick_values(lo: f64, hi: f64, step: f64) -> Vec<f64> {
     let first = (lo / step).ceil() as i64;
     let last = (hi / step).floor() as i64;
-    if last < first || last - first > 1000 {
+    if last < first || last.saturating_sub(first) > 1000 {
         return Vec::new();
     }
     (first..=last).map(|k| k as f64 * step).collect()

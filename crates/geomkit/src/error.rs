@@ -292,8 +292,10 @@ pub enum Error {
     /// A node set whose Lebesgue constant exceeds the limit (interpolation amplifies data
     /// errors by up to that factor), when strictness was asked for.
     #[error(
-        "the Lebesgue constant of {what} is {value:.3}, above the limit {limit:.3} \
-         (use Chebyshev nodes, fewer nodes, or a larger limit)"
+        "the Lebesgue constant of {what} is {}, above the limit {} \
+         (use Chebyshev nodes, fewer nodes, or a larger limit)",
+        crate::pointcalc::lebesgue_text(*value),
+        crate::pointcalc::lebesgue_text(*limit)
     )]
     LebesgueTooLarge {
         /// Which node set.
@@ -336,6 +338,37 @@ pub enum Error {
     UnknownFactor {
         /// The name given.
         name: String,
+    },
+    /// A result (or a step of its computation that cannot be avoided) whose magnitude is
+    /// beyond f64 (about 1.8e308): refused rather than returned as an infinity or NaN.
+    #[error("{what} overflows f64 (its magnitude is beyond 1.8e308)")]
+    Overflow {
+        /// The result or step, with where ("the share of point 3 (a=0, b=1) at a=1e308, b=0").
+        what: String,
+    },
+    /// A result whose rounding error bound exceeds both the result and the scale of the
+    /// data (extrapolating far outside the nodes): it would have no correct digit.
+    #[error(
+        "{what} is lost to rounding: this far outside the nodes the interpolant amplifies \
+         rounding errors to {}, more than the result itself (evaluate closer to the \
+         nodes' span)",
+        crate::pointcalc::magnitude_text(*error)
+    )]
+    LostToRounding {
+        /// The result, with where.
+        what: String,
+        /// The bound of its rounding error.
+        error: f64,
+    },
+    /// A count above a documented limit (nodes per node set, cells of a grid, ...).
+    #[error("too many {what}: {got}, at most {max}")]
+    TooMany {
+        /// What was counted.
+        what: &'static str,
+        /// How many were asked for (`usize::MAX` when the count itself overflows).
+        got: usize,
+        /// The limit.
+        max: usize,
     },
     /// A derivative that a curve or surface type cannot give (see
     /// [`crate::geom::Curve::derivative_into`] and [`crate::geom::Surface::derivative_into`]).

@@ -15,7 +15,10 @@ model passes through every experimental point (no system is solved).
 
 --nodes a=0,1/3,1;b=... gives the nodes of some factors explicitly: exact rationals (kept
 exact in formulas) or presets (cheb1:N:LO:HI, cheb2:N:LO:HI, equi:N:LO:HI); the data levels
-are matched to them within 1e-9 of their span.";
+are matched to them within 1e-9 of their span.
+
+Limits: at most 5000 levels (nodes) per factor, and at most 10^8 numbers in the model's
+grid (cells times responses).";
 
 /// `geomkit pointcalc ...`
 #[derive(Debug, Subcommand)]
@@ -24,12 +27,25 @@ pub enum PointcalcCommand {
     #[command(long_about = FIT_ABOUT)]
     Fit(FitArgs),
     /// Evaluate a model at the factor values of a CSV file (prints them with the response).
+    ///
+    /// Outside the factors' levels the model extrapolates; a point so far out that the
+    /// response is beyond f64, or that rounding errors exceed both the response and the data
+    /// (no digit would be right), is refused with its line.
     Eval(PcEvalArgs),
     /// The share of every experimental point in the modeled point at given factor values.
+    ///
+    /// Far outside the levels the shares grow like x^(n-1); one beyond f64 is refused.
     Shares(SharesArgs),
     /// The largest or smallest modeled response over the factors' box (global, certified).
+    ///
+    /// Branch and bound with Bernstein bounds: at most 4000 boxes and about 10^9
+    /// operations (then the result is printed with "certified": false and a warning); a model
+    /// one box of which costs more than that (cells × Σ levels + Σ levels³ / 2) is refused.
     Optimize(OptimizeArgs),
     /// The model (or a curve from POINTS.json) as one formula per response.
+    ///
+    /// At most 10^7 factors (source values × nodes); every number of the formula is a
+    /// finite f64 (a coefficient beyond f64 is refused, naming the node or source point).
     Formula(FormulaArgs),
     /// A point-equation curve through source points (JSON), as SVG or JSON samples.
     Curve(PcCurveArgs),
@@ -49,7 +65,7 @@ pub struct FitArgs {
     /// Response column(s), comma-separated (several make a vector response).
     #[arg(long, value_name = "Y", value_delimiter = ',', required = true)]
     pub response: Vec<String>,
-    /// Explicit nodes of some factors: "a=0,1/3,1;b=cheb2:5:0:1".
+    /// Explicit nodes of some factors: "a=0,1/3,1;b=cheb2:5:0:1" (at most 5000 per factor).
     #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
     pub nodes: Option<String>,
     /// Fail (instead of warning) when a factor's Lebesgue constant is large.
@@ -98,8 +114,9 @@ pub struct OptimizeArgs {
     /// The smallest response.
     #[arg(long)]
     pub min: bool,
-    /// Relative tolerance of the certified gap (to the range of the data) [default: 1e-9].
-    #[arg(long, value_name = "T")]
+    /// Relative tolerance of the certified gap (to the range of the data), a finite number
+    /// >= 0 [default: 1e-9].
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
     pub tolerance: Option<f64>,
 }
 
@@ -125,14 +142,15 @@ pub struct PcCurveArgs {
     #[arg(value_name = "POINTS.json")]
     pub input: PathBuf,
     /// Nodes: "0,1/3,1", "cheb1:N[:LO:HI]", "cheb2:N", "equi:N", "half", "third",
-    /// "two-thirds" [default: equally spaced j/(n-1), exact].
+    /// "two-thirds" [default: equally spaced j/(n-1), exact]; at most 5000 nodes.
     #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
     pub nodes: Option<String>,
     /// Fail (instead of warning) when the Lebesgue constant is large.
     #[arg(long)]
     pub strict: bool,
-    /// Samples over the node interval for JSON and SVG output [default: 201].
-    #[arg(long, value_name = "K")]
+    /// Samples over the node interval for JSON output, 2 to 1000000, and at most 2·10^9
+    /// multiply-adds (samples × source numbers) [default: 201].
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
     pub samples: Option<usize>,
     /// Output: .svg (a picture) or .json (nodes, Lebesgue constant, samples); default: JSON
     /// to standard output.
@@ -146,7 +164,7 @@ pub struct PcSurfaceArgs {
     /// Net of source points: JSON [[[x,y,z],...],...] (rows of points) or {"net": ...}.
     #[arg(value_name = "POINTS.json")]
     pub input: PathBuf,
-    /// Nodes along every row [default: equally spaced, exact].
+    /// Nodes along every row [default: equally spaced, exact]; at most 5000 per node set.
     #[arg(
         long,
         value_name = "SPEC",
@@ -154,17 +172,18 @@ pub struct PcSurfaceArgs {
         allow_hyphen_values = true
     )]
     pub nodes: Option<String>,
-    /// Nodes of each row, separated by ';' ("third;half;two-thirds").
+    /// Nodes of each row, separated by ';' ("third;half;two-thirds"); at most 5000 each.
     #[arg(long, value_name = "SPEC;SPEC;..", allow_hyphen_values = true)]
     pub row_nodes: Option<String>,
-    /// Nodes across the rows [default: equally spaced, exact].
+    /// Nodes across the rows [default: equally spaced, exact]; at most 5000.
     #[arg(long, value_name = "SPEC", allow_hyphen_values = true)]
     pub across: Option<String>,
     /// The paper's geomatrix (9) exactly as printed (3×3 nets only; not affine invariant).
     #[arg(long, conflicts_with_all = ["nodes", "row_nodes", "across"])]
     pub printed: bool,
-    /// Samples per direction for JSON output [default: 21].
-    #[arg(long, value_name = "K")]
+    /// Samples per direction for JSON output (K × K points), 2 to 1000, and at most 2·10^9
+    /// multiply-adds (K × source numbers + K² × rows) [default: 21].
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
     pub samples: Option<usize>,
     /// Output: .svg or .json (a K×K grid of points); default: JSON to standard output.
     #[arg(short, long, value_name = "OUT")]

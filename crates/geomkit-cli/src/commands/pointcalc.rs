@@ -15,7 +15,6 @@ use crate::output::{write_stdout, Destination};
 use anyhow::{anyhow, bail, Context, Result};
 use geomkit::exact::Rational;
 use geomkit::expr::Graph;
-use geomkit::geom::Curve;
 use geomkit::geom::Surface;
 use geomkit::pointcalc::{
     optimize, Goal, Hypersurface, NodePreset, Nodes, OptimizeOptions, PointEquation, PointOptions,
@@ -65,7 +64,11 @@ pub fn parse_nodes(spec: &str, count: Option<usize>) -> Result<Nodes> {
             let num = |i: usize, default: f64| -> Result<f64> {
                 parts.get(i).map_or(Ok(default), |x| {
                     x.parse::<f64>()
-                        .map_err(|_| anyhow!("'{x}' is not a number (in node preset '{s}')"))
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| {
+                            anyhow!("'{x}' is not a finite number (in node preset '{s}')")
+                        })
                 })
             };
             if parts.len() != 2 && parts.len() != 4 {
@@ -213,21 +216,29 @@ impl NamedCsv {
         })
     }
 
-    fn column(&self, want: &str) -> Result<usize> {
-        self.columns.iter().position(|c| c == want).ok_or_else(|| {
-            anyhow!(
-                "{}: no column '{want}' in the header (columns: {})",
-                self.name,
-                self.columns.join(", ")
-            )
-        })
-    }
-
     /// The numbers of `columns` in every row; errors name the line and column.
     fn numbers(&self, columns: &[String]) -> Result<Vec<Vec<f64>>> {
+        // Header positions by name (the first of a repeated name), looked up once each.
+        let mut position = std::collections::HashMap::with_capacity(self.columns.len());
+        for (i, c) in self.columns.iter().enumerate() {
+            position.entry(c.as_str()).or_insert(i);
+        }
         let idx = columns
             .iter()
-            .map(|c| self.column(c))
+            .map(|want| {
+                position.get(want.as_str()).copied().ok_or_else(|| {
+                    let mut known: Vec<&str> =
+                        self.columns.iter().take(20).map(String::as_str).collect();
+                    if self.columns.len() > 20 {
+                        known.push("...");
+                    }
+                    anyhow!(
+                        "{}: no column '{want}' in the header (columns: {})",
+                        self.name,
+                        known.join(", ")
+                    )
+                })
+            })
             .collect::<Result<Vec<_>>>()?;
         self.rows
             .iter()
@@ -257,8 +268,9 @@ fn fit(args: FitArgs) -> Result<()> {
     let csv = NamedCsv::read(&args.input)?;
     let mut columns = args.factors.clone();
     columns.extend(args.response.iter().cloned());
-    for (i, c) in columns.iter().enumerate() {
-        if columns[..i].contains(c) {
+    let mut seen = std::collections::HashSet::with_capacity(columns.len());
+    for c in &columns {
+        if !seen.insert(c) {
             bail!("column '{c}' is named twice in --factors/--response");
         }
     }
@@ -307,7 +319,16 @@ fn eval(args: PcEvalArgs) -> Result<()> {
     let rows = csv.numbers(&names)?;
     let xs: Vec<f64> = rows.iter().flatten().copied().collect();
     let mut out = vec![0.0; rows.len() * model.dim()];
-    model.eval_many(&xs, &mut out)?;
+    if let Err(e) = model.eval_many(&xs, &mut out) {
+        // The first point that fails, by its line (a result beyond f64, or extrapolated so far
+        // that rounding swamps it).
+        for (x, (line, _)) in rows.iter().zip(&csv.rows) {
+            if let Err(e) = model.eval(x) {
+                bail!("{} line {line}: {e}", csv.name);
+            }
+        }
+        return Err(anyhow!(e).context(csv.name.clone()));
+    }
     let mut text = names.join(",");
     for r in &response {
         text.push(',');
@@ -369,7 +390,7 @@ fn json_string(s: &str) -> String {
 fn shares(args: SharesArgs) -> Result<()> {
     let (model, _) = read_model(&args.model)?;
     let x = parse_at(&model, &args.at)?;
-    let shares = model.shares(&x)?;
+    let shares = model.shares(&x).context("--at")?;
     let items: Vec<String> = shares
         .iter()
         .enumerate()
@@ -385,16 +406,29 @@ fn shares(args: SharesArgs) -> Result<()> {
 }
 
 fn optimize_cmd(args: OptimizeArgs) -> Result<()> {
-    let (model, _) = read_model(&args.model)?;
+    let (model, response) = read_model(&args.model)?;
+    let name = args.model.display();
+    if model.dim() != 1 {
+        bail!(
+            "{name}: the model has {} responses ({}): --max/--min search one; fit a model \
+             with a single --response column (e.g. `pointcalc fit ... --response {}`)",
+            model.dim(),
+            response.join(", "),
+            response.first().map_or("Y", String::as_str)
+        );
+    }
     let goal = if args.max { Goal::Max } else { Goal::Min };
     let mut opts = OptimizeOptions::default();
     if let Some(t) = args.tolerance {
+        if !t.is_finite() || t < 0.0 {
+            bail!("--tolerance must be a finite number >= 0, got {t}");
+        }
         opts = opts.with_tolerance(t);
     }
-    let best = optimize(&model, goal, &opts)?;
+    let best = optimize(&model, goal, &opts).with_context(|| name.to_string())?;
     if !best.certified {
         warn_text(&format!(
-            "the box budget ran out: the optimum is within {} of the value (not certified to the tolerance)",
+            "the box or work budget ran out: the optimum is within {} of the value (not certified to the tolerance)",
             json_number(best.gap)
         ));
     }
@@ -431,12 +465,16 @@ fn formula(args: FormulaArgs) -> Result<()> {
             .map(|f| f.name().to_string())
             .collect();
         let vars: Vec<_> = params.iter().map(|p| g.var(p)).collect();
-        let exprs = model.to_expr(&mut g, &vars);
+        let exprs = model
+            .to_expr(&mut g, &vars)
+            .with_context(|| args.model.display().to_string())?;
         (params, response.into_iter().zip(exprs).collect())
     } else {
         let eq = read_curve(&args.model, args.nodes.as_deref(), false)?;
         let t = g.var("t");
-        let exprs = eq.to_expr(&mut g, t);
+        let exprs = eq
+            .to_expr(&mut g, t)
+            .with_context(|| args.model.display().to_string())?;
         let names = ["x", "y", "z"];
         let lines = exprs
             .into_iter()
@@ -482,18 +520,38 @@ fn read_curve(path: &Path, nodes: Option<&str>, strict: bool) -> Result<PointEqu
         PointsFile::Bare(p) | PointsFile::Wrapped { points: p } => p,
     };
     let nodes = match nodes {
-        Some(spec) => parse_nodes(spec, Some(points.len()))?,
-        None => default_nodes(points.len().max(1))?,
+        Some(spec) => parse_nodes(spec, Some(points.len())).context("--nodes")?,
+        None => default_nodes(points.len().max(1)).with_context(|| path.display().to_string())?,
     };
     let eq = PointEquation::with_options(nodes, points, &options(strict))
         .with_context(|| path.display().to_string())?;
     Ok(eq)
 }
 
-fn check_samples(samples: Option<usize>, default: usize) -> Result<usize> {
+/// The most samples of `pointcalc curve` (points of the curve).
+pub const MAX_CURVE_SAMPLES: usize = 1_000_000;
+
+/// The most samples per direction of `pointcalc surface` (K × K points of the surface).
+pub const MAX_SURFACE_SAMPLES: usize = 1_000;
+
+/// The most multiply-adds of the samples of `pointcalc curve` and `surface` (a few seconds).
+pub const MAX_SAMPLE_WORK: usize = 2_000_000_000;
+
+/// Refuses --samples whose evaluation would cost more than [`MAX_SAMPLE_WORK`].
+fn check_sample_work(work: usize, k: usize) -> Result<()> {
+    if work > MAX_SAMPLE_WORK {
+        bail!(
+            "--samples {k} is too many for these source points: about {work} multiply-adds, at \
+             most {MAX_SAMPLE_WORK} (use fewer samples)"
+        );
+    }
+    Ok(())
+}
+
+fn check_samples(samples: Option<usize>, default: usize, max: usize) -> Result<usize> {
     let k = samples.unwrap_or(default);
-    if !(2..=1_000_000).contains(&k) {
-        bail!("--samples must be between 2 and 1000000, got {k}");
+    if !(2..=max).contains(&k) {
+        bail!("--samples must be between 2 and {max}, got {k}");
     }
     Ok(k)
 }
@@ -501,7 +559,7 @@ fn check_samples(samples: Option<usize>, default: usize) -> Result<usize> {
 fn curve(args: PcCurveArgs) -> Result<()> {
     let eq = read_curve(&args.input, args.nodes.as_deref(), args.strict)?;
     warn(eq.warnings());
-    let k = check_samples(args.samples, 201)?;
+    let k = check_samples(args.samples, 201, MAX_CURVE_SAMPLES)?;
     let dest = Destination::from_option(args.output.as_deref());
     if args
         .output
@@ -509,6 +567,14 @@ fn curve(args: PcCurveArgs) -> Result<()> {
         .and_then(|p| p.extension())
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
     {
+        // The figure's samples (400 over the node interval) and the source points.
+        let (a, b) = eq.domain();
+        let ts = linspace(a, b, 400);
+        let mut drawn = vec![0.0; ts.len() * eq.dim()];
+        eq.eval_params(&ts, &mut drawn)
+            .with_context(|| args.input.display().to_string())?;
+        check_svg_extent(&drawn, &args.input)?;
+        check_svg_extent(eq.points_flat(), &args.input)?;
         let svg = point_curves_svg(
             "Point-equation curve",
             &format!("{} source points", eq.nodes().len()),
@@ -516,12 +582,18 @@ fn curve(args: PcCurveArgs) -> Result<()> {
         )?;
         return dest.write(svg.as_bytes());
     }
+    check_sample_work(k.saturating_mul(eq.points_flat().len()), k)?;
     let (a, b) = eq.domain();
-    let samples: Vec<String> = linspace(a, b, k)
-        .into_iter()
-        .map(|t| {
+    let ts = linspace(a, b, k);
+    let mut points = vec![0.0; k * eq.dim()];
+    eq.eval_params(&ts, &mut points)
+        .with_context(|| args.input.display().to_string())?;
+    let samples: Vec<String> = ts
+        .iter()
+        .zip(points.chunks_exact(eq.dim()))
+        .map(|(&t, p)| {
             let p: Vec<String> = std::iter::once(t)
-                .chain(eq.eval(t))
+                .chain(p.iter().copied())
                 .map(json_number)
                 .collect();
             format!("[{}]", p.join(","))
@@ -540,6 +612,22 @@ fn curve(args: PcCurveArgs) -> Result<()> {
         samples.join(",\n")
     );
     dest.write(text.as_bytes())
+}
+
+/// The largest coordinate an SVG picture is laid out with: its layout computes with the
+/// extent of the drawing (differences, paddings, scales), which must stay well inside f64.
+const MAX_SVG_COORDINATE: f64 = 1e300;
+
+/// Refuses SVG output of coordinates beyond [`MAX_SVG_COORDINATE`].
+fn check_svg_extent(values: &[f64], input: &Path) -> Result<()> {
+    if let Some(v) = values.iter().find(|v| v.abs() > MAX_SVG_COORDINATE) {
+        bail!(
+            "{}: a coordinate of {v:e} to draw: SVG output needs coordinates within ±1e300 (the \
+             picture is laid out with their extent); rescale the points or write JSON",
+            input.display()
+        );
+    }
+    Ok(())
 }
 
 /// The surface of `pointcalc surface` (either kind).
@@ -575,13 +663,13 @@ fn build_surface(args: &PcSurfaceArgs, net: Vec<Vec<Vec<f64>>>) -> Result<AnySur
                 .zip(&net)
                 .enumerate()
                 .map(|(i, (s, row))| {
-                    parse_nodes(s, Some(row.len())).with_context(|| format!("row {i}"))
+                    parse_nodes(s, Some(row.len())).with_context(|| format!("--row-nodes: row {i}"))
                 })
                 .collect::<Result<_>>()?
         }
         (None, Some(spec)) => net
             .iter()
-            .map(|row| parse_nodes(spec, Some(row.len())))
+            .map(|row| parse_nodes(spec, Some(row.len())).context("--nodes"))
             .collect::<Result<_>>()?,
         (None, None) => net
             .iter()
@@ -605,7 +693,7 @@ fn surface(args: PcSurfaceArgs) -> Result<()> {
     let cols = net.iter().map(Vec::len).max().unwrap_or(0);
     let surface =
         build_surface(&args, net.clone()).with_context(|| args.input.display().to_string())?;
-    let k = check_samples(args.samples, 21)?;
+    let k = check_samples(args.samples, 21, MAX_SURFACE_SAMPLES)?;
     let dest = Destination::from_option(args.output.as_deref());
     let view = surface.view();
     let dim = view.dim();
@@ -615,6 +703,18 @@ fn surface(args: PcSurfaceArgs) -> Result<()> {
         .and_then(|p| p.extension())
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
     {
+        // The wireframe's samples (12 iso-lines of 64 points each way) and the source points.
+        let ((u0, u1), (v0, v1)) = view.domain();
+        for (us, vs) in [
+            (linspace(u0, u1, 12), linspace(v0, v1, 64)),
+            (linspace(u0, u1, 64), linspace(v0, v1, 12)),
+        ] {
+            let mut drawn = vec![0.0; us.len() * vs.len() * dim];
+            view.eval_grid(&us, &vs, &mut drawn)
+                .with_context(|| args.input.display().to_string())?;
+            check_svg_extent(&drawn, &args.input)?;
+        }
+        check_svg_extent(&flat, &args.input)?;
         let regular = net.iter().all(|r| r.len() == cols);
         let svg = surface_svg(
             "Point-equation surface",
@@ -643,10 +743,17 @@ fn surface(args: PcSurfaceArgs) -> Result<()> {
         )?;
         return dest.write(svg.as_bytes());
     }
+    // Each row at every u, then K × K combinations across the rows.
+    let rows = net.len();
+    let work = k
+        .saturating_mul(flat.len())
+        .saturating_add(k.saturating_mul(k).saturating_mul(rows.saturating_mul(dim)));
+    check_sample_work(work, k)?;
     let ((u0, u1), (v0, v1)) = view.domain();
     let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, k));
     let mut out = vec![0.0; k * k * dim];
-    view.eval_grid(&us, &vs, &mut out)?;
+    view.eval_grid(&us, &vs, &mut out)
+        .with_context(|| args.input.display().to_string())?;
     let pts: Vec<String> = out
         .chunks_exact(dim)
         .map(|p| {

@@ -18,6 +18,7 @@
 //! ```
 
 use super::nodes::Nodes;
+use super::wide::{combine_wide, short};
 use crate::exact::Rational;
 use crate::geom::{check_point, BatchOptions, Curve};
 use crate::points::{check_eval_args, flatten_points, validate_points};
@@ -68,8 +69,10 @@ impl std::fmt::Display for Warning {
         match self {
             Warning::LargeLebesgue { what, value, limit } => write!(
                 f,
-                "the Lebesgue constant of {what} is {value:.3} (limit {limit:.3}): the \
-                 interpolant may oscillate between nodes; Chebyshev nodes avoid this"
+                "the Lebesgue constant of {what} is {} (limit {}): the interpolant may \
+                 oscillate between nodes; Chebyshev nodes avoid this",
+                super::lebesgue_text(*value),
+                super::lebesgue_text(*limit)
             ),
         }
     }
@@ -214,6 +217,16 @@ impl PointEquation {
         }
     }
 
+    /// M(t) again where the plain evaluation did not give finite numbers (source points
+    /// near f64::MAX whose partial sums overflow, or t far outside the nodes): shares as
+    /// mantissas with one exponent, points scaled by a power of two, the sum scaled back
+    /// last. ±infinity only where M(t) itself is beyond f64.
+    fn eval_wide(&self, t: f64, out: &mut [f64]) {
+        let mut l = vec![0.0; self.nodes.len()];
+        let e = self.nodes.basis_wide(t, &mut l);
+        combine_wide(&l, e, &self.points, out);
+    }
+
     /// The first derivative dM/dt at `t`.
     pub fn derivative(&self, t: f64) -> Vec<f64> {
         self.derivatives(t)[1].clone()
@@ -243,15 +256,39 @@ impl PointEquation {
     }
 
     /// Evaluates at every parameter of `ts` into `out` (`ts.len() * dim`), the nodes' basis
-    /// buffer reused. Errors: wrong buffer length, a non-finite parameter.
+    /// buffer reused: the values of [`Curve::eval_into`]. Errors: wrong buffer length, a
+    /// non-finite parameter; [`Error::Overflow`] naming the first point beyond f64 (a
+    /// parameter far outside the nodes, or source points near f64::MAX).
     pub fn eval_params(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         check_eval_args("parameter", ts, ts.len(), self.dim, out)?;
+        self.fill(ts, out);
+        self.check_finite(ts, out)
+    }
+
+    /// M(t) at every parameter into `out` (checked lengths, finite parameters): the values of
+    /// [`Curve::eval_into`], ±infinity where M(t) is beyond f64.
+    fn fill(&self, ts: &[f64], out: &mut [f64]) {
         let mut l = vec![0.0; self.nodes.len()];
         for (t, o) in ts.iter().zip(out.chunks_exact_mut(self.dim)) {
             self.nodes.basis_into(*t, &mut l);
             self.combine(&l, o);
+            if o.iter().any(|x| !x.is_finite()) {
+                self.eval_wide(*t, o);
+            }
         }
-        Ok(())
+    }
+
+    /// [`Error::Overflow`] naming the first parameter whose point is not finite.
+    fn check_finite(&self, ts: &[f64], out: &[f64]) -> Result<()> {
+        match out
+            .chunks_exact(self.dim)
+            .position(|o| o.iter().any(|x| !x.is_finite()))
+        {
+            Some(i) => Err(Error::Overflow {
+                what: format!("the point of the curve at t={}", short(ts[i])),
+            }),
+            None => Ok(()),
+        }
     }
 }
 
@@ -266,7 +303,9 @@ impl Curve for PointEquation {
         PointEquation::domain(self)
     }
 
-    /// M(t) = Σ f_i(t) A_i; at a node exactly its source point.
+    /// M(t) = Σ f_i(t) A_i; at a node exactly its source point. Where the plain sum leaves
+    /// the f64 range it is computed again with the points scaled by a power of two (so the
+    /// result is ±infinity only where M(t) itself is beyond f64, never NaN).
     fn eval_into(&self, t: f64, out: &mut [f64]) {
         let n = self.nodes.len();
         if n <= 16 {
@@ -276,6 +315,9 @@ impl Curve for PointEquation {
         } else {
             let l = self.nodes.basis(t);
             self.combine(&l, out);
+        }
+        if out.iter().any(|x| !x.is_finite()) {
+            self.eval_wide(t, out);
         }
     }
 
@@ -293,15 +335,15 @@ impl Curve for PointEquation {
     }
 
     /// [`PointEquation::eval_params`] (the basis buffer reused), in parallel chunks for
-    /// large batches: the values of [`Curve::eval_into`], bit for bit.
+    /// large batches: the values of [`Curve::eval_into`], bit for bit. Errors as
+    /// [`PointEquation::eval_params`] ([`Error::Overflow`] for a point beyond f64).
     fn eval_batch(&self, ts: &[f64], out: &mut [f64], options: &BatchOptions) -> Result<()> {
         check_eval_args("parameter", ts, ts.len(), self.dim, out)?;
         let parallel = options.parallel() && ts.len() > 4096;
         crate::par::zip_chunks(parallel, out, 4096 * self.dim, ts, 4096, |o, t| {
-            self.eval_params(t, o)
-                .expect("checked parameters and buffer")
+            self.fill(t, o)
         });
-        Ok(())
+        self.check_finite(ts, out)
     }
 }
 

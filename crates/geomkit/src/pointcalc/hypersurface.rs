@@ -27,6 +27,7 @@
 use super::equation::{check_lebesgue, PointOptions, Warning};
 use super::kernel::{self, Buffers, EvalPoints, Grid, LANES};
 use super::nodes::Nodes;
+use super::wide::{exponent, ldexp, short};
 use crate::par::*;
 use crate::{Error, Result};
 
@@ -68,9 +69,15 @@ pub struct Hypersurface {
 }
 
 impl Hypersurface {
+    /// The most numbers a model holds: dim · Π n_i (cells of the grid times numbers per
+    /// cell), 10^8 (800 MB). Larger grids are refused with [`Error::TooMany`] before
+    /// anything is allocated.
+    pub const MAX_VALUES: usize = 100_000_000;
+
     /// The model through `values` (row-major over the factors, factor 0 slowest, `dim`
-    /// numbers per cell). Errors: no factors, duplicate factor names, dim = 0, a value count
-    /// other than dim · Π n_i, non-finite values, a large Lebesgue constant when strict.
+    /// numbers per cell). Errors: no factors, duplicate factor names, dim = 0, more than
+    /// [`Hypersurface::MAX_VALUES`] numbers, a value count other than dim · Π n_i,
+    /// non-finite values, a large Lebesgue constant when strict.
     pub fn new(
         factors: Vec<Factor>,
         dim: usize,
@@ -85,19 +92,19 @@ impl Hypersurface {
                 what: "source points",
             });
         }
-        for (i, f) in factors.iter().enumerate() {
-            if factors[..i].iter().any(|g| g.name == f.name) {
-                return Err(Error::InvalidOption {
-                    option: "factors",
-                    reason: "duplicate factor name",
-                });
-            }
+        // A set, not pairs: a model file may hold many factors.
+        let mut names = std::collections::HashSet::with_capacity(factors.len());
+        if !factors.iter().all(|f| names.insert(f.name.as_str())) {
+            return Err(Error::InvalidOption {
+                option: "factors",
+                reason: "duplicate factor name",
+            });
         }
-        let cells: usize = factors.iter().map(|f| f.nodes.len()).product();
-        if values.len() != cells * dim {
+        let expected = value_count(&factors, dim)?;
+        if values.len() != expected {
             return Err(Error::PointCount {
                 what: "values of the grid".into(),
-                expected: cells * dim,
+                expected,
                 got: values.len(),
             });
         }
@@ -122,15 +129,21 @@ impl Hypersurface {
     }
 
     /// The model sampling `f` at every grid cell (`f(levels, out)` writes dim values).
+    /// Errors as [`Hypersurface::new`] (the size is checked before `f` is called).
     pub fn from_fn(
         factors: Vec<Factor>,
         dim: usize,
         mut f: impl FnMut(&[f64], &mut [f64]),
         options: &PointOptions,
     ) -> Result<Self> {
+        if dim == 0 {
+            return Err(Error::ZeroDimension {
+                what: "source points",
+            });
+        }
+        let total = value_count(&factors, dim)?;
         let shape: Vec<usize> = factors.iter().map(|f| f.nodes.len()).collect();
-        let cells: usize = shape.iter().product();
-        let mut values = vec![0.0; cells * dim];
+        let mut values = vec![0.0; total];
         let mut x = vec![0.0; factors.len()];
         for (c, out) in values.chunks_exact_mut(dim.max(1)).enumerate() {
             let mut rest = c;
@@ -228,33 +241,54 @@ impl Hypersurface {
             factors.push(Factor::new(names[f].clone(), levels));
         }
         let shape: Vec<usize> = factors.iter().map(|f| f.nodes.len()).collect();
-        let cells: usize = shape.iter().product();
-        let mut seen: Vec<Option<usize>> = vec![None; cells];
-        let mut values = vec![0.0; cells * dim];
+        // The records sorted by cell (row-major order is the lexicographic order of the level
+        // indices): duplicates are neighbours, and the first gap is the first missing cell.
+        // Memory in the number of records, whatever the size of the grid they imply.
+        let mut order: Vec<usize> = (0..records.len()).collect();
+        order.sort_by(|&a, &b| index[a].cmp(&index[b]).then(a.cmp(&b)));
+        let duplicate = order
+            .windows(2)
+            .filter(|w| index[w[0]] == index[w[1]])
+            .min_by_key(|w| w[1]);
+        if let Some(w) = duplicate {
+            return Err(Error::GridRecord {
+                record: w[1],
+                reason: format!(
+                    "duplicate cell {} (also record {})",
+                    describe_cell(&factors, &index[w[1]]),
+                    w[0]
+                ),
+            });
+        }
+        let cells = shape.iter().try_fold(1usize, |acc, &n| acc.checked_mul(n));
+        if cells != Some(records.len()) {
+            // Fewer records than cells: the first cell (row-major) that no record has.
+            let mut want = vec![0usize; k];
+            for &r in &order {
+                if index[r] != want {
+                    break;
+                }
+                for f in (0..k).rev() {
+                    want[f] += 1;
+                    if want[f] < shape[f] || f == 0 {
+                        break;
+                    }
+                    want[f] = 0;
+                }
+            }
+            return Err(Error::MissingCell {
+                cell: describe_cell(&factors, &want),
+                missing: cells.map_or(usize::MAX, |c| c - records.len()),
+            });
+        }
+        value_count(&factors, dim)?;
+        let mut values = vec![0.0; records.len() * dim];
         for (r, rec) in records.iter().enumerate() {
             let c = index[r]
                 .iter()
                 .zip(&shape)
                 .fold(0, |acc, (i, n)| acc * n + i);
-            if let Some(prev) = seen[c] {
-                return Err(Error::GridRecord {
-                    record: r,
-                    reason: format!(
-                        "duplicate cell {} (also record {prev})",
-                        describe_cell(&factors, &index[r])
-                    ),
-                });
-            }
-            seen[c] = Some(r);
             values[c * dim..(c + 1) * dim].copy_from_slice(&rec[k..]);
-        }
-        let missing = seen.iter().filter(|s| s.is_none()).count();
-        if let Some(c) = seen.iter().position(Option::is_none) {
-            let idx = unflatten(c, &shape);
-            return Err(Error::MissingCell {
-                cell: describe_cell(&factors, &idx),
-                missing,
-            });
         }
         Hypersurface::new(factors, dim, values, options)
     }
@@ -330,7 +364,9 @@ impl Hypersurface {
     }
 
     /// M(x) into `out` (length dim). Errors: x of the wrong length or not finite, wrong
-    /// buffer length. At a grid cell the result is exactly its source point.
+    /// buffer length; [`Error::Overflow`] where the result is beyond f64;
+    /// [`Error::LostToRounding`] far outside the box of the nodes (see
+    /// [`Hypersurface::eval_many`]). At a grid cell the result is exactly its source point.
     pub fn eval_into(&self, x: &[f64], out: &mut [f64]) -> Result<()> {
         self.check_point(x)?;
         if out.len() != self.dim {
@@ -344,10 +380,109 @@ impl Hypersurface {
         kernel::dispatch(EvalPoints {
             grid: &grid,
             xs: x,
-            out,
+            out: &mut *out,
             buffers: &mut buffers,
         });
+        if self.needs_wide(x, out) {
+            self.eval_wide(x, &self.scaled(), out)?;
+        }
         Ok(())
+    }
+
+    /// Whether M(x) goes through [`Hypersurface::eval_wide`]: x outside the box of the nodes
+    /// (extrapolation: the shares grow without bound and their sum cancels), or a result
+    /// of the fast kernels that is not finite (an intermediate sum overflowed).
+    fn needs_wide(&self, x: &[f64], out: &[f64]) -> bool {
+        out.iter().any(|v| !v.is_finite())
+            || self.factors.iter().zip(x).any(|(f, &t)| {
+                let (lo, hi) = f.nodes.domain();
+                t < lo || t > hi
+            })
+    }
+
+    /// The values scaled by a power of two to |v| < 1 (exact), and that power.
+    fn scaled(&self) -> (Vec<f64>, i64) {
+        let max = self.values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let e = exponent(max);
+        (self.values.iter().map(|&v| ldexp(v, -e)).collect(), e)
+    }
+
+    /// M(x) with nothing overflowing on the way: the values scaled to |v| < 1
+    /// (`scaled` from [`Hypersurface::scaled`]), every factor's shares as mantissas with an
+    /// exponent of their own (the product form, [`Nodes::basis_wide`]), contracted, and only
+    /// then scaled back; the same roundings as the plain computation. Errors:
+    /// [`Error::Overflow`] when the result is beyond f64; outside the box of the nodes,
+    /// [`Error::LostToRounding`] when the rounding error bound γ Σ |share| |value| (γ = (4 Σ
+    /// n_i + 8 k + 8) ε) exceeds both the result and the largest source value.
+    fn eval_wide(&self, x: &[f64], scaled: &(Vec<f64>, i64), out: &mut [f64]) -> Result<()> {
+        let (values, ev) = scaled;
+        let k = self.k();
+        let nodes: Vec<&Nodes> = self.factors.iter().map(|f| &f.nodes).collect();
+        let grid = Grid::new(nodes.clone(), values, self.dim);
+        let mut bases: Vec<[f64; 1]> = Vec::with_capacity(grid.offsets[k]);
+        let mut tmp = Vec::new();
+        let mut e_sum: i64 = 0;
+        for (n, &t) in nodes.iter().zip(x) {
+            tmp.resize(n.len(), 0.0);
+            e_sum += n.basis_wide(t, &mut tmp);
+            bases.extend(tmp.iter().map(|&v| [v]));
+        }
+        let cells = self.values.len() / self.dim;
+        let mut work = vec![[0.0]; cells / nodes[k - 1].len()];
+        let outside = self.factors.iter().zip(x).any(|(f, &t)| {
+            let (lo, hi) = f.nodes.domain();
+            t < lo || t > hi
+        });
+        let magnitudes = outside.then(|| {
+            let abs: Vec<f64> = values.iter().map(|v| v.abs()).collect();
+            let bases: Vec<[f64; 1]> = bases.iter().map(|b| [b[0].abs()]).collect();
+            (abs, bases)
+        });
+        let total_n: usize = nodes.iter().map(|n| n.len()).sum();
+        let gamma = (4 * total_n + 8 * k + 8) as f64 * f64::EPSILON;
+        let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        for (c, o) in out.iter_mut().enumerate() {
+            let sum = kernel::contract::<kernel::Plain, 1>(&grid, &bases, &mut work, c)[0];
+            let value = ldexp(sum, ev + e_sum);
+            if !value.is_finite() {
+                return Err(Error::Overflow {
+                    what: format!("{} at {}", self.what_value(c), self.describe_at(x)),
+                });
+            }
+            if let Some((abs, abs_bases)) = &magnitudes {
+                let grid = Grid::new(nodes.clone(), abs, self.dim);
+                let bound = kernel::contract::<kernel::Plain, 1>(&grid, abs_bases, &mut work, c)[0];
+                // In units of 2^(ev + e_sum), like `sum`.
+                let data = ldexp(largest, -e_sum);
+                if gamma * bound > sum.abs().max(data) {
+                    return Err(Error::LostToRounding {
+                        what: format!("{} at {}", self.what_value(c), self.describe_at(x)),
+                        error: ldexp(gamma * bound, ev + e_sum),
+                    });
+                }
+            }
+            *o = value;
+        }
+        Ok(())
+    }
+
+    /// "the modeled value" (dim 1) or "component c of the modeled point".
+    fn what_value(&self, c: usize) -> String {
+        if self.dim == 1 {
+            "the modeled value".into()
+        } else {
+            format!("component {c} of the modeled point")
+        }
+    }
+
+    /// "a=1e308, b=0": the factor values of a point, for messages.
+    pub(crate) fn describe_at(&self, x: &[f64]) -> String {
+        self.factors
+            .iter()
+            .zip(x)
+            .map(|(f, &v)| format!("{}={}", f.name, short(v)))
+            .collect::<Vec<_>>()
+            .join(", ")
     }
 
     /// M(x).
@@ -371,8 +506,18 @@ impl Hypersurface {
     /// AVX2+FMA or AVX-512, 4 on baseline x86-64; the CPU is checked at run time): their
     /// cardinal functions first, then one pass over the source values multiplying each into
     /// all the block's points (fused multiply-adds where the CPU has FMA). The same values as
-    /// [`Hypersurface::eval`] point by point (which runs the same operations). Errors:
-    /// lengths, non-finite factor values.
+    /// [`Hypersurface::eval`] point by point (which runs the same operations).
+    ///
+    /// Points outside the box of the nodes (extrapolation), and points whose result the
+    /// kernels could not hold (huge source values whose partial sums overflow), are then
+    /// evaluated again one by one with nothing overflowing on the way (the values scaled by a
+    /// power of two, the shares in the product form with an exponent of their own).
+    ///
+    /// Errors: lengths, non-finite factor values; [`Error::Overflow`] for a result beyond
+    /// f64 (far outside the nodes, or huge source values); [`Error::LostToRounding`] outside
+    /// the box when the rounding error bound γ Σ |share| |value| (γ = (4 Σ n_i + 8 k + 8) ε)
+    /// exceeds both the result and the largest source value (extrapolating so far that no
+    /// digit would be right). Each names the first such point.
     ///
     /// ```
     /// use geomkit::pointcalc::{Factor, Hypersurface, Nodes, PointOptions};
@@ -406,23 +551,49 @@ impl Hypersurface {
             .next_multiple_of(LANES);
         let d = self.dim;
         let grid = self.grid();
+        let domain = self.domain();
+        // Per chunk: whether a point needs the wide evaluation (checked where the chunk ran,
+        // in one branch-free pass).
+        let mut flagged = vec![false; xs.len().div_ceil(chunk * k)];
         xs.par_chunks(chunk * k)
             .zip(out.par_chunks_mut(chunk * d))
+            .zip(flagged.par_iter_mut())
             .for_each_init(
                 || Buffers::new(&grid),
-                |buffers, (xc, oc)| {
+                |buffers, ((xc, oc), flag)| {
                     kernel::dispatch(EvalPoints {
                         grid: &grid,
                         xs: xc,
-                        out: oc,
+                        out: &mut *oc,
                         buffers,
-                    })
+                    });
+                    let mut bad = false;
+                    for x in xc.chunks_exact(k) {
+                        for (&t, &(lo, hi)) in x.iter().zip(&domain) {
+                            bad |= (t < lo) | (t > hi);
+                        }
+                    }
+                    for v in oc.iter() {
+                        bad |= !v.is_finite();
+                    }
+                    *flag = bad;
                 },
             );
+        let mut scaled = None;
+        let chunks = xs.chunks(chunk * k).zip(out.chunks_mut(chunk * d));
+        for ((xc, oc), _) in chunks.zip(&flagged).filter(|(_, &f)| f) {
+            for (x, o) in xc.chunks_exact(k).zip(oc.chunks_exact_mut(d)) {
+                if self.needs_wide(x, o) {
+                    let scaled = scaled.get_or_insert_with(|| self.scaled());
+                    self.eval_wide(x, scaled, o)?;
+                }
+            }
+        }
         Ok(())
     }
 
     /// The gradient: ∂M/∂x_f for every factor f, `k * dim` numbers (factor-major).
+    /// Errors: as [`Hypersurface::eval`]; [`Error::Overflow`] when a component is beyond f64.
     pub fn gradient(&self, x: &[f64]) -> Result<Vec<f64>> {
         self.check_point(x)?;
         let grid = self.grid();
@@ -449,14 +620,47 @@ impl Hypersurface {
                     kernel::contract::<kernel::Plain, 1>(&grid, &bases, &mut work, c)[0];
             }
         }
+        if out.iter().any(|v| !v.is_finite()) {
+            return Err(Error::Overflow {
+                what: format!("the gradient at {}", self.describe_at(x)),
+            });
+        }
         Ok(out)
     }
 
     /// The shares of all source points in M(x) (row-major like the values, one number per
-    /// cell): the products of the factors' function-parameters. They sum to 1.
+    /// cell): the products of the factors' function-parameters. They sum to 1 (up to
+    /// rounding: far outside the nodes they are huge, of both signs, and their sum cancels).
+    /// Errors: as [`Hypersurface::eval`]; [`Error::Overflow`] naming the first share beyond
+    /// f64 (far outside the nodes a share grows like x^(n-1) per factor).
     pub fn shares(&self, x: &[f64]) -> Result<Vec<f64>> {
         self.check_point(x)?;
-        // The outer product of the factors' cardinal functions, built in place from the back.
+        let shares = self.outer_product(x, |nodes, t, b| nodes.basis_into(t, b));
+        if shares.iter().all(|s| s.is_finite()) {
+            return Ok(shares);
+        }
+        // Far outside the nodes: mantissas with an exponent per factor, so that no product
+        // overflows on the way, and only then the shares.
+        let mut e: i64 = 0;
+        let mut shares = self.outer_product(x, |nodes, t, b| e += nodes.basis_wide(t, b));
+        for (c, s) in shares.iter_mut().enumerate() {
+            *s = ldexp(*s, e);
+            if !s.is_finite() {
+                let levels = self.describe_at(&self.cell_levels(c));
+                return Err(Error::Overflow {
+                    what: format!(
+                        "the share of point {c} ({levels}) at {}",
+                        self.describe_at(x)
+                    ),
+                });
+            }
+        }
+        Ok(shares)
+    }
+
+    /// The outer product of the factors' cardinal functions at x, written by `basis(nodes,
+    /// t, out)` (row-major, built in place from the back).
+    fn outer_product(&self, x: &[f64], mut basis: impl FnMut(&Nodes, f64, &mut [f64])) -> Vec<f64> {
         let mut shares = vec![0.0; self.values.len() / self.dim];
         shares[0] = 1.0;
         let mut len = 1;
@@ -464,7 +668,7 @@ impl Hypersurface {
         for (f, &xf) in self.factors.iter().zip(x) {
             let n = f.nodes.len();
             b.resize(n, 0.0);
-            f.nodes.basis_into(xf, &mut b);
+            basis(&f.nodes, xf, &mut b);
             for j in (0..len).rev() {
                 let s = shares[j];
                 for (o, bi) in shares[j * n..(j + 1) * n].iter_mut().zip(&b) {
@@ -473,7 +677,7 @@ impl Hypersurface {
             }
             len *= n;
         }
-        Ok(shares)
+        shares
     }
 
     fn stride(&self, factor: usize) -> (usize, usize, usize) {
@@ -514,6 +718,17 @@ impl Hypersurface {
             });
         }
         Ok(())
+    }
+
+    /// The same model with its values scaled by 2^-e (exact for normal values): what
+    /// [`super::optimize`] searches, so that no Bernstein coefficient or range overflows.
+    pub(crate) fn scaled_by(&self, e: i64) -> Hypersurface {
+        Hypersurface {
+            factors: self.factors.clone(),
+            dim: self.dim,
+            values: self.values.iter().map(|&v| ldexp(v, -e)).collect(),
+            warnings: Vec::new(),
+        }
     }
 
     fn rebuilt(&self, factors: Vec<Factor>, values: Vec<f64>) -> Result<Hypersurface> {
@@ -586,6 +801,8 @@ impl Hypersurface {
     }
 
     /// The model with `factor` fixed at the value `x` (contracted there) and removed.
+    /// Errors: indices out of range, x not finite, the only factor; [`Error::Overflow`] when a
+    /// value of the section is beyond f64 (x far outside the factor's nodes).
     pub fn fix_factor(&self, factor: usize, x: f64) -> Result<Hypersurface> {
         self.check_factor_level(factor, 0)?;
         if !x.is_finite() {
@@ -611,6 +828,16 @@ impl Hypersurface {
                     *v += bi * s;
                 }
             }
+        }
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(Error::Overflow {
+                what: format!(
+                    "the section at {}={} (the model with factor {} fixed there)",
+                    self.factors[factor].name,
+                    short(x),
+                    self.factors[factor].name
+                ),
+            });
         }
         let mut factors = self.factors.clone();
         factors.remove(factor);
@@ -660,6 +887,21 @@ impl Hypersurface {
         let mut factors = self.factors.clone();
         factors.insert(position, factor);
         Hypersurface::new(factors, self.dim, values, &PointOptions::default())
+    }
+}
+
+/// dim · Π n_i, checked against [`Hypersurface::MAX_VALUES`] (and usize overflow).
+fn value_count(factors: &[Factor], dim: usize) -> Result<usize> {
+    let total = factors
+        .iter()
+        .try_fold(dim, |acc, f| acc.checked_mul(f.nodes.len()));
+    match total {
+        Some(t) if t <= Hypersurface::MAX_VALUES => Ok(t),
+        t => Err(Error::TooMany {
+            what: "numbers in the model's grid (cells times numbers per cell)",
+            got: t.unwrap_or(usize::MAX),
+            max: Hypersurface::MAX_VALUES,
+        }),
     }
 }
 

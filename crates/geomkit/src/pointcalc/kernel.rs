@@ -14,7 +14,7 @@
 //! `pulp` (no `unsafe` here). A single point runs the same code with one lane, so batched and
 //! single evaluation give the same bits on one machine.
 
-use super::nodes::{Nodes, SMALL};
+use super::nodes::{Nodes, CANCEL, SMALL};
 
 /// Most points per block of the batched evaluation (8 with AVX2+FMA or AVX-512, else 4).
 pub(crate) const LANES: usize = 8;
@@ -564,12 +564,14 @@ fn basis_fixed<const N: usize, const L: usize>(
     }
     let mut suffix = [1.0f64; L];
     let mut sum = [0.0f64; L];
+    let mut size = [0.0f64; L];
     for j in (0..n).rev() {
         let (xj, wj) = (x[j], w[j]);
         for p in 0..L {
             let q = wj * prefix[j][p] * suffix[p];
             out[j][p] = q;
             sum[p] += q;
+            size[p] += q.abs();
             suffix[p] *= t[p] - xj;
         }
     }
@@ -583,13 +585,14 @@ fn basis_fixed<const N: usize, const L: usize>(
         }
     }
     // Lanes outside the node interval, on a node, or with the sum out of the normal range
-    // (NaN fails every comparison) go through `basis_into`.
+    // or cancelled (NaN fails every comparison) go through `basis_into`.
     let (lo, hi) = nodes.domain();
     let regular = |p: usize| {
         let a = sum[p].abs();
         (lo..=hi).contains(&t[p])
             && run[p] != 0.0
             && (f64::MIN_POSITIVE..f64::INFINITY).contains(&a)
+            && a >= CANCEL * size[p]
     };
     let mut all = true;
     for p in 0..L {

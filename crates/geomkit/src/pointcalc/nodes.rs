@@ -20,6 +20,7 @@
 //! assert!((l.iter().sum::<f64>() - 1.0).abs() < 1e-15);
 //! ```
 
+use super::wide::{ldexp, split};
 use crate::exact::{rational_from_f64, rational_to_f64, Rational};
 use crate::numeric::Dd;
 use crate::{Error, Result};
@@ -40,6 +41,12 @@ pub enum NodePreset {
 /// Node sets up to this size evaluate the barycentric form with one division.
 pub(crate) const SMALL: usize = 16;
 
+/// The second barycentric form's sum Σ_k w_k / (t - t_k) is used while it keeps at least 20
+/// of its 53 bits: |Σ| >= CANCEL · Σ |·|, that is where the Lebesgue function at t is below
+/// 2^20 (always for Chebyshev-like nodes). Beyond, the sum has cancelled (nodes far from
+/// evenly spread, rounded weights) and the product form, accurate share by share, is used.
+pub(crate) const CANCEL: f64 = 1.0 / 1048576.0;
+
 /// Samples per node interval of the Lebesgue constant estimate (then refined): more for
 /// small sets, fewer for large ones (where the cost is n per sample and the intervals many).
 fn lebesgue_samples(n: usize) -> usize {
@@ -59,24 +66,38 @@ pub struct Nodes {
     values: Vec<f64>,
     exact: Option<Vec<Rational>>,
     weights: Vec<f64>,
+    /// The true weights 1 / Π_(k≠j) (t_j - t_k) are `weights[j] · m · 2^e` for
+    /// `scale = (m, e)` (for the product form, which needs them unscaled).
+    scale: (f64, i64),
 }
 
 impl Nodes {
-    /// Nodes at the given positions. Errors: no nodes, a non-finite node, nodes not strictly
-    /// increasing ([`Error::InvalidNodes`] names the node).
+    /// The most nodes of one node set: building a set costs O(n²) (the weights in
+    /// double-double and the Lebesgue constant estimate, about 1.5 s at the limit), and
+    /// the tensor grids, formulas and optimum search of the point calculus grow faster still.
+    /// Larger sets are refused with [`Error::TooMany`].
+    pub const MAX_LEN: usize = 5_000;
+
+    /// Nodes at the given positions. Errors: no nodes, more than [`Nodes::MAX_LEN`]
+    /// ([`Error::TooMany`]), a non-finite node, nodes not strictly increasing
+    /// ([`Error::InvalidNodes`] names the node), differences that overflow f64, or weights
+    /// that span more than the f64 range (nodes so unevenly spaced, or so many equispaced
+    /// ones, that interpolation through them amplifies rounding beyond 1e300).
     ///
     /// ```
     /// use geomkit::pointcalc::Nodes;
     /// assert!(Nodes::new(vec![0.0, 0.3, 1.0]).is_ok());
     /// assert!(Nodes::new(vec![0.0, 0.3, 0.3]).is_err());
+    /// assert!(Nodes::new(vec![0.0; Nodes::MAX_LEN + 1]).is_err());
     /// ```
     pub fn new(values: Vec<f64>) -> Result<Self> {
         check_increasing("nodes", &values)?;
-        let weights = barycentric_weights(&values)?;
+        let (weights, scale) = barycentric_weights(&values)?;
         Ok(Nodes {
             values,
             exact: None,
             weights,
+            scale,
         })
     }
 
@@ -84,6 +105,7 @@ impl Nodes {
     /// evaluation uses their correctly rounded f64 values). Errors as [`Nodes::new`], and two
     /// rationals that round to the same f64.
     pub fn from_rationals(values: Vec<Rational>) -> Result<Self> {
+        check_len(values.len())?;
         if let Some(index) = values.windows(2).position(|w| w[1] <= w[0]) {
             return Err(Error::InvalidNodes {
                 what: "nodes".into(),
@@ -118,8 +140,9 @@ impl Nodes {
         Nodes::three_point(ratio(2, 3)).expect("valid nodes")
     }
 
-    /// `n` nodes of a preset on [a, b]. Errors: n = 0, [a, b] not finite with a < b (a = b is
-    /// allowed for n = 1).
+    /// `n` nodes of a preset on [a, b]. Errors: n = 0, n above [`Nodes::MAX_LEN`] (refused
+    /// before anything is allocated), [a, b] not finite with a < b (a = b is allowed for
+    /// n = 1).
     ///
     /// ```
     /// use geomkit::pointcalc::{Nodes, NodePreset};
@@ -131,6 +154,7 @@ impl Nodes {
         if n == 0 {
             return Err(Error::Empty { what: "node set" });
         }
+        check_len(n)?;
         if !a.is_finite() || !b.is_finite() || b < a || (b == a && n > 1) {
             return Err(Error::InvalidOption {
                 option: "node interval",
@@ -179,7 +203,7 @@ impl Nodes {
             .collect();
         Nodes::new(values).map_err(|e| match e {
             // Nodes that coincide in f64: an interval too narrow for n of them.
-            Error::InvalidNodes { reason, .. } if !reason.contains("overflow") => {
+            Error::InvalidNodes { reason, .. } if reason.contains("increasing") => {
                 Error::InvalidOption {
                     option: "node interval",
                     reason: "too narrow for this many distinct f64 nodes",
@@ -225,6 +249,12 @@ impl Nodes {
     /// (computed in double-double, correctly rounded up to an ulp).
     pub fn weights(&self) -> &[f64] {
         &self.weights
+    }
+
+    /// The true barycentric weight 1 / Π_(k≠j) (t_j - t_k) of node j, rounded to f64
+    /// (±infinity or 0 where it is beyond the f64 range).
+    pub(crate) fn true_weight(&self, j: usize) -> f64 {
+        ldexp(self.weights[j] * self.scale.0, self.scale.1)
     }
 
     /// The k-th derivatives of the cardinal functions at t, any order: orders 1 and 2 by
@@ -286,6 +316,13 @@ impl Nodes {
     /// The values ℓ_j(t) of all cardinal functions at `t` (the shares of the nodes), written
     /// to `out` (length [`Nodes::len`]). At a node: exactly 1 there and 0 elsewhere. `t` must
     /// be finite (NaN gives NaN).
+    ///
+    /// Inside the node interval the second barycentric form; outside it, and wherever the
+    /// second form's sum cancels (the Lebesgue function above 2^20: nodes far from evenly
+    /// spread) or leaves the f64 range, the product form Π_(k≠j) (t - t_k) /
+    /// (t_j - t_k) computed with an exponent of its own, so the only non-finite values are
+    /// ±infinity for a share whose true value is beyond f64 (far outside the nodes: ℓ_j grows
+    /// like t^(n-1)), never NaN.
     pub fn basis_into(&self, t: f64, out: &mut [f64]) {
         let n = self.values.len();
         debug_assert_eq!(out.len(), n);
@@ -300,7 +337,7 @@ impl Nodes {
         if n <= SMALL && self.basis_small(t, out) {
             return;
         }
-        let mut sum = 0.0;
+        let (mut sum, mut size) = (0.0, 0.0);
         for k in 0..n {
             let d = t - self.values[k];
             if d == 0.0 {
@@ -311,16 +348,78 @@ impl Nodes {
             let c = self.weights[k] / d;
             out[k] = c;
             sum += c;
+            size += c.abs();
         }
-        if !sum.is_finite() {
-            // t is within an f64 overflow of a node: the interpolant equals the node's value.
-            let k = self.nearest(t);
-            out.fill(0.0);
-            out[k] = 1.0;
+        if !sum.is_normal() || sum.abs() < CANCEL * size {
+            // t is within an f64 overflow of a node, or the sum cancelled.
+            self.basis_product(t, out);
             return;
         }
         let inv = 1.0 / sum;
         out.iter_mut().for_each(|c| *c *= inv);
+        if !out.iter().all(|c| c.is_finite()) {
+            self.basis_product(t, out);
+        }
+    }
+
+    /// The cardinal functions at `t` as mantissas with one exponent: ℓ_j(t) = out[j] · 2^E
+    /// for the returned E, for every finite t (nothing overflows: each factor and product has
+    /// an exponent of its own); max |out[j]| is in [0.5, 1). The product form ℓ_j(t) = W_j
+    /// Π_(k≠j) (t - t_k) with the true weights W_j, O(n): every ℓ_j to a relative accuracy
+    /// of about (n + 4) ε wherever t is.
+    pub(crate) fn basis_wide(&self, t: f64, out: &mut [f64]) -> i64 {
+        let n = self.values.len();
+        if n == 1 {
+            out[0] = 1.0;
+            return 0;
+        }
+        if let Some(k) = self.position(t) {
+            out.fill(0.0);
+            out[k] = 1.0;
+            return 0;
+        }
+        // t - t_k as (mantissa, exponent), halved first where the difference overflows.
+        let diff = |xk: f64| -> (f64, i64) {
+            let d = t - xk;
+            if d.is_finite() {
+                split(d)
+            } else {
+                let (m, e) = split(0.5 * t - 0.5 * xk);
+                (m, e + 1)
+            }
+        };
+        // L = Π_k (t - t_k).
+        let (mut lm, mut le) = (1.0, 0i64);
+        for &xk in &self.values {
+            let (m, e) = diff(xk);
+            let (pm, pe) = split(lm * m);
+            lm = pm;
+            le += e + pe;
+        }
+        let (sm, se) = self.scale;
+        // ℓ_j = w_j · s · L / (t - t_j): mantissa and exponent.
+        let share = |j: usize| -> (f64, i64) {
+            let (dm, de) = diff(self.values[j]);
+            let (wm, we) = split(self.weights[j]);
+            let (vm, ve) = split(wm * sm * lm / dm);
+            (vm, ve + we + se + le - de)
+        };
+        let mut emax = i64::MIN;
+        for j in 0..n {
+            emax = emax.max(share(j).1);
+        }
+        for (j, o) in out.iter_mut().enumerate() {
+            let (m, e) = share(j);
+            *o = ldexp(m, e - emax);
+        }
+        emax
+    }
+
+    /// The product form, used outside the node interval and where the second form fails:
+    /// [`Nodes::basis_wide`] rounded to f64 (±infinity where a share is beyond f64).
+    fn basis_product(&self, t: f64, out: &mut [f64]) {
+        let e = self.basis_wide(t, out);
+        out.iter_mut().for_each(|o| *o = ldexp(*o, e));
     }
 
     /// The second form multiplied through by Π_k (t - t_k): q_j = w_j Π_(k≠j) (t - t_k) by
@@ -344,14 +443,15 @@ impl Nodes {
             return false;
         }
         let mut suffix = 1.0;
-        let mut sum = 0.0;
+        let (mut sum, mut size) = (0.0, 0.0);
         for k in (0..n).rev() {
             let q = self.weights[k] * prefix[k] * suffix;
             out[k] = q;
             sum += q;
+            size += q.abs();
             suffix *= t - self.values[k];
         }
-        if !sum.is_normal() {
+        if !sum.is_normal() || sum.abs() < CANCEL * size {
             return false;
         }
         let inv = 1.0 / sum;
@@ -364,20 +464,6 @@ impl Nodes {
         let mut out = vec![0.0; self.len()];
         self.basis_into(t, &mut out);
         out
-    }
-
-    /// The product (first Lagrange) form, used outside the node interval.
-    fn basis_product(&self, t: f64, out: &mut [f64]) {
-        for (j, o) in out.iter_mut().enumerate() {
-            let xj = self.values[j];
-            *o = self
-                .values
-                .iter()
-                .enumerate()
-                .filter(|&(k, _)| k != j)
-                .map(|(_, &xk)| (t - xk) / (xj - xk))
-                .product();
-        }
     }
 
     fn nearest(&self, t: f64) -> usize {
@@ -474,8 +560,12 @@ impl Nodes {
 
     /// Estimate of the Lebesgue constant Λ = max over [t_0, t_(n-1)] of Σ_j |ℓ_j(t)|: the
     /// factor by which interpolation can amplify errors in the data. Sampled at 24 points in
-    /// every node interval (8 above 32 nodes), then refined by golden-section search around the largest sample
-    /// (a lower bound, within about 1e-6 relative of the true maximum for n ≤ 1000).
+    /// every node interval (8 above 32 nodes; values above 1e8 again in the product form,
+    /// which keeps its accuracy there), then refined by golden-section search around the
+    /// largest sample (a lower bound, within about 1e-6 relative of the true maximum for
+    /// n ≤ 1000).
+    /// `f64::MAX` when it is beyond f64 (node sets whose weights differ by more than about
+    /// 1e300).
     ///
     /// ```
     /// use geomkit::pointcalc::Nodes;
@@ -489,7 +579,14 @@ impl Nodes {
         let mut buf = vec![0.0; n];
         let mut lebesgue = |t: f64| {
             self.basis_into(t, &mut buf);
-            buf.iter().map(|v| v.abs()).sum::<f64>()
+            let sum = buf.iter().map(|v| v.abs()).sum::<f64>();
+            if sum <= 1e8 {
+                return sum;
+            }
+            // The second form loses digits like Λ ε: large values again in the product
+            // form (each share to a relative (n + 4) ε), with an exponent of its own.
+            let e = self.basis_wide(t, &mut buf);
+            ldexp(buf.iter().map(|v| v.abs()).sum::<f64>(), e)
         };
         let samples = lebesgue_samples(n);
         let (mut best, mut best_t, mut best_k) = (1.0, self.values[0], 0);
@@ -517,7 +614,12 @@ impl Nodes {
                 lo = c;
             }
         }
-        best.max(lebesgue(0.5 * (lo + hi)))
+        let value = best.max(lebesgue(0.5 * (lo + hi)));
+        if value.is_finite() {
+            value
+        } else {
+            f64::MAX
+        }
     }
 
     /// The default Lebesgue limit for n nodes: 4 + (2/π) ln n, three above the near-optimal
@@ -605,16 +707,20 @@ impl Nodes {
             e.remove(index);
             e
         });
+        let (weights, scale) = barycentric_weights(&values)?;
         Ok(Nodes {
-            weights: barycentric_weights(&values)?,
+            weights,
+            scale,
             values,
             exact,
         })
     }
 
     /// The node set with a node at `value` added; returns it and the new node's index.
-    /// Errors: non-finite value, a node already there.
+    /// Errors: non-finite value, a node already there, [`Nodes::MAX_LEN`] reached, and the
+    /// errors of [`Nodes::new`] for the new set.
     pub fn with_node(&self, value: f64) -> Result<(Nodes, usize)> {
+        check_len(self.len() + 1)?;
         if !value.is_finite() {
             return Err(Error::NonFinite {
                 what: "node",
@@ -636,9 +742,11 @@ impl Nodes {
             e.insert(index, rational_from_f64(value).expect("finite"));
             e
         });
+        let (weights, scale) = barycentric_weights(&values)?;
         Ok((
             Nodes {
-                weights: barycentric_weights(&values)?,
+                weights,
+                scale,
                 values,
                 exact,
             },
@@ -652,11 +760,25 @@ pub(crate) fn ratio(p: i64, q: i64) -> Rational {
     Rational::new(p.into(), q.into())
 }
 
-/// Checks that `values` is non-empty, finite and strictly increasing.
+/// Refuses node sets above [`Nodes::MAX_LEN`].
+fn check_len(n: usize) -> Result<()> {
+    if n > Nodes::MAX_LEN {
+        return Err(Error::TooMany {
+            what: "nodes in a node set",
+            got: n,
+            max: Nodes::MAX_LEN,
+        });
+    }
+    Ok(())
+}
+
+/// Checks that `values` is non-empty, at most [`Nodes::MAX_LEN`] long, finite and strictly
+/// increasing.
 pub(crate) fn check_increasing(what: &str, values: &[f64]) -> Result<()> {
     if values.is_empty() {
         return Err(Error::Empty { what: "node set" });
     }
+    check_len(values.len())?;
     if let Some(index) = values.iter().position(|x| !x.is_finite()) {
         return Err(Error::InvalidNodes {
             what: what.into(),
@@ -678,66 +800,93 @@ pub(crate) fn check_increasing(what: &str, values: &[f64]) -> Result<()> {
     Ok(())
 }
 
-/// Barycentric weights 1 / Π_(k≠j) (x_j - x_k), scaled to max |w| = 1: products of the
-/// differences (scaled by 4 / (b - a), the capacity of an interval) in double-double with a
-/// separate power-of-two exponent, so no product overflows or underflows.
-fn barycentric_weights(x: &[f64]) -> Result<Vec<f64>> {
+/// Barycentric weights 1 / Π_(k≠j) (x_j - x_k), scaled to max |w| = 1, and the scale of the
+/// true weights (see [`Nodes`]): products of the differences in double-double with a
+/// separate exponent (every factor and partial product brought to [0.5, 1) by exact powers
+/// of two), so no product overflows or underflows, whatever the spacing.
+fn barycentric_weights(x: &[f64]) -> Result<(Vec<f64>, (f64, i64))> {
     let n = x.len();
     if n == 1 {
-        return Ok(vec![1.0]);
+        return Ok((vec![1.0], (1.0, 0)));
     }
-    let scale = 4.0 / (x[n - 1] - x[0]);
-    let scale = if scale.is_finite() { scale } else { 1.0 };
-    // (mantissa, exponent) of Π (x_j - x_k) · scale^(n-1).
-    let products: Vec<(Dd, i64)> = (0..n)
-        .map(|j| {
-            let mut p = Dd::from_f64(1.0);
-            let mut e: i64 = 0;
-            for k in 0..n {
-                if k != j {
-                    let diff = Dd::from_f64(x[j]).add(Dd::from_f64(-x[k]));
-                    p = p.mul(diff).mul_f64(scale);
-                    let (_, ex) = frexp(p.hi);
-                    if !(-500..=500).contains(&ex) {
-                        let f = 2f64.powi(-ex);
-                        p = p.mul_f64(f);
-                        e += ex as i64;
-                    }
+    // (mantissa, exponent) of p_j = Π_(k≠j) (x_j - x_k), 0.5 <= |mantissa| < 1.
+    let mut products: Vec<(Dd, i64)> = Vec::with_capacity(n);
+    for j in 0..n {
+        let mut p = Dd::from_f64(1.0);
+        let mut e: i64 = 0;
+        for k in 0..n {
+            if k != j {
+                let diff = Dd::from_f64(x[j]).add(Dd::from_f64(-x[k]));
+                if !diff.hi.is_finite() {
+                    // Differences near the end of the f64 range.
+                    return Err(too_wide(j));
+                }
+                // Exact powers of two only where a factor or the product leaves
+                // [2^-500, 2^500] (so the product stays normal, however many factors).
+                let diff = if (TINY..HUGE).contains(&diff.hi.abs()) {
+                    diff
+                } else {
+                    let (_, de) = split(diff.hi);
+                    e += de;
+                    scale_dd(diff, -de)
+                };
+                p = p.mul(diff);
+                if !(TINY..HUGE).contains(&p.hi.abs()) {
+                    let (_, pe) = split(p.hi);
+                    e += pe;
+                    p = scale_dd(p, -pe);
                 }
             }
-            (p, e)
-        })
-        .collect();
-    // w_j = 1 / p_j; normalize by the largest |w_j| = smallest |p_j|.
-    let logs: Vec<f64> = products
-        .iter()
-        .map(|(p, e)| p.hi.abs().log2() + *e as f64)
-        .collect();
-    // Differences near the end of the f64 range overflow the double-double products.
-    if let Some(j) = logs.iter().position(|l| !l.is_finite()) {
-        return Err(too_wide(j));
+        }
+        products.push((p, e));
     }
-    let min_log = logs.iter().copied().fold(f64::INFINITY, f64::min);
-    let jmin = logs
-        .iter()
-        .position(|&l| l == min_log)
-        .ok_or_else(|| too_wide(0))?;
+    // Normalized mantissas in [0.5, 1), so that (exponent, mantissa) orders |p_j|.
+    for (p, e) in products.iter_mut() {
+        let (_, pe) = split(p.hi);
+        *e += pe;
+        *p = scale_dd(*p, -pe);
+    }
+    // w_j = 1 / p_j; normalize by the largest |w_j| = the smallest |p_j|.
+    let jmin = (0..n)
+        .min_by(|&a, &b| {
+            let (pa, ea) = products[a];
+            let (pb, eb) = products[b];
+            ea.cmp(&eb).then(pa.hi.abs().total_cmp(&pb.hi.abs()))
+        })
+        .expect("n > 1");
     let (mut pmin, emin) = products[jmin];
     if pmin.hi < 0.0 {
         pmin = pmin.mul_f64(-1.0);
     }
-    let weights = products
-        .iter()
-        .map(|(p, e)| {
-            // w_j / |w_min| = |p_min| / p_j
-            let q = pmin.div(*p);
-            let shift = (emin - e).clamp(-2000, 2000) as i32;
-            q.hi * 2f64.powi(shift.max(-1074))
-        })
-        .collect::<Vec<f64>>();
-    match weights.iter().position(|w| !w.is_finite()) {
-        Some(j) => Err(too_wide(j)),
-        None => Ok(weights),
+    let mut weights = Vec::with_capacity(n);
+    for (j, (p, e)) in products.iter().enumerate() {
+        // w_j = |p_min| / p_j, with |p_min| / |p_j| in (1/2, 2) times 2^(emin - e) <= 1.
+        let w = ldexp(pmin.div(*p).hi, emin - e);
+        if !w.is_normal() {
+            return Err(Error::InvalidNodes {
+                what: "nodes".into(),
+                index: j,
+                reason: "the barycentric weights of these nodes span more than the f64 range \
+                         (nodes extremely unevenly spaced, or too many equispaced: \
+                         interpolation through them would amplify rounding beyond 1e300; use \
+                         Chebyshev nodes or fewer nodes)",
+            });
+        }
+        weights.push(w);
+    }
+    // The true weights: w_j / |p_min| = w_j · (1 / |P_min|) · 2^(-emin).
+    Ok((weights, (1.0 / pmin.hi, -emin)))
+}
+
+/// The range in which the weights' products run without rescaling.
+const TINY: f64 = 3.054936363499605e-151; // 2^-500
+const HUGE: f64 = 3.273390607896142e150; // 2^500
+
+/// d · 2^k for a double-double (both parts scaled exactly, as long as they stay normal).
+fn scale_dd(d: Dd, k: i64) -> Dd {
+    Dd {
+        hi: ldexp(d.hi, k),
+        lo: ldexp(d.lo, k),
     }
 }
 
@@ -749,15 +898,6 @@ fn too_wide(index: usize) -> Error {
         reason: "the differences between the nodes overflow f64 (the nodes span too much of \
                  the f64 range; rescale them)",
     }
-}
-
-/// Binary exponent of a finite non-zero x: x = m 2^e with 0.5 <= |m| < 1.
-fn frexp(x: f64) -> (f64, i32) {
-    if x == 0.0 || !x.is_finite() {
-        return (x, 0);
-    }
-    let e = x.abs().log2().floor() as i32 + 1;
-    (x / 2f64.powi(e), e)
 }
 
 #[cfg(test)]

@@ -12,7 +12,18 @@
 //!    the model is evaluated at the centres of the halves (refined locally when they improve).
 //! 3. Stop when the largest remaining bound is within the tolerance of the best value: the
 //!    true optimum lies in [value, bound] (up to rounding: each bound carries a margin of
-//!    64 ε Σ n_i max |b|), or when the box budget runs out (then `certified` is false).
+//!    64 ε Σ n_i max |b|), or when the box budget or the work budget runs out (then
+//!    `certified` is false).
+//!
+//! The search runs on the values scaled by a power of two to |v| < 1 (exact), so source
+//! values up to f64::MAX neither overflow the Bernstein coefficients nor the range; value,
+//! bound and gap are scaled back at the end, and refused ([`Error::Overflow`]) if they are
+//! beyond f64. A certified result always has a finite bound.
+//!
+//! Limits: at most [`OptimizeOptions::max_boxes`] boxes (4000) and
+//! [`OptimizeOptions::max_work`] operations (10^9: one box costs about
+//! Π n_i · Σ n_i + Σ n_i³ / 2, one evaluation Π n_i); a model one box of which costs more
+//! than the work budget is refused ([`Error::TooMany`]).
 //!
 //! ```
 //! use geomkit::pointcalc::{optimize, Factor, Goal, Hypersurface, Nodes, OptimizeOptions};
@@ -47,6 +58,9 @@ pub struct OptimizeOptions {
     pub tolerance: f64,
     /// Most boxes examined \[4000\].
     pub max_boxes: usize,
+    /// Most operations (multiply-adds of the Bernstein bounds and the evaluations) before
+    /// the search stops uncertified \[10^9, a few seconds\].
+    pub max_work: u64,
 }
 
 impl Default for OptimizeOptions {
@@ -54,6 +68,7 @@ impl Default for OptimizeOptions {
         OptimizeOptions {
             tolerance: 1e-9,
             max_boxes: 4000,
+            max_work: 1_000_000_000,
         }
     }
 }
@@ -70,6 +85,12 @@ impl OptimizeOptions {
         self.max_boxes = max_boxes;
         self
     }
+
+    /// Sets the work budget (operations).
+    pub fn with_max_work(mut self, max_work: u64) -> Self {
+        self.max_work = max_work;
+        self
+    }
 }
 
 /// The result of [`optimize`].
@@ -79,13 +100,13 @@ pub struct Optimum {
     pub at: Vec<f64>,
     /// The modeled response there.
     pub value: f64,
-    /// The certified bound: no point of the box does better than this.
+    /// The certified bound: no point of the box does better than this (finite).
     pub bound: f64,
     /// |bound - value|.
     pub gap: f64,
     /// Boxes examined.
     pub boxes: usize,
-    /// Whether the gap reached the tolerance within the budget.
+    /// Whether the gap reached the tolerance within the budgets.
     pub certified: bool,
 }
 
@@ -114,7 +135,10 @@ impl Ord for BoxItem {
 
 /// The global largest or smallest modeled response over the box of the factors' nodes
 /// (see the module documentation). Errors: a model with vector source points (dim ≠ 1), an
-/// invalid tolerance.
+/// invalid tolerance; [`Error::TooMany`] for a model one box of which costs more than
+/// [`OptimizeOptions::max_work`]; [`Error::Overflow`] when the optimum or its bound is beyond
+/// f64 (source values near f64::MAX whose interpolant overshoots them, or nodes so uneven
+/// that the Bernstein coefficients overflow).
 pub fn optimize(model: &Hypersurface, goal: Goal, options: &OptimizeOptions) -> Result<Optimum> {
     if model.dim() != 1 {
         return Err(Error::WrongDimension {
@@ -128,6 +152,62 @@ pub fn optimize(model: &Hypersurface, goal: Goal, options: &OptimizeOptions) -> 
             value: options.tolerance,
         });
     }
+    let shape = model.shape();
+    let total_n: u64 = shape.iter().map(|&n| n as u64).sum();
+    let cells = model.values().len() as u64;
+    let box_cost = cells
+        .saturating_mul(total_n)
+        .saturating_add(shape.iter().map(|&n| (n as u64).pow(3) / 2).sum());
+    if box_cost > options.max_work {
+        return Err(Error::TooMany {
+            what: "operations per box of the optimum search (cells × Σ levels + Σ levels³ / 2)",
+            got: usize::try_from(box_cost).unwrap_or(usize::MAX),
+            max: usize::try_from(options.max_work).unwrap_or(usize::MAX),
+        });
+    }
+    // The search on values scaled to |v| < 1 by a power of two (exact), scaled back at the end.
+    let largest = model.values().iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let e = super::wide::exponent(largest);
+    let best = search(&model.scaled_by(e), goal, options, box_cost)?;
+    let back = |v: f64| super::wide::ldexp(v, e);
+    let name = match goal {
+        Goal::Max => "largest",
+        Goal::Min => "smallest",
+    };
+    let (value, bound, gap) = (back(best.value), back(best.bound), back(best.gap));
+    if !value.is_finite() {
+        return Err(Error::Overflow {
+            what: format!("the {name} modeled value"),
+        });
+    }
+    if !bound.is_finite() || !gap.is_finite() {
+        return Err(Error::Overflow {
+            what: format!(
+                "the certified bound of the {name} modeled value (the Bernstein coefficients \
+                 of the model on its box, or its distance to the value found)"
+            ),
+        });
+    }
+    Ok(Optimum {
+        value,
+        bound,
+        gap,
+        ..best
+    })
+}
+
+/// [`optimize`] on a model with values |v| < 1 (no range or Bernstein coefficient overflows
+/// there, unless the nodes are extremely uneven: then the bound is not finite and the result
+/// not certified).
+fn search(
+    model: &Hypersurface,
+    goal: Goal,
+    options: &OptimizeOptions,
+    box_cost: u64,
+) -> Result<Optimum> {
+    let work = std::cell::Cell::new(0u64);
+    let eval_cost = model.values().len() as u64 + model.shape().iter().sum::<usize>() as u64;
+    let exhausted = || work.get() > options.max_work;
     let sign = match goal {
         Goal::Max => 1.0,
         Goal::Min => -1.0,
@@ -150,7 +230,15 @@ pub fn optimize(model: &Hypersurface, goal: Goal, options: &OptimizeOptions) -> 
             .map(|(&s, &(a, b))| if s >= 1.0 { b } else { a + (b - a) * s })
             .collect()
     };
-    let g = |s: &[f64]| sign * model.eval(&to_x(s)).map(|v| v[0]).unwrap_or(f64::NAN);
+    // The modeled value at s in [0, 1]^k (-infinity once the work budget is spent: nothing
+    // improves on it, so the local search stops).
+    let g = |s: &[f64]| {
+        if exhausted() {
+            return f64::NEG_INFINITY;
+        }
+        work.set(work.get() + eval_cost);
+        sign * model.eval(&to_x(s)).map(|v| v[0]).unwrap_or(f64::NAN)
+    };
 
     // 1. The best experimental point, refined.
     let best_cell = values
@@ -167,6 +255,7 @@ pub fn optimize(model: &Hypersurface, goal: Goal, options: &OptimizeOptions) -> 
         .collect();
     let mut best = values[best_cell];
     let grad_s = |s: &[f64]| -> Vec<f64> {
+        work.set(work.get() + eval_cost * k as u64);
         let gx = model.gradient(&to_x(s)).unwrap_or_else(|_| vec![0.0; k]);
         gx.iter()
             .zip(&domain)
@@ -199,22 +288,46 @@ pub fn optimize(model: &Hypersurface, goal: Goal, options: &OptimizeOptions) -> 
     let shape = model.shape();
     let total_n: usize = shape.iter().sum();
     let upper_of = |lo: &[f64], hi: &[f64]| -> f64 {
+        work.set(work.get() + box_cost);
         let mut coefs = values.clone();
         for f in 0..k {
             let m = bernstein_matrix(&nodes_s[f], lo[f], hi[f]);
             mode_product(&mut coefs, &shape, f, &m);
+        }
+        // A coefficient that overflowed (±infinity, NaN) bounds nothing: +infinity keeps the
+        // box (and the search uncertified), where NaN would be dropped by every comparison
+        // (and ignored by f64::max).
+        if coefs.iter().any(|c| !c.is_finite()) {
+            return f64::INFINITY;
         }
         let (mx, amax) = coefs
             .iter()
             .fold((f64::NEG_INFINITY, 0.0f64), |(m, a), &c| {
                 (m.max(c), a.max(c.abs()))
             });
-        mx + 64.0 * f64::EPSILON * total_n as f64 * amax
+        let upper = mx + 64.0 * f64::EPSILON * total_n as f64 * amax;
+        if upper.is_finite() {
+            upper
+        } else {
+            f64::INFINITY
+        }
     };
     let mut heap = BinaryHeap::new();
     let (lo0, hi0) = (vec![0.0; k], vec![1.0; k]);
+    let upper = upper_of(&lo0, &hi0);
+    if !upper.is_finite() {
+        // Nothing to refine: the Bernstein coefficients of the whole box overflow.
+        return Err(Error::Overflow {
+            what: format!(
+                "the Bernstein bound of the model on its box (degree {} in a factor: the \
+                 Bernstein coefficients of high-degree cardinal functions grow like 2^n; use \
+                 fewer levels or a smaller range of values)",
+                shape.iter().max().map_or(0, |n| n.saturating_sub(1))
+            ),
+        });
+    }
     heap.push(BoxItem {
-        upper: upper_of(&lo0, &hi0),
+        upper,
         lo: lo0,
         hi: hi0,
     });
@@ -232,7 +345,9 @@ pub fn optimize(model: &Hypersurface, goal: Goal, options: &OptimizeOptions) -> 
             certified = true;
             break;
         }
-        if boxes >= options.max_boxes {
+        // The two halves must fit in the work budget.
+        let halves = work.get().saturating_add(box_cost.saturating_mul(2));
+        if boxes >= options.max_boxes || halves > options.max_work {
             break;
         }
         // Split along the widest factor that has more than one level.
@@ -262,6 +377,8 @@ pub fn optimize(model: &Hypersurface, goal: Goal, options: &OptimizeOptions) -> 
     if let Some(top) = heap.peek() {
         bound = bound.max(top.upper);
     }
+    // A NaN or infinite Bernstein bound certifies nothing.
+    let certified = certified && bound.is_finite();
     Ok(Optimum {
         at: to_x(&best_s),
         value: sign * best,
@@ -315,31 +432,26 @@ fn local_ascent(
 fn bernstein_matrix(s: &[f64], lo: f64, hi: f64) -> Vec<f64> {
     let n = s.len();
     let mut m = vec![0.0; n * n];
+    // The coefficients of the product so far (degree p), raised in place to degree p + 1.
+    let mut c = vec![0.0; n];
     for j in 0..n {
         // product of the linear factors (x - s_m) / (s_j - s_m), x = lo + (hi - lo) τ
-        let mut c = vec![1.0];
+        c[0] = 1.0;
+        let mut p = 0; // degree of c
         for (mi, &sm) in s.iter().enumerate() {
             if mi == j {
                 continue;
             }
             let den = s[j] - sm;
             let (q0, q1) = ((lo - sm) / den, (hi - sm) / den);
-            let p = c.len() - 1; // degree of c
-            let mut next = vec![0.0; p + 2];
-            for (kk, r) in next.iter_mut().enumerate() {
-                let a = if kk <= p {
-                    (p + 1 - kk) as f64 / (p + 1) as f64 * c[kk] * q0
-                } else {
-                    0.0
-                };
-                let b = if kk >= 1 {
-                    kk as f64 / (p + 1) as f64 * c[kk - 1] * q1
-                } else {
-                    0.0
-                };
-                *r = a + b;
+            let d = (p + 1) as f64;
+            // next[kk] = (p+1-kk)/(p+1) c[kk] q0 + kk/(p+1) c[kk-1] q1, from the top down.
+            c[p + 1] = c[p] * q1;
+            for kk in (1..=p).rev() {
+                c[kk] = (p + 1 - kk) as f64 / d * c[kk] * q0 + kk as f64 / d * c[kk - 1] * q1;
             }
-            c = next;
+            c[0] *= q0;
+            p += 1;
         }
         for (kk, ck) in c.iter().enumerate() {
             m[kk * n + j] = *ck;

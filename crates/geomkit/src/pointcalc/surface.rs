@@ -24,6 +24,7 @@
 
 use super::equation::{check_lebesgue, PointEquation, PointOptions, Warning};
 use super::nodes::Nodes;
+use super::wide::{combine_wide, short};
 use crate::exact::Rational;
 use crate::geom::{check_point, Curve, Surface};
 use crate::points::flatten_grid;
@@ -173,7 +174,9 @@ impl PointSurface {
         ((u0, u1), self.across.domain())
     }
 
-    /// M(u, v) into `out` (length dim).
+    /// M(u, v) into `out` (length dim). Where the plain sums leave the f64 range, computed
+    /// again with the rows' points scaled by a power of two (±infinity only where a row's
+    /// point M_i(u) or M(u, v) itself is beyond f64, never NaN).
     pub fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
         let lv = self.across.basis(v);
         let mut row = vec![0.0; self.dim];
@@ -187,6 +190,18 @@ impl PointSurface {
                 *o += w * x;
             }
         }
+        if out.iter().any(|x| !x.is_finite()) {
+            let rows: Vec<f64> = self.rows.iter().flat_map(|eq| eq.eval(u)).collect();
+            self.across_wide(v, &rows, out);
+        }
+    }
+
+    /// Σ_i L_i(v) M_i with nothing overflowing on the way (`rows`: the rows' points M_i,
+    /// row-major).
+    fn across_wide(&self, v: f64, rows: &[f64], out: &mut [f64]) {
+        let mut lv = vec![0.0; self.across.len()];
+        let e = self.across.basis_wide(v, &mut lv);
+        combine_wide(&lv, e, rows, out);
     }
 
     /// M(u, v).
@@ -207,7 +222,8 @@ impl PointSurface {
     }
 
     /// Points on the grid `us` × `vs` (row-major, u slowest), into `out`
-    /// (`us.len() * vs.len() * dim`). Errors: wrong buffer length, non-finite parameters.
+    /// (`us.len() * vs.len() * dim`). Errors: wrong buffer length, non-finite parameters;
+    /// [`Error::Overflow`] naming the first point beyond f64.
     pub fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim;
         check_grid_args(us, vs, d, out)?;
@@ -230,6 +246,22 @@ impl PointSurface {
                         for (x, y) in o.iter_mut().zip(&r[a * d..(a + 1) * d]) {
                             *x += w * y;
                         }
+                    }
+                }
+                if o.iter().any(|x| !x.is_finite()) {
+                    let rows: Vec<f64> = rows_at_u
+                        .iter()
+                        .flat_map(|r| r[a * d..(a + 1) * d].iter().copied())
+                        .collect();
+                    self.across_wide(v, &rows, o);
+                    if o.iter().any(|x| !x.is_finite()) {
+                        return Err(Error::Overflow {
+                            what: format!(
+                                "the point of the surface at u={}, v={}",
+                                short(us[a]),
+                                short(v)
+                            ),
+                        });
                     }
                 }
             }
@@ -326,9 +358,16 @@ impl PrintedSurface {
         self.dim
     }
 
-    /// M(u, v) = Σ a_ij(u, v) A_ij with the printed a_ij, into `out` (length dim).
+    /// M(u, v) = Σ a_ij(u, v) A_ij with the printed a_ij, into `out` (length dim); computed
+    /// again with the points scaled by a power of two where the plain sum leaves the f64
+    /// range (±infinity only where M(u, v) itself is beyond f64).
     pub fn eval_into(&self, u: f64, v: f64, out: &mut [f64]) {
-        self.combine(&printed_geomatrix(u, v), out);
+        let a = printed_geomatrix(u, v);
+        self.combine(&a, out);
+        if out.iter().any(|x| !x.is_finite()) {
+            let flat: Vec<f64> = a.iter().flatten().copied().collect();
+            combine_wide(&flat, 0, &self.net, out);
+        }
     }
 
     /// Σ a_ij A_ij into `out`.
@@ -349,13 +388,20 @@ impl PrintedSurface {
         out
     }
 
-    /// Points on the grid `us` × `vs` (row-major, u slowest).
+    /// Points on the grid `us` × `vs` (row-major, u slowest). Errors: wrong buffer length,
+    /// non-finite parameters; [`Error::Overflow`] naming the first point beyond f64.
     pub fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim;
         check_grid_args(us, vs, d, out)?;
         for (a, &u) in us.iter().enumerate() {
             for (b, &v) in vs.iter().enumerate() {
-                self.eval_into(u, v, &mut out[(a * vs.len() + b) * d..][..d]);
+                let o = &mut out[(a * vs.len() + b) * d..][..d];
+                self.eval_into(u, v, o);
+                if o.iter().any(|x| !x.is_finite()) {
+                    return Err(Error::Overflow {
+                        what: format!("the point of the surface at u={}, v={}", short(u), short(v)),
+                    });
+                }
             }
         }
         Ok(())
