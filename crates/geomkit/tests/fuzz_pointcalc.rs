@@ -259,7 +259,7 @@ proptest! {
         let mut g = Graph::new();
         let vars: Vec<_> = (0..model.k()).map(|f| g.var(&format!("x{f}"))).collect();
         if let Ok(e) = model.to_expr(&mut g, &vars) {
-            let text = g.print(e[0], Format::C);
+            let text = g.print(e[0], Format::C).unwrap();
             prop_assert!(!text.contains("INFINITY") && !text.contains("NAN"), "{text}");
         }
         let nodes = model.factors()[0].nodes().clone();
