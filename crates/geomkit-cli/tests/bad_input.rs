@@ -23,8 +23,11 @@ use std::time::{Duration, Instant};
 /// One bad input: files to write (name, contents), the command's arguments, and the words
 /// its error line must contain (option names, file names, values).
 pub struct Case {
+    /// Files to write first: (name, contents).
     pub files: &'static [(&'static str, &'static str)],
+    /// The command's arguments.
     pub args: &'static [&'static str],
+    /// Words the error line must contain (case-insensitive).
     pub names: &'static [&'static str],
 }
 

@@ -247,7 +247,7 @@ fn bad_input_is_one_line_and_leaves_no_file() {
         &["compose", "body", "cone", "--radius", "0", "-o", "c.obj"],
     );
     assert!(!out.status.success());
-    assert!(text(&out.stderr).contains("radius = 0 must be finite and > 0"));
+    assert!(text(&out.stderr).contains("radius = 0 must be finite, > 0 and at most 1e100"));
     assert!(!d.join("c.obj").exists());
     let out = geomkit(d, &["compose", "body", "cube", "--format", "fortran"]);
     assert!(!out.status.success());

@@ -216,6 +216,16 @@ pub enum Error {
         /// How many were given.
         got: usize,
     },
+    /// A number of a single-formula construction (spec/composite-surfaces.md) that overflows
+    /// f64: a coefficient, a sum of jumps, a bound on the formula's terms. The inputs are
+    /// too near the end of the f64 range for the formula to be written or evaluated.
+    #[error("{what}: {step} overflows f64")]
+    Overflow {
+        /// Where ("patch (1, 0)", "piece 2", "knot interval 3 [a, b] of the u knots").
+        what: String,
+        /// The step that overflowed ("its power-basis coefficients", ...).
+        step: String,
+    },
     /// A formula that does not parse or evaluate, with the place of the problem.
     ///
     /// For a formula that does not parse (or names a variable it may not use), `parse` holds

@@ -18,12 +18,28 @@ pub const CASES: &[Case] = &[
     },
     Case {
         files: &[("c.json", CUBIC)],
-        args: &["bezier", "elevate", "c.json", "--to", "five", "-o", "keep.json"],
+        args: &[
+            "bezier",
+            "elevate",
+            "c.json",
+            "--to",
+            "five",
+            "-o",
+            "keep.json",
+        ],
         names: &["--to", "five"],
     },
     Case {
         files: &[("c.json", CUBIC)],
-        args: &["bezier", "elevate", "c.json", "--to", "2", "-o", "keep.json"],
+        args: &[
+            "bezier",
+            "elevate",
+            "c.json",
+            "--to",
+            "2",
+            "-o",
+            "keep.json",
+        ],
         names: &["2"],
     },
 ];

@@ -12,8 +12,9 @@
 //! ```
 
 use super::formula::{coef, int_const, num};
+use super::grid::show;
 use super::poly::PolyPatch;
-use crate::expr::{parse_with_variables, Const, Graph, Id, Node, Tape};
+use crate::expr::{parse_with_variables, Const, Func, Graph, Id, Node, Tape};
 use crate::{Error, Result};
 use std::collections::HashMap;
 
@@ -266,7 +267,7 @@ impl ExprPatch {
         let params: Vec<Vec<f64>> = locals
             .iter()
             .zip(domain)
-            .map(|(l, &(a, b))| l.iter().map(|&s| a + (b - a) * s).collect())
+            .map(|(l, &(a, b))| l.iter().map(|&s| local_to_param(s, a, b)).collect())
             .collect();
         let inputs: Vec<&[f64]> = params.iter().map(Vec::as_slice).collect();
         let d = self.dim();
@@ -317,16 +318,99 @@ impl ExprPatch {
         self.place(dst, &args)
     }
 
+    /// Whether a formula of the patch's coordinates may be undefined for some finite value
+    /// of a variable: it takes a square root, a logarithm, an arc sine or cosine, a tangent,
+    /// divides by an expression or raises one to a negative power. Such a patch, placed
+    /// by [`Self::place_clamped`], gets arguments clamped exactly into its domain.
+    pub(crate) fn is_partial(&self) -> bool {
+        self.graph
+            .reachable(&self.roots)
+            .into_iter()
+            .any(|id| match self.graph.node(id) {
+                Node::Fun(f, _) => matches!(
+                    f,
+                    Func::Sqrt | Func::Ln | Func::Asin | Func::Acos | Func::Tan
+                ),
+                Node::Mul(_, fs) => fs.iter().any(|&(_, e)| e < 0),
+                _ => false,
+            })
+    }
+
+    /// [`Self::place_local`] with the local coordinates `ramps` (ramps P of formula (1),
+    /// in [0, 1] in exact arithmetic) for a composite's single formula. A total patch (see
+    /// [`Self::is_partial`]) is placed the paper's way, a + (b - a) P. A partial patch gets
+    /// each argument clamped so that it stays in its interval [a, b] also in f64, where the
+    /// rounding of P's |.| terms may put a + (b - a) P an ulp outside (or, far from the
+    /// knots, further): with m = max(P, 0) = |P| (1/2 + sign(P)/2) and r = max(1 - m, 0) =
+    /// |1 - m| (1/2 + sign(1 - m)/2), exact in f64, the argument is b - (b - a) r: equal to
+    /// a + (b - a) P in exact arithmetic (the same formula in value), and in f64 monotone
+    /// in r ∈ [0, 1] from exactly b to b - w, where w is b - a rounded down when rounding
+    /// to nearest would put b - w below a. A constant local (0 for the edge terms of (9))
+    /// is placed exactly. Hints for [`super::formula::check_terms`]: m and r in [0, 1].
+    pub(crate) fn place_clamped(
+        &self,
+        dst: &mut Graph,
+        ramps: &[Id],
+        domain: &[(f64, f64)],
+        hints: &mut HashMap<Id, f64>,
+    ) -> Vec<Id> {
+        if !self.is_partial() {
+            return self.place_local(dst, ramps, domain);
+        }
+        let args: Vec<Id> = ramps
+            .iter()
+            .zip(domain)
+            .map(|(&p, &(a, b))| {
+                if dst.as_const(p).is_some() {
+                    let (a, b) = (num(dst, a), num(dst, b));
+                    let w = dst.sub(b, a);
+                    let wl = dst.mul(w, p);
+                    return dst.add(a, wl);
+                }
+                let half = dst.rational(1, 2);
+                let one = dst.int(1);
+                let mut clamp_low = |dst: &mut Graph, x: Id| {
+                    // max(x, 0) = |x| (1/2 + sign(x)/2): a product of two factors, which the
+                    // engine keeps as it is (a sum would be flattened into its neighbours).
+                    let sx = dst.sign(x);
+                    let hs = dst.mul(half, sx);
+                    let step = dst.add(half, hs);
+                    let ax = dst.abs(x);
+                    let out = dst.mul(ax, step);
+                    hints.insert(out, 1.0);
+                    out
+                };
+                let m = clamp_low(dst, p);
+                let one_minus_m = dst.sub(one, m);
+                let r = clamp_low(dst, one_minus_m);
+                let bn = num(dst, b);
+                let w = clamped_width(dst, a, b);
+                let wr = dst.scale(&w, r);
+                dst.sub(bn, wr)
+            })
+            .collect();
+        self.place(dst, &args)
+    }
+
     /// Checks that the patch is finite on a 9-point-per-variable grid of `domain`.
     /// Errors: [`Error::Expression`] naming the coordinate and the point.
     pub(crate) fn check_finite(&self, domain: &[(f64, f64)]) -> Result<()> {
         let k = FINITE_SAMPLES;
+        let samples: Vec<f64> = (0..k).map(|i| i as f64 / (k - 1) as f64).collect();
+        self.check_finite_at(domain, &samples)
+    }
+
+    /// Checks that the patch is finite at the local coordinates `samples` (each in [0, 1])
+    /// of every variable (all combinations) on `domain`. Errors: [`Error::Expression`]
+    /// naming the coordinate and the point.
+    pub(crate) fn check_finite_at(&self, domain: &[(f64, f64)], samples: &[f64]) -> Result<()> {
+        let k = samples.len();
         let total = k.pow(domain.len() as u32);
         let mut locals = vec![Vec::with_capacity(total); domain.len()];
         for idx in 0..total {
             let mut rest = idx;
             for l in locals.iter_mut() {
-                l.push((rest % k) as f64 / (k - 1) as f64);
+                l.push(samples[rest % k]);
                 rest /= k;
             }
         }
@@ -341,7 +425,7 @@ impl ExprPatch {
                 .iter()
                 .zip(&locals)
                 .zip(domain)
-                .map(|((v, l), &(a, b))| format!("{v} = {}", a + (b - a) * l[i]))
+                .map(|((v, l), &(a, b))| format!("{v} = {}", show(local_to_param(l[i], a, b))))
                 .collect();
             return Err(expression_error(
                 &self.names[c],
@@ -354,6 +438,43 @@ impl ExprPatch {
         }
         Ok(())
     }
+}
+
+/// The parameter at local coordinate s ∈ [0, 1] on [a, b]: a + (b - a) s, exactly b at
+/// s = 1 and never outside [a, b] (a + (b - a) rounds past b for a = 0.1, b = 0.3).
+#[inline]
+pub(crate) fn local_to_param(s: f64, a: f64, b: f64) -> f64 {
+    if s >= 1.0 {
+        b
+    } else {
+        (a + (b - a) * s).clamp(a, b)
+    }
+}
+
+/// The width b - a as the constant of [`ExprPatch::place_clamped`]: the exact rational of
+/// the short rationals of a and b, unless its nearest f64 w makes b - w fall below a in f64
+/// (w rounded up); then the f64 just below it, which does not.
+fn clamped_width(g: &mut Graph, a: f64, b: f64) -> Const {
+    let (qa, qb) = (num(g, a), num(g, b));
+    let wid = g.sub(qb, qa);
+    let exact = g.as_const(wid).cloned().unwrap_or(Const::Float(b - a));
+    let (af, bf) = (
+        g.as_const(qa).map_or(a, Const::to_f64),
+        g.as_const(qb).map_or(b, Const::to_f64),
+    );
+    let mut w = exact.to_f64();
+    if bf - w >= af {
+        return exact;
+    }
+    while bf - w < af {
+        w = next_down(w);
+    }
+    Const::Float(w)
+}
+
+/// The largest f64 below a positive finite x.
+fn next_down(x: f64) -> f64 {
+    f64::from_bits(x.to_bits() - 1)
 }
 
 /// One interval per variable, finite and increasing.

@@ -4,9 +4,10 @@
 use super::linear::AbsSum;
 use super::ramp::check_width;
 use crate::exact::{rational_to_f64, Rational};
-use crate::expr::{Const, Format, Graph, Id};
+use crate::expr::{Const, Format, Func, Graph, Id, Node};
 use crate::{Error, Result};
 use num_bigint::BigInt;
+use std::collections::HashMap;
 
 /// Denominators up to this print as exact rationals; longer ones (rationals standing for
 /// irrational inputs such as cos(2π/5)) as decimals.
@@ -94,6 +95,137 @@ pub fn abs_sum_expr(g: &mut Graph, f: &AbsSum, t: Id) -> Id {
         terms.push((konst(c), a));
     }
     g.lin(&terms)
+}
+
+/// The largest bound on the sum of the absolute values of a formula's terms that
+/// [`check_terms`] accepts: half of f64::MAX, so that the rounding of a sum of terms (each
+/// within the bound) cannot reach infinity either.
+pub(crate) const MAX_TERMS_BOUND: f64 = f64::MAX / 2.0;
+
+/// Where [`check_terms`] found an overflow: the node, and what overflowed there.
+#[derive(Debug)]
+pub(crate) struct TermsOverflow {
+    /// The first node (in topological order) that failed.
+    pub node: Id,
+    /// Its coefficient, or the bound of its terms, for a message.
+    pub step: String,
+}
+
+impl TermsOverflow {
+    /// The error, at the place `what`.
+    pub fn at(self, what: String) -> Error {
+        Error::Overflow {
+            what,
+            step: self.step,
+        }
+    }
+
+    /// The error, named after the first of `groups` (expressions of `g`) that holds the
+    /// failing node (`name(k)` for group k), or `rest` when none does (the node joins them).
+    pub fn in_groups(
+        self,
+        g: &Graph,
+        groups: &[Vec<Id>],
+        name: impl Fn(usize) -> String,
+        rest: &str,
+    ) -> Error {
+        let what = groups
+            .iter()
+            .position(|roots| g.reachable(roots).binary_search(&self.node).is_ok())
+            .map_or_else(|| rest.to_string(), name);
+        self.at(what)
+    }
+}
+
+/// The one check every single formula of this module passes before it is handed out
+/// (issue 21), on the expressions `roots` of `g`, in one pass over the DAG:
+/// - every constant is a finite f64: no printer ever sees inf or NaN, and no exact rational
+///   beyond f64::MAX reaches a target that computes in f64 (C, GLSL, NumPy);
+/// - where it can be bounded, the sum of the absolute values of the terms of every node
+///   (with the variables within `vars`: name and largest |value| on the domain) stays below
+///   [`MAX_TERMS_BOUND`], so evaluating the formula in f64 on its domain cannot overflow,
+///   whatever the order of the additions. `hints` give the magnitude of nodes known to be
+///   smaller than their terms suggest (a ramp P is in [0, 1], |x - x_i| at most the span of
+///   the knots: cancellation the terms cannot show), not judged themselves; functions
+///   without a bound (exp, ln, tan, a division) leave their node unbounded, and unbounded
+///   nodes are not judged.
+///
+/// Errors: the first node that fails, with the coefficient or the bound.
+pub(crate) fn check_terms(
+    g: &Graph,
+    roots: &[Id],
+    vars: &[(&str, f64)],
+    hints: &HashMap<Id, f64>,
+) -> std::result::Result<(), TermsOverflow> {
+    let mut bound: HashMap<Id, Option<f64>> = HashMap::new();
+    let of = |bound: &HashMap<Id, Option<f64>>, id: &Id| bound.get(id).copied().flatten();
+    for id in g.reachable(roots) {
+        let node = g.node(id);
+        let consts: Vec<&Const> = match node {
+            Node::Const(c) | Node::Mul(c, _) => vec![c],
+            Node::Add(c, ts) => std::iter::once(c).chain(ts.iter().map(|t| &t.0)).collect(),
+            _ => Vec::new(),
+        };
+        if let Some(c) = consts.into_iter().find(|c| !c.to_f64().is_finite()) {
+            return Err(TermsOverflow {
+                node: id,
+                step: format!("its coefficient {}", describe_const(c)),
+            });
+        }
+        let b = match node {
+            Node::Const(c) => Some(c.to_f64().abs()),
+            Node::Pi => Some(std::f64::consts::PI),
+            Node::Var(name) => vars.iter().find(|(v, _)| **v == **name).map(|v| v.1),
+            Node::Add(c, ts) => ts.iter().try_fold(c.to_f64().abs(), |acc, (k, t)| {
+                of(&bound, t).map(|b| acc + k.to_f64().abs() * b)
+            }),
+            Node::Mul(c, fs) => fs.iter().try_fold(c.to_f64().abs(), |acc, &(t, e)| {
+                let b = of(&bound, &t)?;
+                (e > 0).then(|| acc * b.powi(e))
+            }),
+            Node::Fun(f, a) => of(&bound, a).and_then(|b| match f {
+                Func::Abs => Some(b),
+                Func::Sqrt => Some(b.sqrt()),
+                Func::Sign | Func::Sin | Func::Cos | Func::Tanh => Some(1.0),
+                Func::Atan | Func::Asin => Some(std::f64::consts::FRAC_PI_2),
+                Func::Acos => Some(std::f64::consts::PI),
+                _ => None,
+            }),
+        };
+        if let Some(&h) = hints.get(&id) {
+            // The node's true magnitude: its terms cancel (or its variables are bounded
+            // together) in a way the bound cannot see.
+            bound.insert(id, Some(h));
+            continue;
+        }
+        if let Some(b) = b {
+            // A NaN bound (0 · inf) is an overflow too.
+            if b.is_nan() || b >= MAX_TERMS_BOUND {
+                return Err(TermsOverflow {
+                    node: id,
+                    step: format!(
+                        "the sum of the absolute values of its terms on the domain (at most \
+                         {b:.3e}, above f64::MAX/2)"
+                    ),
+                });
+            }
+        }
+        bound.insert(id, b);
+    }
+    Ok(())
+}
+
+/// A constant for a message: its f64 value, or the size of an exact rational too large for
+/// f64.
+fn describe_const(c: &Const) -> String {
+    match c {
+        Const::Rat(r) if r.to_string().len() > 40 => format!(
+            "{} (an exact number of {} digits, beyond f64)",
+            c.to_f64(),
+            r.numer().to_string().trim_start_matches('-').len()
+        ),
+        c => format!("{}", c.to_f64()),
+    }
 }
 
 /// A single formula: named coordinate expressions in a graph of their own, over variables.

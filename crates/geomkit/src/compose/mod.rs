@@ -22,9 +22,10 @@ mod surface;
 
 pub use expr_patch::ExprPatch;
 pub use formula::{abs_sum_expr, ramp_expr, Formula};
+pub use grid::{MAX_KNOT_SPAN, MIN_KNOT_WIDTH};
 pub use linear::AbsSum;
 pub use piecewise::Piecewise;
 pub use poly::PolyPatch;
 pub use ramp::{ramp, ramp_checked, ramp_exact, simplest_rational};
-pub use ruled::{RuledCurve, RuledSurface};
+pub use ruled::{RuledCurve, RuledSurface, MAX_RULED_COORDINATE};
 pub use surface::{CompositeSurface, ContinuityReport, GridLine, Jump, SurfaceKind, EDGE_SAMPLES};

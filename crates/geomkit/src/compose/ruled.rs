@@ -18,7 +18,7 @@
 //! ```
 
 use super::expr_patch::ExprPatch;
-use super::formula::{abs_sum_expr, konst, num, Formula};
+use super::formula::{abs_sum_expr, check_terms, konst, num, Formula};
 use super::grid::{check_increasing, Axis};
 use super::linear::{exact, AbsSum};
 use crate::exact::Rational;
@@ -26,6 +26,11 @@ use crate::expr::{Const, Graph, Id};
 use crate::geom::{check_point, Curve, Surface};
 use crate::{Error, Result};
 use num_traits::One;
+use std::collections::HashMap;
+
+/// The largest |coordinate| of a curve of a ruled surface: half of f64::MAX, so that the
+/// differences r_k(u) - r_(k-1)(u) of formula (2) stay finite.
+pub const MAX_RULED_COORDINATE: f64 = f64::MAX / 2.0;
 
 /// One curve of the family, with its own parameter interval.
 #[derive(Debug, Clone, PartialEq)]
@@ -99,6 +104,29 @@ impl RuledCurve {
                 (0.0, (vertices.len() - usize::from(!closed)) as f64)
             }
             RuledCurve::Circle { .. } => (0.0, std::f64::consts::TAU),
+        }
+    }
+
+    /// The largest |coordinate| of the curve: of its point or vertices, centre plus radius
+    /// for a circle, the largest sampled (9 points) for a formula curve.
+    fn magnitude(&self) -> f64 {
+        let max = |ps: &[[f64; 3]]| {
+            ps.iter().flatten().fold(
+                0.0f64,
+                |m, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) },
+            )
+        };
+        match self {
+            RuledCurve::Point(p) => max(&[*p]),
+            RuledCurve::Polyline { vertices, .. } => max(vertices),
+            RuledCurve::Circle { center, radius } => max(&[*center]) + radius,
+            RuledCurve::Expr(_) => {
+                let (t0, t1) = self.interval();
+                let ps: Vec<[f64; 3]> = (0..9)
+                    .map(|i| self.eval(super::expr_patch::local_to_param(i as f64 / 8.0, t0, t1)))
+                    .collect();
+                max(&ps)
+            }
         }
     }
 
@@ -246,6 +274,18 @@ impl RuledSurface {
                     let (t0, t1) = c.interval();
                     e.check_finite(&[(t0, t1)])?;
                 }
+            }
+        }
+        for (k, c) in curves.iter().enumerate() {
+            if c.magnitude().is_nan() || c.magnitude() > MAX_RULED_COORDINATE {
+                return Err(Error::Overflow {
+                    what: format!("curve {k} of the ruled surface"),
+                    step: format!(
+                        "the difference of its coordinates and its neighbours' (coordinates \
+                         must be at most f64::MAX/2 = {MAX_RULED_COORDINATE:e} in absolute \
+                         value)"
+                    ),
+                });
             }
         }
         Ok(RuledSurface {
@@ -398,6 +438,20 @@ impl RuledSurface {
             }
             roots.push(g.sum(&terms));
         }
+        let ((u0f, u1f), (v0f, v1f)) = self.domain();
+        let bounds = [
+            ("u", u0f.abs().max(u1f.abs())),
+            ("v", v0f.abs().max(v1f.abs())),
+        ];
+        let groups: Vec<Vec<Id>> = roots.iter().map(|&r| vec![r]).collect();
+        check_terms(&g, &roots, &bounds, &HashMap::new()).map_err(|e| {
+            e.in_groups(
+                &g,
+                &groups,
+                |c| format!("formula (2), coordinate {}", ["x", "y", "z"][c]),
+                "formula (2)",
+            )
+        })?;
         Ok(Formula {
             graph: g,
             roots,

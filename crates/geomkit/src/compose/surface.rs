@@ -25,8 +25,8 @@
 //! ```
 
 use super::expr_patch::ExprPatch;
-use super::formula::{coef_const, int_const, num, Formula};
-use super::grid::Axis;
+use super::formula::{check_terms, coef_const, int_const, num, Formula};
+use super::grid::{show, Axis};
 use super::poly::PolyPatch;
 use super::ramp::ramp;
 use crate::bezier::BezierSurface;
@@ -36,6 +36,7 @@ use crate::geom::{check_pairs, check_point, BatchOptions, Surface};
 use crate::par::*;
 use crate::points::check_eval_args;
 use crate::{Error, Result};
+use std::collections::HashMap;
 
 /// Samples per shared edge in the continuity report (both corners included).
 pub const EDGE_SAMPLES: usize = 65;
@@ -249,7 +250,16 @@ impl CompositeSurface {
             kind,
             PolyPatch::dim,
             |u, v, flat| {
-                let effective = effective_patches(&flat, u.cells(), v.cells())?;
+                let m = v.cells();
+                if let Some(k) = flat.iter().position(|p| !p.is_finite()) {
+                    return Err(Error::Overflow {
+                        what: format!("patch ({}, {})", k / m, k % m),
+                        step: "its power-basis coefficients (control points near the end of \
+                               the f64 range)"
+                            .into(),
+                    });
+                }
+                let effective = effective_patches(&flat, u.cells(), m)?;
                 Ok(Cells::Poly {
                     patches: flat,
                     effective,
@@ -281,7 +291,7 @@ impl CompositeSurface {
             cells,
             report: ContinuityReport::default(),
         };
-        s.report = s.measure_continuity();
+        s.report = s.measure_continuity()?;
         let (tapes, exprs) = s.effective_tapes()?;
         if let Cells::Expr {
             effective,
@@ -391,7 +401,7 @@ impl CompositeSurface {
     /// non-empty knot span pair, the grid its distinct knots (the single formula then equals
     /// the B-spline surface on its domain).
     pub fn from_bspline(s: &BsplineSurface) -> Result<Self> {
-        let (uc, vc, patches) = PolyPatch::from_bspline(s);
+        let (uc, vc, patches) = PolyPatch::from_bspline(s)?;
         let m = vc.len() - 1;
         let rows = patches.chunks(m).map(<[PolyPatch]>::to_vec).collect();
         let kind = if s.dim() == 1 {
@@ -649,13 +659,20 @@ impl CompositeSurface {
         let (uk, vk) = self.knots();
         let u = g.var(vars[0]);
         let v = g.var(vars[1]);
-        let ss = ramps(&mut g, u, uk)?;
-        let ts = ramps(&mut g, v, vk)?;
+        let mut hints: HashMap<Id, f64> = HashMap::new();
+        let ss = ramps(&mut g, u, uk, &mut hints)?;
+        let ts = ramps(&mut g, v, vk, &mut hints)?;
         let (n, m) = self.cells();
         let zero = g.int(0);
+        let bounds = [
+            (vars[0], uk[0].abs().max(uk[n].abs())),
+            (vars[1], vk[0].abs().max(vk[m].abs())),
+        ];
         let mut sums: Vec<Vec<Id>> = vec![Vec::with_capacity(n * m); self.dim];
+        let mut cells: Vec<Vec<Id>> = Vec::with_capacity(n * m);
         for i in 0..n {
             for j in 0..m {
+                let start = sums[0].len();
                 let (a0, b0) = (usize::from(i >= 1), usize::from(j >= 1));
                 match &self.cells {
                     Cells::Poly { patches, .. } => {
@@ -676,7 +693,7 @@ impl CompositeSurface {
                         ];
                         for (s, t, sign, present) in terms {
                             if present {
-                                let r = p.place_local(&mut g, &[s, t], d);
+                                let r = p.place_clamped(&mut g, &[s, t], d, &mut hints);
                                 for (k, sum) in sums.iter_mut().enumerate() {
                                     let term = g.scale(&int_const(sign), r[k]);
                                     sum.push(term);
@@ -685,9 +702,18 @@ impl CompositeSurface {
                         }
                     }
                 }
+                cells.push(sums.iter().flat_map(|t| t[start..].to_vec()).collect());
             }
         }
-        let roots = sums.iter().map(|terms| g.sum(terms)).collect();
+        let roots: Vec<Id> = sums.iter().map(|terms| g.sum(terms)).collect();
+        check_terms(&g, &roots, &bounds, &hints).map_err(|e| {
+            e.in_groups(
+                &g,
+                &cells,
+                |k| format!("formula (9), the terms of patch ({}, {})", k / m, k % m),
+                "formula (9), the sum of the patches' terms",
+            )
+        })?;
         Ok(Formula {
             graph: g,
             roots,
@@ -742,9 +768,17 @@ impl CompositeSurface {
                 );
                 for k in 0..d {
                     let x = (a[k] - b[k]) - (e[k] - f[k]);
-                    c[(p + 1) * (m + 1) + q + 1][k] =
-                        x + c[p * (m + 1) + q + 1][k] + c[(p + 1) * (m + 1) + q][k]
-                            - c[p * (m + 1) + q][k];
+                    let sum = x + c[p * (m + 1) + q + 1][k] + c[(p + 1) * (m + 1) + q][k]
+                        - c[p * (m + 1) + q][k];
+                    if !sum.is_finite() {
+                        return Err(Error::Overflow {
+                            what: format!("formula (9) at patch ({p}, {q})"),
+                            step: "the sum of the corner jumps before it (coordinates near \
+                                   the end of the f64 range)"
+                                .into(),
+                        });
+                    }
+                    c[(p + 1) * (m + 1) + q + 1][k] = sum;
                 }
             }
         }
@@ -788,7 +822,9 @@ impl CompositeSurface {
         Ok((tapes, (g, cell_roots)))
     }
 
-    fn measure_continuity(&self) -> ContinuityReport {
+    /// The continuity report. Errors: [`Error::Overflow`] naming the two patches when
+    /// their jump overflows f64 (coordinates of opposite signs near the end of its range).
+    fn measure_continuity(&self) -> Result<ContinuityReport> {
         let (n, m) = self.cells();
         let (uk, vk) = self.knots();
         let d = self.dim;
@@ -840,12 +876,22 @@ impl CompositeSurface {
                 });
             }
         }
+        if let Some(j) = jumps.iter().find(|j| !j.max_jump.is_finite()) {
+            let (a, b, line) = match j.line {
+                GridLine::U(i) => ((i - 1, j.cell), (i, j.cell), format!("u = {}", show(uk[i]))),
+                GridLine::V(k) => ((j.cell, k - 1), (j.cell, k), format!("v = {}", show(vk[k]))),
+            };
+            return Err(Error::Overflow {
+                what: format!("patches {a:?} and {b:?}"),
+                step: format!("the jump between them on {line} (the continuity report)"),
+            });
+        }
         let max_jump = jumps.iter().fold(0.0f64, |m, j| m.max(j.max_jump));
-        ContinuityReport {
+        Ok(ContinuityReport {
             jumps,
             max_jump,
             tolerance: 64.0 * f64::EPSILON * scale.max(f64::MIN_POSITIVE),
-        }
+        })
     }
 }
 
@@ -854,8 +900,8 @@ impl CompositeSurface {
 /// R_ij(u_i,v_j), cell (p, q) carries D_pq(s,t) + Σ_(i<p) D_iq(1,t) + Σ_(j<q) D_pj(s,1) +
 /// Σ_(i<p, j<q) D_ij(1,1): the cells before it contribute their far edges (clamped P = 1).
 ///
-/// Errors: [`Error::Numerical`] when the sums overflow f64 (patches with coordinates near the
-/// end of the f64 range).
+/// Errors: [`Error::Overflow`] naming the patch when the sums overflow f64 (patches with
+/// coordinates near the end of the f64 range).
 fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Result<Vec<PolyPatch>> {
     let d = patches[0].dim();
     let diff: Vec<PolyPatch> = (0..n * m)
@@ -926,9 +972,11 @@ fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Result<Vec<Po
             let mut e = own.padded(deg);
             e.add_scaled(&col_before[k], 1.0);
             e.add_scaled(&row_before[k], 1.0);
-            let overflow = || Error::Numerical {
-                operation: "formula (9): the sums of the patches' edges and corners",
-                reason: "they overflow f64 (coordinates too near the end of its range)",
+            let overflow = || Error::Overflow {
+                what: format!("formula (9) at patch ({p}, {q})"),
+                step: "the patch plus the edges and corners of the patches before it \
+                       (coordinates near the end of the f64 range)"
+                    .into(),
             };
             let c = PolyPatch::new((0, 0), d, corner[p * (m + 1) + q].clone())
                 .map_err(|_| overflow())?;
@@ -942,8 +990,23 @@ fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Result<Vec<Po
         .collect()
 }
 
-/// The ramps P(x, x_i, x_(i+1) - x_i) of every cell of one direction.
-pub(crate) fn ramps(g: &mut Graph, x: Id, knots: &[f64]) -> Result<Vec<Id>> {
+/// The ramps P(x, x_i, x_(i+1) - x_i) of every cell of one direction, with their
+/// magnitudes for [`check_terms`] in `hints`: P in [0, 1], and x - x_i, |x - x_i| at most
+/// the span of the knots for x in their domain.
+pub(crate) fn ramps(
+    g: &mut Graph,
+    x: Id,
+    knots: &[f64],
+    hints: &mut HashMap<Id, f64>,
+) -> Result<Vec<Id>> {
+    let span = knots[knots.len() - 1] - knots[0];
+    for &k in knots {
+        let a = num(g, k);
+        let d = g.sub(x, a);
+        let abs = g.abs(d);
+        hints.insert(d, span);
+        hints.insert(abs, span);
+    }
     knots
         .windows(2)
         .map(|w| {
@@ -961,7 +1024,9 @@ pub(crate) fn ramps(g: &mut Graph, x: Id, knots: &[f64]) -> Result<Vec<Id>> {
             let diff = g.sub(abs_a, abs_b);
             let sum = g.add(width, diff);
             let den = g.mul(two, width);
-            Ok(g.div(sum, den))
+            let p = g.div(sum, den);
+            hints.insert(p, 1.0);
+            Ok(p)
         })
         .collect()
 }
