@@ -226,6 +226,19 @@ pub enum Error {
         /// The step that overflowed ("its power-basis coefficients", ...).
         step: String,
     },
+    /// A nonzero coefficient of a single formula that underflows f64 (a subnormal number or
+    /// zero: it would keep too few digits, or none), from inputs spanning more orders of
+    /// magnitude than f64 holds (values near 1e-300 over knots near 1e300).
+    #[error(
+        "{what}: its coefficient {value:e} underflows f64 (nonzero, below the smallest normal \
+         f64 2.2e-308, it keeps too few digits)"
+    )]
+    Underflow {
+        /// Where, as for [`Error::Overflow`].
+        what: String,
+        /// The coefficient's nearest f64.
+        value: f64,
+    },
     /// A formula that does not parse or evaluate, with the place of the problem.
     ///
     /// For a formula that does not parse (or names a variable it may not use), `parse` holds

@@ -67,12 +67,18 @@ fn jump_that_overflows_is_named() {
 fn knots_beyond_f64_are_refused() {
     let e = Piecewise::function(vec![-1.7e308, 0.0, 1.7e308], &["x", "1"]).unwrap_err();
     assert!(overflow_at(&e, "knots from -1.7e308 to 1.7e308"), "{e}");
+    // Twice as wide: the knots pass (span <= f64::MAX/2), but the terms of the formula
+    // (|x - x_i|/2 on the knots' interval widened by its span) could overflow.
+    let wide = Piecewise::function(vec![-4e307, 0.0, 4e307], &["x/4e307", "2*x/4e307"]).unwrap();
+    let e = wide.formula().unwrap_err();
+    assert!(overflow_at(&e, "the single formula, piece"), "{e}");
     let e = Piecewise::function(vec![0.0, 1e-310, 1.0], &["x", "1"]).unwrap_err();
     assert!(overflow_at(&e, "knots 0 and 1"), "{e}");
     assert!(e.to_string().contains("1/(2w)"), "{e}");
-    // Wide but within the limit: the formula holds finite coefficients only.
-    let p = Piecewise::function(vec![-4e307, 0.0, 4e307], &["x/4e307", "2*x/4e307"]).unwrap();
-    for (x, want) in [(4e307, 2.0), (-4e307, -1.0), (2e307, 1.0), (1e308, 2.0)] {
+    // Wide but within the limits: the formula holds finite coefficients only, and its
+    // terms stay finite a span beyond the knots.
+    let p = Piecewise::function(vec![-2e307, 0.0, 2e307], &["x/2e307", "2*x/2e307"]).unwrap();
+    for (x, want) in [(2e307, 2.0), (-2e307, -1.0), (1e307, 1.0), (6e307, 2.0)] {
         assert!(
             (tape(&p, x) - want).abs() <= 1e-15,
             "x = {x}: {}",

@@ -11,7 +11,7 @@
 //! assert_eq!(e.to_string(), "coordinate z: parse error at byte 4: expected a number, a name or `(`, found `*`");
 //! ```
 
-use super::formula::{coef, int_const, num};
+use super::formula::{coef, int_const, num, Hints};
 use super::grid::show;
 use super::poly::PolyPatch;
 use crate::expr::{parse_with_variables, Const, Func, Graph, Id, Node, Tape};
@@ -336,57 +336,48 @@ impl ExprPatch {
             })
     }
 
-    /// [`Self::place_local`] with the local coordinates `ramps` (ramps P of formula (1),
-    /// in [0, 1] in exact arithmetic) for a composite's single formula. A total patch (see
-    /// [`Self::is_partial`]) is placed the paper's way, a + (b - a) P. A partial patch gets
-    /// each argument clamped so that it stays in its interval [a, b] also in f64, where the
-    /// rounding of P's |.| terms may put a + (b - a) P an ulp outside (or, far from the
-    /// knots, further): with m = max(P, 0) = |P| (1/2 + sign(P)/2) and r = max(1 - m, 0) =
-    /// |1 - m| (1/2 + sign(1 - m)/2), exact in f64, the argument is b - (b - a) r: equal to
-    /// a + (b - a) P in exact arithmetic (the same formula in value), and in f64 monotone
-    /// in r ∈ [0, 1] from exactly b to b - w, where w is b - a rounded down when rounding
-    /// to nearest would put b - w below a. A constant local (0 for the edge terms of (9))
-    /// is placed exactly. Hints for [`super::formula::check_terms`]: m and r in [0, 1].
+    /// The patch's coordinates in `dst` for a composite's single formula, each variable k
+    /// at `locals[k]`: a constant local coordinate (0 for the edge terms of formula (9)),
+    /// placed exactly, or the local coordinate of x on a cell [x_i, x_(i+1)].
+    ///
+    /// A total patch (see [`Self::is_partial`]) is placed the paper's way, its variable
+    /// a + (b - a) P on its domain [a, b] with the ramp P(x, x_i, x_(i+1) - x_i). A partial
+    /// one gets its variable clamped so that it stays in [a, b] also in f64, where the
+    /// rounding of P's |.| terms may put a + (b - a) P an ulp outside (and far from a narrow
+    /// cell, cancellation makes P itself wrong), and `sqrt(x)` on [0, 1] would give NaN for
+    /// every x: with q = (x - x_i)/(x_(i+1) - x_i), m = max(q, 0) = |q| (1/2 + sign(q)/2)
+    /// and r = max(1 - m, 0) = |1 - m| (1/2 + sign(1 - m)/2), exact in f64 given q, the
+    /// variable is y = b - w r: equal to a + (b - a) P in exact arithmetic (the same
+    /// formula in value), and in f64 monotone in r ∈ [0, 1] from exactly b to b - w, where
+    /// w is b - a, rounded down when rounding to nearest would put b - w below a. It is
+    /// wrapped as |y| (-|y| for b <= 0, sign(y) |y| across 0), equal to y in f64 and a node
+    /// the engine does not merge into the patch's own sums (which would round it again).
+    /// Hints for [`super::formula::check_terms`]: m and r in [0, 1].
     pub(crate) fn place_clamped(
         &self,
         dst: &mut Graph,
-        ramps: &[Id],
+        locals: &[Local],
         domain: &[(f64, f64)],
-        hints: &mut HashMap<Id, f64>,
+        hints: &mut Hints,
     ) -> Vec<Id> {
-        if !self.is_partial() {
-            return self.place_local(dst, ramps, domain);
-        }
-        let args: Vec<Id> = ramps
+        let partial = self.is_partial();
+        let args: Vec<Id> = locals
             .iter()
             .zip(domain)
-            .map(|(&p, &(a, b))| {
-                if dst.as_const(p).is_some() {
-                    let (a, b) = (num(dst, a), num(dst, b));
-                    let w = dst.sub(b, a);
-                    let wl = dst.mul(w, p);
-                    return dst.add(a, wl);
+            .map(|(local, &(a, b))| match *local {
+                Local::Const(c) => {
+                    let (na, nb) = (num(dst, a), num(dst, b));
+                    let w = dst.sub(nb, na);
+                    let wl = dst.mul(w, c);
+                    dst.add(na, wl)
                 }
-                let half = dst.rational(1, 2);
-                let one = dst.int(1);
-                let mut clamp_low = |dst: &mut Graph, x: Id| {
-                    // max(x, 0) = |x| (1/2 + sign(x)/2): a product of two factors, which the
-                    // engine keeps as it is (a sum would be flattened into its neighbours).
-                    let sx = dst.sign(x);
-                    let hs = dst.mul(half, sx);
-                    let step = dst.add(half, hs);
-                    let ax = dst.abs(x);
-                    let out = dst.mul(ax, step);
-                    hints.insert(out, 1.0);
-                    out
-                };
-                let m = clamp_low(dst, p);
-                let one_minus_m = dst.sub(one, m);
-                let r = clamp_low(dst, one_minus_m);
-                let bn = num(dst, b);
-                let w = clamped_width(dst, a, b);
-                let wr = dst.scale(&w, r);
-                dst.sub(bn, wr)
+                Local::Cell { ramp, .. } if !partial => {
+                    let (na, nb) = (num(dst, a), num(dst, b));
+                    let w = dst.sub(nb, na);
+                    let wl = dst.mul(w, ramp);
+                    dst.add(na, wl)
+                }
+                Local::Cell { x, cell, .. } => clamped_argument(dst, x, cell, (a, b), hints),
             })
             .collect();
         self.place(dst, &args)
@@ -448,6 +439,59 @@ pub(crate) fn local_to_param(s: f64, a: f64, b: f64) -> f64 {
         b
     } else {
         (a + (b - a) * s).clamp(a, b)
+    }
+}
+
+/// A local coordinate for [`ExprPatch::place_clamped`].
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Local {
+    /// A constant in [0, 1] (a node of the destination graph).
+    Const(Id),
+    /// The variable `x` on the cell `cell` = (x_i, x_(i+1)), with its ramp P (the node).
+    Cell { x: Id, cell: (f64, f64), ramp: Id },
+}
+
+/// The variable of a partial patch on its domain [a, b] for x on `cell`, clamped in a form
+/// that holds in f64 ([`ExprPatch::place_clamped`]).
+fn clamped_argument(
+    dst: &mut Graph,
+    x: Id,
+    (xi, xj): (f64, f64),
+    (a, b): (f64, f64),
+    hints: &mut Hints,
+) -> Id {
+    let (nxi, nxj) = (num(dst, xi), num(dst, xj));
+    let width = dst.sub(nxj, nxi);
+    let shifted = dst.sub(x, nxi);
+    let q = dst.div(shifted, width);
+    let half = dst.rational(1, 2);
+    let one = dst.int(1);
+    let mut clamp_low = |dst: &mut Graph, v: Id| {
+        // max(v, 0) = |v| (1/2 + sign(v)/2): a product of two factors, which the engine
+        // keeps as it is (a sum would be flattened into its neighbours and rounded again).
+        let sv = dst.sign(v);
+        let hs = dst.mul(half, sv);
+        let step = dst.add(half, hs);
+        let av = dst.abs(v);
+        let out = dst.mul(av, step);
+        hints.cap(out, 1.0);
+        out
+    };
+    let m = clamp_low(dst, q);
+    let one_minus_m = dst.sub(one, m);
+    let r = clamp_low(dst, one_minus_m);
+    let nb = num(dst, b);
+    let w = clamped_width(dst, a, b);
+    let wr = dst.scale(&w, r);
+    let y = dst.sub(nb, wr);
+    let ay = dst.abs(y);
+    if a >= 0.0 {
+        ay
+    } else if b <= 0.0 {
+        dst.neg(ay)
+    } else {
+        let sy = dst.sign(y);
+        dst.mul(sy, ay)
     }
 }
 

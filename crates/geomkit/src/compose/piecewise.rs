@@ -53,8 +53,8 @@
 //! assert!(text.starts_with("f := (x) -> "), "{text}");
 //! ```
 
-use super::expr_patch::ExprPatch;
-use super::formula::{abs_sum_expr, check_terms, Formula};
+use super::expr_patch::{ExprPatch, Local};
+use super::formula::{abs_sum_expr, check_terms, knot_hints, variable_bound, Formula, Hints};
 use super::grid::{show, Axis};
 use super::linear::{exact, AbsSum};
 use super::ramp::ramp;
@@ -63,7 +63,6 @@ use crate::exact::Rational;
 use crate::expr::{Graph, Id};
 use crate::geom::{check_point, Curve};
 use crate::{Error, Result};
-use std::collections::HashMap;
 
 /// A piecewise function (one coordinate, variable x) or composite curve (2 or more
 /// coordinates, variable t) over knots x_0 < ... < x_n.
@@ -447,8 +446,9 @@ impl Piecewise {
         let mut g = Graph::new();
         let x = g.var(&self.var);
         let k = self.axis.knots();
-        let bounds = [(self.var.as_str(), k[0].abs().max(k[k.len() - 1].abs()))];
-        let mut hints = HashMap::new();
+        let bounds = [(self.var.as_str(), variable_bound(k[0], k[k.len() - 1]))];
+        let mut hints = Hints::default();
+        knot_hints(&mut g, x, k, &mut hints);
         let (roots, groups, name): (Vec<Id>, Vec<Vec<Id>>, &str) = match &self.pieces {
             Pieces::Expr {
                 pieces, domains, ..
@@ -459,7 +459,12 @@ impl Piecewise {
                 let mut groups = Vec::with_capacity(pieces.len());
                 for (i, p) in pieces.iter().enumerate() {
                     let d = [domains[i]];
-                    let at = p.place_clamped(&mut g, &[ps[i]], &d, &mut hints);
+                    let local = Local::Cell {
+                        x,
+                        cell: (k[i], k[i + 1]),
+                        ramp: ps[i],
+                    };
+                    let at = p.place_clamped(&mut g, &[local], &d, &mut hints);
                     let start = p.place_local(&mut g, &[zero], &d);
                     let mut group = Vec::with_capacity(self.dim());
                     for (c, sum) in sums.iter_mut().enumerate() {

@@ -18,7 +18,7 @@
 //! ```
 
 use super::expr_patch::ExprPatch;
-use super::formula::{abs_sum_expr, check_terms, konst, num, Formula};
+use super::formula::{abs_sum_expr, check_terms, konst, num, variable_bound, Formula, Hints};
 use super::grid::{check_increasing, Axis};
 use super::linear::{exact, AbsSum};
 use crate::exact::Rational;
@@ -26,7 +26,6 @@ use crate::expr::{Const, Graph, Id};
 use crate::geom::{check_point, Curve, Surface};
 use crate::{Error, Result};
 use num_traits::One;
-use std::collections::HashMap;
 
 /// The largest |coordinate| of a curve of a ruled surface: half of f64::MAX, so that the
 /// differences r_k(u) - r_(k-1)(u) of formula (2) stay finite.
@@ -203,6 +202,27 @@ pub struct RuledSurface {
     curves: Vec<RuledCurve>,
     v: Axis,
     u_range: (f64, f64),
+}
+
+/// f = content · primitive ([`AbsSum::content`]) when both print and evaluate well: the
+/// content an exact short rational and every coefficient of the primitive a normal f64 of
+/// moderate size; else (1, f). (Data near 1e-300 gave a content that rounded to 0 in f64
+/// and wiped the coordinate out, or primitives with integers beyond f64.)
+fn factored(f: &AbsSum) -> (Rational, AbsSum) {
+    let (content, prim) = f.content();
+    let moderate = |q: &Rational| {
+        let x = crate::exact::rational_to_f64(q).abs();
+        x == 0.0 || (1e-200..1e200).contains(&x)
+    };
+    let short = matches!(konst(&content), Const::Rat(_)) && moderate(&content);
+    let coefs = std::iter::once(prim.constant_term())
+        .chain(std::iter::once(prim.slope()))
+        .chain(prim.terms().flat_map(|(k, c)| [k, c]));
+    if short && coefs.into_iter().all(moderate) {
+        (content, prim)
+    } else {
+        (Rational::one(), f.clone())
+    }
 }
 
 /// One coordinate of one curve, as a function of u.
@@ -406,7 +426,7 @@ impl RuledSurface {
                 match self.coordinate(&mut g, k, c, u, &u0, &u1)? {
                     Coord::Constant(q) => constant.add_scaled(w, &q),
                     Coord::Linear(f) => {
-                        let (content, prim) = f.content();
+                        let (content, prim) = factored(&f);
                         match linear.iter_mut().find(|(key, _)| *key == prim) {
                             Some((_, acc)) => acc.add_scaled(w, &content),
                             None => linear.push((prim, w.scaled(&content))),
@@ -431,7 +451,7 @@ impl RuledSurface {
                 if w.is_zero() {
                     continue;
                 }
-                let (content, prim) = w.content();
+                let (content, prim) = factored(&w);
                 let wv = abs_sum_expr(&mut g, &prim, v);
                 let cid = g.constant(konst(&content));
                 terms.push(g.product(&[cid, f, wv]));
@@ -440,11 +460,11 @@ impl RuledSurface {
         }
         let ((u0f, u1f), (v0f, v1f)) = self.domain();
         let bounds = [
-            ("u", u0f.abs().max(u1f.abs())),
-            ("v", v0f.abs().max(v1f.abs())),
+            ("u", variable_bound(u0f, u1f)),
+            ("v", variable_bound(v0f, v1f)),
         ];
         let groups: Vec<Vec<Id>> = roots.iter().map(|&r| vec![r]).collect();
-        check_terms(&g, &roots, &bounds, &HashMap::new()).map_err(|e| {
+        check_terms(&g, &roots, &bounds, &Hints::default()).map_err(|e| {
             e.in_groups(
                 &g,
                 &groups,

@@ -24,8 +24,10 @@
 //! assert!((s.eval_formula(1.5, 0.5)[2] - 0.25).abs() < 1e-15);
 //! ```
 
-use super::expr_patch::ExprPatch;
-use super::formula::{check_terms, coef_const, int_const, num, Formula};
+use super::expr_patch::{ExprPatch, Local};
+use super::formula::{
+    check_terms, coef_const, int_const, knot_hints, num, variable_bound, Formula, Hints,
+};
 use super::grid::{show, Axis};
 use super::poly::PolyPatch;
 use super::ramp::ramp;
@@ -36,7 +38,6 @@ use crate::geom::{check_pairs, check_point, BatchOptions, Surface};
 use crate::par::*;
 use crate::points::check_eval_args;
 use crate::{Error, Result};
-use std::collections::HashMap;
 
 /// Samples per shared edge in the continuity report (both corners included).
 pub const EDGE_SAMPLES: usize = 65;
@@ -659,14 +660,14 @@ impl CompositeSurface {
         let (uk, vk) = self.knots();
         let u = g.var(vars[0]);
         let v = g.var(vars[1]);
-        let mut hints: HashMap<Id, f64> = HashMap::new();
+        let mut hints = Hints::default();
         let ss = ramps(&mut g, u, uk, &mut hints)?;
         let ts = ramps(&mut g, v, vk, &mut hints)?;
         let (n, m) = self.cells();
         let zero = g.int(0);
         let bounds = [
-            (vars[0], uk[0].abs().max(uk[n].abs())),
-            (vars[1], vk[0].abs().max(vk[m].abs())),
+            (vars[0], variable_bound(uk[0], uk[n])),
+            (vars[1], variable_bound(vk[0], vk[m])),
         ];
         let mut sums: Vec<Vec<Id>> = vec![Vec::with_capacity(n * m); self.dim];
         let mut cells: Vec<Vec<Id>> = Vec::with_capacity(n * m);
@@ -677,6 +678,11 @@ impl CompositeSurface {
                 match &self.cells {
                     Cells::Poly { patches, .. } => {
                         let p = &patches[i * m + j];
+                        check_linear_terms(p, (a0, b0), (uk[i + 1] - uk[i], vk[j + 1] - vk[j]))
+                            .map_err(|value| Error::Underflow {
+                                what: format!("formula (9), the terms of patch ({i}, {j})"),
+                                value,
+                            })?;
                         for (k, sum) in sums.iter_mut().enumerate() {
                             sum.push(monomials(&mut g, p, k, (a0, b0), ss[i], ts[j]));
                         }
@@ -685,10 +691,21 @@ impl CompositeSurface {
                         patches, domains, ..
                     } => {
                         let (p, d) = (&patches[i * m + j], &domains[i * m + j]);
+                        let s = Local::Cell {
+                            x: u,
+                            cell: (uk[i], uk[i + 1]),
+                            ramp: ss[i],
+                        };
+                        let t = Local::Cell {
+                            x: v,
+                            cell: (vk[j], vk[j + 1]),
+                            ramp: ts[j],
+                        };
+                        let zero = Local::Const(zero);
                         let terms = [
-                            (ss[i], ts[j], 1, true),
-                            (zero, ts[j], -1, a0 == 1),
-                            (ss[i], zero, -1, b0 == 1),
+                            (s, t, 1, true),
+                            (zero, t, -1, a0 == 1),
+                            (s, zero, -1, b0 == 1),
                             (zero, zero, 1, a0 == 1 && b0 == 1),
                         ];
                         for (s, t, sign, present) in terms {
@@ -991,22 +1008,10 @@ fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Result<Vec<Po
 }
 
 /// The ramps P(x, x_i, x_(i+1) - x_i) of every cell of one direction, with their
-/// magnitudes for [`check_terms`] in `hints`: P in [0, 1], and x - x_i, |x - x_i| at most
-/// the span of the knots for x in their domain.
-pub(crate) fn ramps(
-    g: &mut Graph,
-    x: Id,
-    knots: &[f64],
-    hints: &mut HashMap<Id, f64>,
-) -> Result<Vec<Id>> {
-    let span = knots[knots.len() - 1] - knots[0];
-    for &k in knots {
-        let a = num(g, k);
-        let d = g.sub(x, a);
-        let abs = g.abs(d);
-        hints.insert(d, span);
-        hints.insert(abs, span);
-    }
+/// magnitudes for [`check_terms`] in `hints`: P in [0, 1], and x - x_i, |x - x_i| as
+/// [`knot_hints`] gives them.
+pub(crate) fn ramps(g: &mut Graph, x: Id, knots: &[f64], hints: &mut Hints) -> Result<Vec<Id>> {
+    knot_hints(g, x, knots, hints);
     knots
         .windows(2)
         .map(|w| {
@@ -1025,10 +1030,35 @@ pub(crate) fn ramps(
             let sum = g.add(width, diff);
             let den = g.mul(two, width);
             let p = g.div(sum, den);
-            hints.insert(p, 1.0);
+            hints.cap(p, 1.0);
             Ok(p)
         })
         .collect()
+}
+
+/// The monomials of degree 1 of a patch's terms in formula (9), c s or c t, are the only
+/// ones the engine multiplies out: c times the ramp 1/2 + |x - x_i|/(2w) - ... gives the
+/// coefficients c/2 and c/(2w), which must not underflow f64 (they would silently become
+/// 0 or lose their digits). Errors: the first such coefficient's value.
+fn check_linear_terms(
+    p: &PolyPatch,
+    (a0, b0): (usize, usize),
+    (wu, wv): (f64, f64),
+) -> std::result::Result<(), f64> {
+    let (deg_a, deg_b) = p.degrees();
+    for (a, b, w) in [(1, 0, wu), (0, 1, wv)] {
+        if a < a0 || b < b0 || a > deg_a || b > deg_b {
+            continue;
+        }
+        for &c in p.coefficient(a, b) {
+            for x in [c / 2.0, c / (2.0 * w)] {
+                if c != 0.0 && x.abs() < f64::MIN_POSITIVE {
+                    return Err(x);
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Σ_(a >= a0, b >= b0) c_ab s^a t^b for coordinate k: one sum over monomials, which the
