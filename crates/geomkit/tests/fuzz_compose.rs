@@ -126,6 +126,13 @@ fn times(a: f64, b: f64) -> f64 {
     }
 }
 
+/// Every (u, v) of the grid `us` × `vs`, as the u and v columns of the points.
+fn grid_pairs(us: &[f64], vs: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    us.iter()
+        .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+        .unzip()
+}
+
 /// The smallest gap of the knots.
 fn min_gap(k: &[f64]) -> f64 {
     k.windows(2).fold(f64::INFINITY, |m, w| m.min(w[1] - w[0]))
@@ -397,13 +404,7 @@ proptest! {
         let us = sample_points(&[u0, u1], &randoms);
         let vs = sample_points(s.v_values(), &randoms);
         let scale = coords.iter().take(3 * 4 * curves.len() + 3).fold(0.0f64, |m, x| m.max(x.abs()));
-        let (mut pu, mut pv) = (Vec::new(), Vec::new());
-        for &a in &us {
-            for &b in &vs {
-                pu.push(a);
-                pv.push(b);
-            }
-        }
+        let (pu, pv) = grid_pairs(&us, &vs);
         let mut out = vec![0.0; pu.len() * 3];
         f.eval_batch(&[&pu, &pv], &mut out).unwrap();
         let (kv, ku) = (v0.abs().max(v1.abs()), u0.abs().max(u1.abs()));
@@ -469,13 +470,7 @@ fn check_surface(s: &CompositeSurface, randoms: &[f64]) {
         }
     }
     let (ku, kv) = (uk[0].abs().max(uk[n].abs()), vk[0].abs().max(vk[m].abs()));
-    let (mut pu, mut pv) = (Vec::new(), Vec::new());
-    for &a in &us {
-        for &b in &vs {
-            pu.push(a);
-            pv.push(b);
-        }
-    }
+    let (pu, pv) = grid_pairs(&us, &vs);
     let d = s.dim();
     let mut out = vec![0.0; pu.len() * d];
     f.eval_batch(&[&pu, &pv], &mut out).unwrap();
