@@ -12,6 +12,7 @@ mod common;
 
 mod bad_input {
     pub mod basics;
+    pub mod compose;
 }
 
 use std::collections::BTreeMap;
@@ -125,6 +126,11 @@ pub fn check_all(cases: &[Case]) {
 /// The number of cases in all tables (the issue asks for at least 100).
 #[test]
 fn the_catalogue_covers_every_command() {
-    let total: usize = [bad_input::basics::CASES.len()].iter().sum();
+    let total: usize = [
+        bad_input::basics::CASES.len(),
+        bad_input::compose::CASES.len(),
+    ]
+    .iter()
+    .sum();
     assert!(total >= 1, "{total} cases");
 }

@@ -219,25 +219,25 @@ pub enum Error {
     /// A number of a single-formula construction (spec/composite-surfaces.md) that overflows
     /// f64: a coefficient, a sum of jumps, a bound on the formula's terms. The inputs are
     /// too near the end of the f64 range for the formula to be written or evaluated.
-    #[error("{what}: {step} overflows f64")]
+    #[error("{what}: {step}")]
     Overflow {
-        /// Where ("patch (1, 0)", "piece 2", "knot interval 3 [a, b] of the u knots").
+        /// Where ("patch (1, 0)", "piece 2", "u knots 0 and 1 (0 and 1e-310)").
         what: String,
-        /// The step that overflowed ("its power-basis coefficients", ...).
+        /// What overflowed, and why ("its power-basis coefficients overflow f64: ...").
         step: String,
     },
     /// A nonzero coefficient of a single formula that underflows f64 (a subnormal number or
     /// zero: it would keep too few digits, or none), from inputs spanning more orders of
     /// magnitude than f64 holds (values near 1e-300 over knots near 1e300).
     #[error(
-        "{what}: its coefficient {value:e} underflows f64 (nonzero, below the smallest normal \
-         f64 2.2e-308, it keeps too few digits)"
+        "{what}: its coefficient {value} underflows f64 (nonzero, below the smallest normal \
+         f64 2.2e-308, it keeps too few digits or none)"
     )]
     Underflow {
         /// Where, as for [`Error::Overflow`].
         what: String,
-        /// The coefficient's nearest f64.
-        value: f64,
+        /// The coefficient, approximately ("5.000e-608").
+        value: String,
     },
     /// A formula that does not parse or evaluate, with the place of the problem.
     ///

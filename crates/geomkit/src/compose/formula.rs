@@ -157,7 +157,7 @@ pub(crate) struct TermsOverflow {
     /// Its coefficient, or the bound of its terms, for a message ([`Error::Overflow`]).
     pub step: String,
     /// A nonzero coefficient that underflows f64 ([`Error::Underflow`]), if that is it.
-    pub underflow: Option<f64>,
+    pub underflow: Option<String>,
 }
 
 impl TermsOverflow {
@@ -223,7 +223,7 @@ pub(crate) fn check_terms(
         if let Some(c) = consts.iter().find(|c| !c.to_f64().is_finite()) {
             return Err(TermsOverflow {
                 node: id,
-                step: format!("its coefficient {}", describe_const(c)),
+                step: format!("its coefficient {} overflows f64", describe_const(c)),
                 underflow: None,
             });
         }
@@ -234,7 +234,7 @@ pub(crate) fn check_terms(
             return Err(TermsOverflow {
                 node: id,
                 step: String::new(),
-                underflow: Some(c.to_f64()),
+                underflow: Some(approximately(c)),
             });
         }
         // The bound of the node, and the partial bounds the evaluation meets on the way
@@ -288,8 +288,9 @@ pub(crate) fn check_terms(
             return Err(TermsOverflow {
                 node: id,
                 step: format!(
-                    "the sum of the absolute values of its terms on the domain (at most \
-                     {b:.3e}, above f64::MAX/2)"
+                    "the absolute values of its terms add up to {b:.3e} on its domain (a span \
+                     beyond the knots included), above f64::MAX/2: evaluating it could \
+                     overflow f64"
                 ),
                 underflow: None,
             });
@@ -302,6 +303,32 @@ pub(crate) fn check_terms(
         bound.insert(id, b);
     }
     Ok(())
+}
+
+/// A constant for a message, approximately, also beyond the range of f64: "5.000e-608".
+fn approximately(c: &Const) -> String {
+    match c {
+        Const::Rat(r) if !num_traits::Zero::is_zero(r) => {
+            // r = m 10^e with m in [1, 10): e from the digits, m from r / 10^e in f64.
+            let digits = |x: &BigInt| x.to_string().trim_start_matches('-').len() as i32;
+            let mut e = digits(r.numer()) - digits(r.denom());
+            let ten = |k: i32| BigInt::from(10).pow(k.unsigned_abs());
+            let scaled = |e: i32| {
+                if e >= 0 {
+                    r / Rational::from_integer(ten(e))
+                } else {
+                    r * Rational::from_integer(ten(e))
+                }
+            };
+            let mut m = rational_to_f64(&scaled(e));
+            if m.abs() < 1.0 {
+                e -= 1;
+                m = rational_to_f64(&scaled(e));
+            }
+            format!("{m:.3}e{e}")
+        }
+        c => format!("{:e}", c.to_f64()),
+    }
 }
 
 /// A constant for a message: its f64 value, or the size of an exact rational too large for

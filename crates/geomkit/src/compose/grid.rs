@@ -73,6 +73,20 @@ pub(crate) fn show(x: f64) -> String {
     }
 }
 
+/// b - a for a message, also where it overflows f64 (3.4e308 for 1.7e308 - -1.7e308).
+fn difference(b: f64, a: f64) -> String {
+    let d = b - a;
+    if d.is_finite() {
+        return show(d);
+    }
+    // A tenth of it fits: its mantissa, and the exponent one higher.
+    let tenth = format!("{:e}", b / 10.0 - a / 10.0);
+    match tenth.split_once('e').map(|(m, e)| (m, e.parse::<i32>())) {
+        Some((m, Ok(e))) => format!("{m}e{}", e + 1),
+        _ => tenth,
+    }
+}
+
 /// The largest span x_n - x_0 of the knots of one direction: every difference |x - x_i| of
 /// two points of the domain, and every 2w of a ramp P(x, x_i, w), then stays finite.
 pub const MAX_KNOT_SPAN: f64 = f64::MAX / 2.0;
@@ -105,8 +119,9 @@ pub(crate) fn check_increasing(what: &'static str, knots: &[f64]) -> Result<()> 
         return Err(Error::Overflow {
             what: format!("{what} from {} to {}", show(a), show(b)),
             step: format!(
-                "their span (at most f64::MAX/2 = {MAX_KNOT_SPAN:e}, so that differences \
-                 of points in it stay finite)"
+                "their span {} is above f64::MAX/2 = {MAX_KNOT_SPAN:.3e} (differences of points \
+                 in it would overflow f64)",
+                difference(b, a)
             ),
         });
     }
@@ -119,8 +134,8 @@ pub(crate) fn check_increasing(what: &'static str, knots: &[f64]) -> Result<()> 
                 show(knots[i + 1])
             ),
             step: format!(
-                "1/(2w) of the ramp over their width w = {:e} (widths must be at least \
-                 {MIN_KNOT_WIDTH:e}, the smallest normal f64)",
+                "their width {:e} is below {MIN_KNOT_WIDTH:.3e}, the smallest normal f64 (the \
+                 ramp's 1/(2w) would overflow f64)",
                 knots[i + 1] - knots[i]
             ),
         });

@@ -174,7 +174,8 @@ impl Piecewise {
                 return Err(Error::Overflow {
                     what: format!("piece {i}"),
                     step: "the shift formula §5 adds to it (the sum of the jumps at the \
-                           breakpoints before it; values near the end of the f64 range)"
+                           breakpoints before it) overflows f64: values near the end of its \
+                           range"
                         .into(),
                 });
             }
@@ -244,7 +245,7 @@ impl Piecewise {
                         show(knots[s]),
                         show(knots[s + 1])
                     ),
-                    step: format!("{step} (control points near the end of the f64 range)"),
+                    step: format!("{step} overflow f64: control points near the end of its range"),
                 };
                 let bezier = crate::bezier::BezierCurve::from_flat(dim, bez)
                     .map_err(|_| overflow("its Bézier points (de Boor's triangle)"))?;
@@ -301,8 +302,8 @@ impl Piecewise {
                     "polyline points {i} and {}",
                     (i + 1) % (n - usize::from(closed))
                 ),
-                step: "the difference of their coordinates (values near the end of the f64 \
-                       range)"
+                step: "the difference of their coordinates overflows f64: values near the end \
+                       of its range"
                     .into(),
             });
         }
@@ -599,7 +600,8 @@ fn breakpoint_report<'a>(
         return Err(Error::Overflow {
             what: format!("breakpoint {} at {}", i + 1, show(j.at)),
             step: format!(
-                "the jump between pieces {i} and {} (values near the end of the f64 range)",
+                "the jump between pieces {i} and {} overflows f64: values near the end of its \
+                 range",
                 i + 1
             ),
         });

@@ -294,8 +294,8 @@ impl PolyPatch {
                 let b = BezierSurface::from_flat(p + 1, q + 1, dim, bez).map_err(|_| {
                     Error::Overflow {
                         what: format!("cell ({iu}, {iv}) of the B-spline surface"),
-                        step: "its Bézier points (de Boor's triangle over the control points \
-                               near the end of the f64 range)"
+                        step: "its Bézier points (de Boor's triangle) overflow f64: control \
+                               points near the end of its range"
                             .into(),
                     }
                 })?;

@@ -301,9 +301,9 @@ impl RuledSurface {
                 return Err(Error::Overflow {
                     what: format!("curve {k} of the ruled surface"),
                     step: format!(
-                        "the difference of its coordinates and its neighbours' (coordinates \
-                         must be at most f64::MAX/2 = {MAX_RULED_COORDINATE:e} in absolute \
-                         value)"
+                        "its coordinates exceed f64::MAX/2 = {MAX_RULED_COORDINATE:.3e} in \
+                         absolute value (the differences between neighbouring curves would \
+                         overflow f64)"
                     ),
                 });
             }

@@ -255,8 +255,8 @@ impl CompositeSurface {
                 if let Some(k) = flat.iter().position(|p| !p.is_finite()) {
                     return Err(Error::Overflow {
                         what: format!("patch ({}, {})", k / m, k % m),
-                        step: "its power-basis coefficients (control points near the end of \
-                               the f64 range)"
+                        step: "its power-basis coefficients overflow f64: control points near \
+                               the end of its range"
                             .into(),
                     });
                 }
@@ -790,8 +790,8 @@ impl CompositeSurface {
                     if !sum.is_finite() {
                         return Err(Error::Overflow {
                             what: format!("formula (9) at patch ({p}, {q})"),
-                            step: "the sum of the corner jumps before it (coordinates near \
-                                   the end of the f64 range)"
+                            step: "the sum of the corner jumps before it overflows f64: \
+                                   coordinates near the end of its range"
                                 .into(),
                         });
                     }
@@ -900,7 +900,10 @@ impl CompositeSurface {
             };
             return Err(Error::Overflow {
                 what: format!("patches {a:?} and {b:?}"),
-                step: format!("the jump between them on {line} (the continuity report)"),
+                step: format!(
+                    "the jump between them on {line} overflows f64: coordinates of opposite \
+                     signs near the end of its range"
+                ),
             });
         }
         let max_jump = jumps.iter().fold(0.0f64, |m, j| m.max(j.max_jump));
@@ -992,7 +995,7 @@ fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Result<Vec<Po
             let overflow = || Error::Overflow {
                 what: format!("formula (9) at patch ({p}, {q})"),
                 step: "the patch plus the edges and corners of the patches before it \
-                       (coordinates near the end of the f64 range)"
+                       overflows f64: coordinates near the end of its range"
                     .into(),
             };
             let c = PolyPatch::new((0, 0), d, corner[p * (m + 1) + q].clone())
@@ -1039,21 +1042,24 @@ pub(crate) fn ramps(g: &mut Graph, x: Id, knots: &[f64], hints: &mut Hints) -> R
 /// The monomials of degree 1 of a patch's terms in formula (9), c s or c t, are the only
 /// ones the engine multiplies out: c times the ramp 1/2 + |x - x_i|/(2w) - ... gives the
 /// coefficients c/2 and c/(2w), which must not underflow f64 (they would silently become
-/// 0 or lose their digits). Errors: the first such coefficient's value.
+/// 0 or lose their digits). Errors: the first such coefficient, approximately.
 fn check_linear_terms(
     p: &PolyPatch,
     (a0, b0): (usize, usize),
     (wu, wv): (f64, f64),
-) -> std::result::Result<(), f64> {
+) -> std::result::Result<(), String> {
     let (deg_a, deg_b) = p.degrees();
     for (a, b, w) in [(1, 0, wu), (0, 1, wv)] {
         if a < a0 || b < b0 || a > deg_a || b > deg_b {
             continue;
         }
         for &c in p.coefficient(a, b) {
-            for x in [c / 2.0, c / (2.0 * w)] {
-                if c != 0.0 && x.abs() < f64::MIN_POSITIVE {
-                    return Err(x);
+            for d in [1.0, w] {
+                if c != 0.0 && (c / (2.0 * d)).abs() < f64::MIN_POSITIVE {
+                    // c/(2d), written without computing it (it underflows).
+                    let e = c.abs().log10() - (2.0 * d).log10();
+                    let m = 10f64.powf(e - e.floor()).copysign(c);
+                    return Err(format!("{m:.3}e{}", e.floor()));
                 }
             }
         }
