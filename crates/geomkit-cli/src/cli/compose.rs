@@ -18,8 +18,10 @@ pub enum ComposeCommand {
     /// direction, every interval at least 2.2e-308 (the smallest normal f64) wide. A scene
     /// whose patch coefficients, jumps between patches, or formula terms overflow f64 (control
     /// points near ±1.8e308) is refused with the patch named: the formula never holds a
-    /// number that is not finite. A patch given as a formula must be finite on its cell
-    /// (sampled on a 9×9 grid).
+    /// number that is not finite, nor a nonzero one below 2.2e-308 (values near 1e-300 over
+    /// knots near 1e300). A patch given as a formula must be finite on its cell (sampled on
+    /// a 9×9 grid); one with sqrt, ln, asin, acos, tan or a division gets its arguments
+    /// clamped with sign() so that they stay in its cell in floating point too.
     Patches(PatchesArgs),
     /// A piecewise-ruled surface over curves (CURVES.json) as one formula (2), with its
     /// consistency checks: formula text, or OUT like `compose body`.

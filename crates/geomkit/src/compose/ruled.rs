@@ -387,6 +387,10 @@ impl RuledSurface {
 
     /// The single formula (2) with the ramps written out by (1), grouped by curve (see the
     /// module docs): x, y, z in u, v.
+    ///
+    /// Errors: [`Error::Overflow`] naming the coordinate when a coefficient is not a finite
+    /// f64 or the terms could overflow f64 on the domain widened by its span;
+    /// [`Error::Underflow`] when a nonzero coefficient falls below the smallest normal f64.
     pub fn formula(&self) -> Result<Formula> {
         let mut g = Graph::new();
         let u = g.var("u");

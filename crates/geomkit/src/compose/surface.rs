@@ -644,8 +644,19 @@ impl CompositeSurface {
     /// `R_ij(u,v) - R_ij(u_i,v) - R_ij(u,v_j) + R_ij(u_i,v_j)`. For a polynomial patch they
     /// are collected symbolically: exactly Σ c_ab s^a t^b over a >= [i>=1], b >= [j>=1], the
     /// monomials shared by the coordinates. A formula patch is substituted: its variables
-    /// replaced by a + (b - a) s_i and c + (d - c) t_j on its domain [a, b] × [c, d]. Knots
+    /// replaced by a + (b - a) s_i and c + (d - c) t_j on its domain [a, b] × [c, d]; a
+    /// formula patch that may be undefined for some finite argument (sqrt, ln, asin, acos,
+    /// tan, a division) gets those arguments clamped in a form written with `sign` that
+    /// stays in its domain also in f64 (equal in value; see [`Piecewise::formula`]). Knots
     /// and domains print as exact rationals (decimal inputs become their fractions).
+    ///
+    /// Errors: [`Error::Overflow`] naming the patch when a coefficient is not a finite f64
+    /// or the terms could overflow f64 on the grid widened by its span (coordinates near the
+    /// end of the f64 range); [`Error::Underflow`] naming the patch when a nonzero
+    /// coefficient falls below the smallest normal f64 (values near 1e-300 over knots near
+    /// 1e300).
+    ///
+    /// [`Piecewise::formula`]: super::Piecewise::formula
     pub fn formula(&self) -> Result<Formula> {
         let mut g = Graph::new();
         let (names, vars): (Vec<&str>, [&str; 2]) = match self.kind {
