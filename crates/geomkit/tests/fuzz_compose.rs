@@ -13,7 +13,9 @@ mod fuzz;
 
 use geomkit::bezier::BezierSurface;
 use geomkit::bspline::BsplineSurface;
-use geomkit::compose::{bodies, CompositeSurface, Formula, Piecewise, RuledCurve, RuledSurface};
+use geomkit::compose::{
+    bodies, CompositeSurface, ExprPatch, Formula, Piecewise, RuledCurve, RuledSurface, SurfaceKind,
+};
 use geomkit::expr::{Const, Node};
 use proptest::prelude::*;
 
@@ -300,6 +302,73 @@ proptest! {
             64.0 * EPS * scale * (n as f64 + 1.0) * (1.0 + (x.abs() + kmax) / min_gap(&kn))
         };
         check_piecewise(&p, &randoms, tol);
+    }
+
+    /// Random explicit composites of formula patches z(x, y): polynomial ones and ones
+    /// with square roots and arc sines that are 0 or ±1 at the cells' edges (clamped in
+    /// the formula and the evaluator alike), at random and edge knots.
+    #[test]
+    fn fuzz_formula_patches(
+        xk in knots(1..=3),
+        yk in knots(1..=2),
+        kinds in prop::collection::vec((0u8..4, -3.0..3.0f64), 6),
+        randoms in prop::collection::vec(0.0..1.0f64, 10),
+    ) {
+        let (n, m) = (xk.len() - 1, yk.len() - 1);
+        // Each patch with (largest |value| on the cell, largest slope, root factor).
+        let mut sizes = Vec::new();
+        let patches: Result<Vec<Vec<ExprPatch>>, _> = (0..n)
+            .map(|i| {
+                (0..m)
+                    .map(|j| {
+                        let (a, b) = (xk[i], xk[i + 1]);
+                        let (kind, c) = kinds[(i * m + j) % kinds.len()];
+                        let (w, mid) = (b - a, a + (b - a) / 2.0);
+                        let ymax = yk[j].abs().max(yk[j + 1].abs());
+                        let (text, size) = match kind {
+                            0 => (format!("{c:?} + x*y"), (c.abs() + a.abs().max(b.abs()) * ymax, ymax.max(1.0), 0.0)),
+                            1 => (format!("{c:?}*sqrt(x - {a:?}) + y"), (c.abs() * w.sqrt() + ymax, 1.0, c.abs())),
+                            2 => (format!("{c:?}*sqrt({b:?} - x)*y"), (c.abs() * w.sqrt() * ymax, 1.0, c.abs() * ymax)),
+                            _ => (format!("asin((x - {mid:?})/{:?}) + {c:?}*y", w / 2.0), (2.0 + c.abs() * ymax, c.abs(), 2.0 / (w / 2.0).sqrt())),
+                        };
+                        sizes.push(size);
+                        // (A width that halves to 0 divides by an exact zero: an error.)
+                        ExprPatch::parse(&[("z", &text)], &["x", "y"], None)
+                    })
+                    .collect()
+            })
+            .collect();
+        let Ok(patches) = patches else { return Ok(()) };
+        let Ok(s) = CompositeSurface::from_expr(xk.clone(), yk.clone(), patches, SurfaceKind::Explicit) else {
+            return Ok(());
+        };
+        let Ok(f) = s.formula() else { return Ok(()) };
+        assert_finite_constants(&f);
+        let xs = sample_points(&xk, &randoms);
+        let ys = sample_points(&yk, &randoms[5..]);
+        let (px, py) = grid_pairs(&xs, &ys);
+        let mut out = vec![0.0; px.len()];
+        f.eval_batch(&[&px, &py], &mut out).unwrap();
+        let (kx, ky) = (xk[0].abs().max(xk[n].abs()), yk[0].abs().max(yk[m].abs()));
+        let values: f64 = sizes.iter().map(|z| z.0).sum();
+        for (k, got) in out.iter().enumerate() {
+            let want = geomkit::geom::Surface::eval(&s, px[k], py[k])[0];
+            if !want.is_finite() {
+                continue;
+            }
+            // Formula (11) adds each patch four times; the ramps move an argument by δ.
+            let delta = 16.0 * EPS * (1.0 + (px[k].abs() + kx) / min_gap(&xk) + (py[k].abs() + ky) / min_gap(&yk))
+                * (kx + ky + 1.0);
+            let tol = sizes.iter().fold(64.0 * EPS * 4.0 * values, |t, z| {
+                t + 4.0 * (times(z.1, delta) + times(z.2, delta.sqrt()))
+            });
+            prop_assert!(
+                (got - want).abs() <= tol,
+                "({:e}, {:e}): formula {got:e}, evaluator {want:e}, tol {tol:e}",
+                px[k],
+                py[k]
+            );
+        }
     }
 
     /// Random grids of Bézier patches (degrees 1 to 3, dimension 1 to 3, degenerate ones

@@ -273,3 +273,35 @@ fn partial_patches_of_a_surface_are_clamped_too() {
         );
     }
 }
+
+/// A quarter circle z = sqrt(0.09 - x^2) over the cells [-0.3, 0.1] and [0.1, 0.3]: the
+/// structural evaluator placed the second cell's x at 0.1 + 0.2 · 1 = 0.30000000000000004
+/// at its right edge, where 0.09 - x^2 < 0 (NaN at x = 0.3 and beyond). Its arguments are
+/// now clamped like the formula's: 0 there, and the formula agrees.
+#[test]
+fn structural_evaluator_of_partial_patches_stays_in_the_cell() {
+    let z = |f: &str| ExprPatch::parse(&[("z", f)], &["x", "y"], None).unwrap();
+    let s = CompositeSurface::from_expr(
+        vec![-0.3, 0.1, 0.3],
+        vec![0.0, 1.0],
+        vec![vec![z("sqrt(0.09 - x^2)")], vec![z("sqrt(0.09 - x^2)")]],
+        SurfaceKind::Explicit,
+    )
+    .unwrap();
+    let f = s.formula().unwrap();
+    for x in [-7.0, -0.3, 0.0, 0.1, 0.2, 0.3, 0.30000000000000004, 5.0] {
+        let e = geomkit::geom::Surface::eval(&s, x, 0.5)[0];
+        let want = (0.09 - x.clamp(-0.3, 0.3).powi(2)).max(0.0).sqrt();
+        assert!(
+            (e - want).abs() <= 2e-8,
+            "x = {x}: evaluator {e}, want {want}"
+        );
+        let mut out = [0.0];
+        f.eval_batch(&[&[x], &[0.5]], &mut out).unwrap();
+        assert!(
+            (out[0] - want).abs() <= 2e-8,
+            "x = {x}: formula {}, want {want}",
+            out[0]
+        );
+    }
+}

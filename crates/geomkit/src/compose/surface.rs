@@ -775,8 +775,21 @@ impl CompositeSurface {
             .filter(|j| j.max_jump > self.report.tolerance || j.max_jump.is_nan())
             .map(|j| (j.line, j.cell))
             .collect();
-        let place =
-            |g: &mut Graph, k: usize, x: Id, y: Id| patches[k].place_local(g, &[x, y], &domains[k]);
+        // The local coordinates @s, @t in [0, 1] (or the constants 0 and 1), with the
+        // arguments of partial patches clamped as in the single formula, so that the
+        // evaluator never sees a + (b - a) 1 an ulp beyond b.
+        let place = |g: &mut Graph, k: usize, x: Id, y: Id| {
+            let local = |g: &Graph, id: Id| match g.as_const(id) {
+                Some(_) => Local::Const(id),
+                None => Local::Cell {
+                    x: id,
+                    cell: (0.0, 1.0),
+                    ramp: id,
+                },
+            };
+            let locals = [local(g, x), local(g, y)];
+            patches[k].place_clamped(g, &locals, &domains[k], &mut Hints::default())
+        };
         let corner = |k: usize, x: f64, y: f64| {
             let mut o = vec![0.0; d];
             self.eval_local_many(k, &[x], &[y], &mut o);
