@@ -28,7 +28,8 @@ pub enum ComposeCommand {
     ///
     /// Limits: v values and the u range finite and increasing, spanning at most f64::MAX/2;
     /// curve coordinates at most f64::MAX/2 (8.99e307) in absolute value; a formula whose
-    /// coefficients or terms overflow f64 is refused with the coordinate named.
+    /// coefficients or terms overflow f64, or whose nonzero coefficients fall below
+    /// 2.2e-308, is refused with the coordinate named.
     Ruled(RuledArgs),
     /// A piecewise function, composite curve or saved B-spline curve (PIECES.json) as one
     /// formula (spec §5), with the continuity report at its breakpoints; OUT .svg plots it.
@@ -49,8 +50,10 @@ pub enum ComposeCommand {
     /// formula is not finite there either, and only there.
     ///
     /// Limits: knots finite and increasing, spanning at most f64::MAX/2 (8.99e307), every
-    /// interval at least 2.2e-308 wide; polyline points whose differences overflow, and a
-    /// formula whose coefficients or terms overflow f64, are refused with the piece named.
+    /// interval at least 2.2e-308 wide. Refused with the piece named: polyline points whose
+    /// differences overflow, and a formula whose coefficients or terms overflow f64 (on the
+    /// knots' interval widened by its span) or whose nonzero coefficients fall below
+    /// 2.2e-308 (values near 1e-300 over knots near 1e300).
     Piecewise(PiecewiseArgs),
 }
 
