@@ -13,6 +13,7 @@ mod common;
 mod bad_input {
     pub mod basics;
     pub mod bezier;
+    pub mod compose;
     pub mod eval;
     pub mod expr;
     pub mod interpolate;
@@ -134,6 +135,7 @@ fn the_catalogue_covers_every_command() {
     let total: usize = [
         bad_input::basics::CASES.len(),
         bad_input::bezier::CASES.len(),
+        bad_input::compose::CASES.len(),
         bad_input::eval::CASES.len(),
         bad_input::expr::CASES.len(),
         bad_input::interpolate::CASES.len(),

@@ -247,7 +247,7 @@ fn bad_input_is_one_line_and_leaves_no_file() {
         &["compose", "body", "cone", "--radius", "0", "-o", "c.obj"],
     );
     assert!(!out.status.success());
-    assert!(text(&out.stderr).contains("radius = 0 must be finite and > 0"));
+    assert!(text(&out.stderr).contains("radius = 0 must be finite, > 0 and at most 1e100"));
     assert!(!d.join("c.obj").exists());
     let out = geomkit(d, &["compose", "body", "cube", "--format", "fortran"]);
     assert!(!out.status.success());
@@ -460,6 +460,62 @@ fn piecewise_functions_polygons_and_curves() {
         ),
     ];
     assert_bad_inputs(d, "piecewise", "bad.svg", &bad);
+}
+
+/// The convention of a piecewise function that jumps (issue 21): one continuous function,
+/// the later pieces shifted by the jumps before them, constant beyond the knots; `geomkit
+/// eval` gives it at the breakpoints.
+/// A piece not finite inside its interval is one `warning:` line; `sqrt` at the ends of
+/// its interval prints with its clamp and never as NaN.
+#[test]
+fn piecewise_jumps_warnings_and_clamped_pieces() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(
+        d,
+        "j.json",
+        r#"{"type":"piecewise","knots":[0,1,2,3],"pieces":["x","x + 2","5"]}"#,
+    );
+    let out = run_ok(d, &["compose", "piecewise", "j.json", "-o", "jf.json"]);
+    assert!(text(&out.stderr).contains("NOT continuous: 2 of 2 breakpoints jump"));
+    // (`geomkit eval` refuses points beyond the domain; the library's evaluator and the
+    // formula hold the ends there, tests/hardening_compose.rs.)
+    write(d, "at.csv", "0\n0.5\n1\n1.5\n2\n2.5\n3\n");
+    let rows = ok(d, &["eval", "jf.json", "--at", "at.csv"]);
+    let f: Vec<f64> = rows
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(f, vec![0.0, 0.5, 1.0, 1.5, 2.0, 2.0, 2.0]);
+    write(
+        d,
+        "w.json",
+        r#"{"type":"piecewise","knots":[0,1,2],"pieces":["x","1/(x - 1.5)"]}"#,
+    );
+    let out = run_ok(d, &["compose", "piecewise", "w.json"]);
+    let err = text(&out.stderr);
+    let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning: ")).collect();
+    assert_eq!(
+        warnings,
+        vec![
+            "warning: w.json: piece 1 coordinate f: the value inf at x = 1.5 is not a finite \
+             number; the single formula is not finite there either (only there)"
+        ]
+    );
+    write(
+        d,
+        "s.json",
+        r#"{"type":"piecewise","knots":[0.1,0.3,0.7],"pieces":["sqrt(x - 0.1)","sqrt(0.7 - x)"]}"#,
+    );
+    for format in ["maple", "c", "numpy", "glsl"] {
+        let out = run_ok(d, &["compose", "piecewise", "s.json", "--format", format]);
+        let formula = text(&out.stdout);
+        assert!(formula.contains("sqrt"), "{formula}");
+        for bad in ["nan", "NaN", "inf", "undefined"] {
+            assert!(!formula.contains(bad), "{format}: {formula}");
+        }
+    }
 }
 
 /// An interpolated curve (method 2) saved as a model, then written as one formula.

@@ -228,6 +228,29 @@ pub enum Error {
         /// How many were given.
         got: usize,
     },
+    /// A number of a single-formula construction (spec/composite-surfaces.md) that overflows
+    /// f64: a coefficient, a sum of jumps, a bound on the formula's terms. The inputs are
+    /// too near the end of the f64 range for the formula to be written or evaluated.
+    #[error("{what}: {step}")]
+    Overflow {
+        /// Where ("patch (1, 0)", "piece 2", "u knots 0 and 1 (0 and 1e-310)").
+        what: String,
+        /// What overflowed, and why ("its power-basis coefficients overflow f64: ...").
+        step: String,
+    },
+    /// A nonzero coefficient of a single formula that underflows f64 (a subnormal number or
+    /// zero: it would keep too few digits, or none), from inputs spanning more orders of
+    /// magnitude than f64 holds (values near 1e-300 over knots near 1e300).
+    #[error(
+        "{what}: its coefficient {value} underflows f64 (nonzero, below the smallest normal \
+         f64 2.2e-308, it keeps too few digits or none)"
+    )]
+    Underflow {
+        /// Where, as for [`Error::Overflow`].
+        what: String,
+        /// The coefficient, approximately ("5.000e-608").
+        value: String,
+    },
     /// A formula that does not parse or evaluate, with the place of the problem.
     ///
     /// For a formula that does not parse (or names a variable it may not use), `parse` holds

@@ -13,12 +13,47 @@ pub enum ComposeCommand {
     Body(BodyArgs),
     /// A composite surface of patches (SCENE.json) as one formula (9)/(11), with its
     /// continuity report: formula text, or OUT like `compose body`.
+    ///
+    /// Limits: knots finite and increasing, spanning at most f64::MAX/2 (8.99e307) in each
+    /// direction, every interval at least 2.2e-308 (the smallest normal f64) wide. A scene
+    /// whose patch coefficients, jumps between patches, or formula terms overflow f64 (control
+    /// points near ±1.8e308) is refused with the patch named: the formula never holds a
+    /// number that is not finite, nor a nonzero one below 2.2e-308 (values near 1e-300 over
+    /// knots near 1e300). A patch given as a formula must be finite on its cell (sampled on
+    /// a 9×9 grid); one with sqrt, ln, asin, acos, tan or a division gets its arguments
+    /// clamped with sign() so that they stay in its cell in floating point too.
     Patches(PatchesArgs),
     /// A piecewise-ruled surface over curves (CURVES.json) as one formula (2), with its
     /// consistency checks: formula text, or OUT like `compose body`.
+    ///
+    /// Limits: v values and the u range finite and increasing, spanning at most f64::MAX/2;
+    /// curve coordinates at most f64::MAX/2 (8.99e307) in absolute value; a formula whose
+    /// coefficients or terms overflow f64, or whose nonzero coefficients fall below
+    /// 2.2e-308, is refused with the coordinate named.
     Ruled(RuledArgs),
     /// A piecewise function, composite curve or saved B-spline curve (PIECES.json) as one
     /// formula (spec §5), with the continuity report at its breakpoints; OUT .svg plots it.
+    ///
+    /// Convention (the paper's formula, which the printed formula and `geomkit eval` follow
+    /// alike): F = f_0 on [x_0, x_1] and, on each later [x_i, x_(i+1)], f_i plus the jumps at
+    /// the breakpoints before it. So F is continuous and has one value at every breakpoint
+    /// (both neighbours give it; where the pieces jump, the report says so and the later
+    /// pieces are shifted to stay attached: the formula does not reproduce a jump). Beyond
+    /// the knots F is constant: F(x_0) to the left, F(x_n) to the right.
+    ///
+    /// Each piece is evaluated on its own closed interval only (its argument is clamped
+    /// there). Pieces with sqrt, ln, asin, acos, tan or a division get that clamp written
+    /// with sign(), so that it holds in floating point too (a rounding an ulp outside would
+    /// make sqrt(x) on [0, 1] NaN for every x). A piece must be finite at both ends of its
+    /// interval (its value there enters the formula at every x); a piece that is not
+    /// finite inside its interval (at one of 7 samples) gives a `warning:` line: the
+    /// formula is not finite there either, and only there.
+    ///
+    /// Limits: knots finite and increasing, spanning at most f64::MAX/2 (8.99e307), every
+    /// interval at least 2.2e-308 wide. Refused with the piece named: polyline points whose
+    /// differences overflow, and a formula whose coefficients or terms overflow f64 (on the
+    /// knots' interval widened by its span) or whose nonzero coefficients fall below
+    /// 2.2e-308 (values near 1e-300 over knots near 1e300).
     Piecewise(PiecewiseArgs),
 }
 
@@ -48,19 +83,19 @@ pub struct BodyArgs {
     /// Which body.
     #[arg(value_enum)]
     pub body: BodyKind,
-    /// Box sizes A,B,C [default: 2,2,2].
+    /// Box sizes A,B,C, each finite, > 0 and at most 1e100 [default: 2,2,2].
     #[arg(long, value_name = "A,B,C", allow_hyphen_values = true, value_parser = parse_box_size)]
     pub size: Option<[f64; 3]>,
-    /// Height [default: 2].
+    /// Height, finite, > 0 and at most 1e100 [default: 2].
     #[arg(long, value_name = "H", allow_negative_numbers = true)]
     pub height: Option<f64>,
-    /// Radius (circumradius of a regular polygon) [default: 1].
+    /// Radius (circumradius of a regular polygon), finite, > 0 and at most 1e100 [default: 1].
     #[arg(long, value_name = "R", allow_negative_numbers = true)]
     pub radius: Option<f64>,
-    /// Top radius of a frustum [default: radius/2].
+    /// Top radius of a frustum, finite, > 0 and at most 1e100 [default: radius/2].
     #[arg(long, value_name = "R", allow_negative_numbers = true)]
     pub top_radius: Option<f64>,
-    /// Base side of a square pyramid [default: 2].
+    /// Base side of a square pyramid, finite, > 0 and at most 1e100 [default: 2].
     #[arg(long, value_name = "A", allow_negative_numbers = true)]
     pub side: Option<f64>,
     /// Regular polygon with N vertices (3 to 10000) as the base of a prism or pyramid.
@@ -71,7 +106,8 @@ pub struct BodyArgs {
         value_parser = clap::value_parser!(u64).range(3..=10_000)
     )]
     pub ngon: Option<u64>,
-    /// Polygon "x,y;x,y;..." as the base of a prism or pyramid.
+    /// Polygon "x,y;x,y;..." as the base of a prism or pyramid: 3 to 10000 vertices, simple,
+    /// star-shaped about its centroid, coordinates at most 1e100 in absolute value.
     #[arg(
         long,
         value_name = "X,Y;...",

@@ -102,8 +102,47 @@ pub fn build_body(args: &BodyArgs) -> Result<(RuledSurface, String)> {
 }
 
 fn run_body(args: BodyArgs) -> Result<()> {
-    let (body, what) = build_body(&args)?;
-    write_ruled(&body, &what, &args.out)
+    let (body, what) = build_body(&args).with_context(|| body_options(&args))?;
+    write_ruled(&body, &what, &args.out).with_context(|| body_options(&args))
+}
+
+/// A number of an option for a message: plain when short, else scientific.
+fn show(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e16).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// The body and the shape options given, for an error: "compose body box --size 1e308,1,1".
+fn body_options(args: &BodyArgs) -> String {
+    let mut out = format!("compose body {}", format!("{:?}", args.body).to_lowercase());
+    let mut opt = |name: &str, value: Option<String>| {
+        if let Some(v) = value {
+            out.push_str(&format!(" --{name} {v}"));
+        }
+    };
+    opt(
+        "size",
+        args.size
+            .map(|[a, b, c]| format!("{},{},{}", show(a), show(b), show(c))),
+    );
+    opt("height", args.height.map(show));
+    opt("radius", args.radius.map(show));
+    opt("top-radius", args.top_radius.map(show));
+    opt("side", args.side.map(show));
+    opt("ngon", args.ngon.map(|n| n.to_string()));
+    opt(
+        "polygon",
+        args.polygon.as_ref().map(|p| {
+            p.0.iter()
+                .map(|[x, y]| format!("{},{}", show(*x), show(*y)))
+                .collect::<Vec<_>>()
+                .join(";")
+        }),
+    );
+    out
 }
 
 /// A ruled surface's formula, model, mesh or picture, as `out` asks.
@@ -238,9 +277,10 @@ fn run_ruled(args: RuledArgs) -> Result<()> {
             other.describe()
         ),
     };
-    let report = ruled_report(&s)?;
+    let file = || args.curves.display().to_string();
+    let report = ruled_report(&s).with_context(file)?;
     let what = format!("ruled surface over {} curves", s.curves().len());
-    write_ruled(&s, &what, &args.out)?;
+    write_ruled(&s, &what, &args.out).with_context(file)?;
     let _ = writeln!(std::io::stderr(), "ruled: {report}");
     Ok(())
 }
@@ -314,7 +354,9 @@ fn run_patches(args: PatchesArgs) -> Result<()> {
     let statement = s.continuity().statement(names.0, names.1, (uk, vk));
     let (n, m) = s.cells();
     let what = format!("composite surface of {n}×{m} patches");
-    let f = s.formula()?;
+    let f = s
+        .formula()
+        .with_context(|| args.scene.display().to_string())?;
     let continuity = report_value(&s);
     write_surface(
         Box::new(s),

@@ -63,15 +63,24 @@ pub fn report_json(p: &Piecewise) -> Value {
 
 /// Runs `geomkit compose piecewise`.
 pub fn run(args: PiecewiseArgs) -> Result<()> {
-    let (p, file) = read_pieces(&args.pieces)?;
+    let (p, model) = read_pieces(&args.pieces)?;
     let out: &FormulaOutput = &args.out;
     let format = out.format;
     let dest = Destination::from_option(out.output.as_deref());
     let statement = p.statement();
+    let file = args.pieces.display().to_string();
+    let warn = || {
+        let mut err = std::io::stderr();
+        for w in p.warnings() {
+            let _ = writeln!(err, "warning: {file}: {w}");
+        }
+    };
     if args.report_json {
         let mut s = serde_json::to_string_pretty(&report_json(&p))?;
         s.push('\n');
-        return dest.write(s.as_bytes());
+        dest.write(s.as_bytes())?;
+        warn();
+        return Ok(());
     }
     let n = p.knots().len() - 1;
     let what = if p.dim() == 1 {
@@ -79,14 +88,14 @@ pub fn run(args: PiecewiseArgs) -> Result<()> {
     } else {
         format!("composite curve of {n} pieces")
     };
-    let f = p.formula()?;
+    let f = p.formula().with_context(|| file.clone())?;
     match out.output.as_deref().map(extension) {
         None => dest.write(formula_text(&f, format, out.program)?.as_bytes())?,
         Some(Some(e)) if e == "txt" => {
             dest.write(formula_text(&f, format, out.program)?.as_bytes())?
         }
         Some(Some(e)) if e == "json" => {
-            let json = formula_json(&f, &what, Some(report_json(&p)), Some(file))?;
+            let json = formula_json(&f, &what, Some(report_json(&p)), Some(model))?;
             dest.write(json.as_bytes())?
         }
         Some(Some(e)) if e == "svg" => {
@@ -98,5 +107,6 @@ pub fn run(args: PiecewiseArgs) -> Result<()> {
         ),
     }
     let _ = writeln!(std::io::stderr(), "continuity: {statement}");
+    warn();
     Ok(())
 }

@@ -2,7 +2,8 @@
 //! spec/composite-surfaces.md) over a point, one or two contours and a point. The cube is the
 //! paper's; the others follow the same pattern. Sizes must be finite and > 0; polygons
 //! simple, with at least 3 vertices, and star-shaped about their centroid (the caps are
-//! ruled from it).
+//! ruled from it). Sizes and polygon coordinates are at most [`MAX_BODY_SIZE`] = 1e100 in
+//! absolute value (their squares, in the polygon's area, stay finite).
 //!
 //! ```
 //! use geomkit::compose::bodies;
@@ -15,13 +16,20 @@ use super::ruled::{RuledCurve, RuledSurface};
 use crate::{Error, Result};
 use std::f64::consts::TAU;
 
+/// The largest size of a body and the largest |coordinate| of a polygon: the squares of
+/// the coordinates (the polygon's area and centroid) stay far inside f64.
+pub const MAX_BODY_SIZE: f64 = 1e100;
+
 fn positive(what: &'static str, name: &str, x: f64) -> Result<()> {
-    if x.is_finite() && x > 0.0 {
+    if x.is_finite() && x > 0.0 && x <= MAX_BODY_SIZE {
         Ok(())
     } else {
         Err(Error::InvalidShape {
             what,
-            reason: format!("{name} = {x} must be finite and > 0"),
+            reason: format!(
+                "{name} = {} must be finite, > 0 and at most {MAX_BODY_SIZE:e}",
+                super::grid::show(x)
+            ),
         })
     }
 }
@@ -176,6 +184,20 @@ pub fn check_polygon(polygon: &[[f64; 2]]) -> Result<[f64; 2]> {
         return Err(Error::NonFinite {
             what: "polygon vertex",
             index,
+        });
+    }
+    if let Some(i) = polygon
+        .iter()
+        .position(|p| p[0].abs().max(p[1].abs()) > MAX_BODY_SIZE)
+    {
+        return Err(Error::InvalidShape {
+            what: "polygon",
+            reason: format!(
+                "vertex {i} ({}, {}) is beyond ±{MAX_BODY_SIZE:e} (coordinates must be at most \
+                 that in absolute value)",
+                super::grid::show(polygon[i][0]),
+                super::grid::show(polygon[i][1])
+            ),
         });
     }
     let bad = |reason: String| Error::InvalidShape {

@@ -11,9 +11,10 @@
 //! assert_eq!(e.to_string(), "coordinate z: parse error at byte 4: expected a number, a name or `(`, found `*`");
 //! ```
 
-use super::formula::{coef, int_const, num};
+use super::formula::{coef, int_const, num, Hints};
+use super::grid::show;
 use super::poly::PolyPatch;
-use crate::expr::{parse_with_variables, Const, Graph, Id, Node, Tape};
+use crate::expr::{parse_with_variables, Const, Func, Graph, Id, Node, Tape};
 use crate::{Error, Result};
 use std::collections::HashMap;
 
@@ -276,7 +277,7 @@ impl ExprPatch {
         let params: Vec<Vec<f64>> = locals
             .iter()
             .zip(domain)
-            .map(|(l, &(a, b))| l.iter().map(|&s| a + (b - a) * s).collect())
+            .map(|(l, &(a, b))| l.iter().map(|&s| local_to_param(s, a, b)).collect())
             .collect();
         let inputs: Vec<&[f64]> = params.iter().map(Vec::as_slice).collect();
         let d = self.dim();
@@ -327,16 +328,90 @@ impl ExprPatch {
         self.place(dst, &args)
     }
 
+    /// Whether a formula of the patch's coordinates may be undefined for some finite value
+    /// of a variable: it takes a square root, a logarithm, an arc sine or cosine, a tangent,
+    /// divides by an expression or raises one to a negative power. Such a patch, placed
+    /// by [`Self::place_clamped`], gets arguments clamped exactly into its domain.
+    pub(crate) fn is_partial(&self) -> bool {
+        self.graph
+            .reachable(&self.roots)
+            .into_iter()
+            .any(|id| match self.graph.node(id) {
+                Node::Fun(f, _) => matches!(
+                    f,
+                    Func::Sqrt | Func::Ln | Func::Asin | Func::Acos | Func::Tan
+                ),
+                Node::Mul(_, fs) => fs.iter().any(|&(_, e)| e < 0),
+                _ => false,
+            })
+    }
+
+    /// The patch's coordinates in `dst` for a composite's single formula, each variable k
+    /// at `locals[k]`: a constant local coordinate (0 for the edge terms of formula (9)),
+    /// placed exactly, or the local coordinate of x on a cell [x_i, x_(i+1)].
+    ///
+    /// A total patch (see [`Self::is_partial`]) is placed the paper's way, its variable
+    /// a + (b - a) P on its domain [a, b] with the ramp P(x, x_i, x_(i+1) - x_i). A partial
+    /// one gets its variable clamped so that it stays in [a, b] also in f64, where the
+    /// rounding of P's |.| terms may put a + (b - a) P an ulp outside (and far from a narrow
+    /// cell, cancellation makes P itself wrong), and `sqrt(x)` on [0, 1] would give NaN for
+    /// every x: with q = (x - x_i)/(x_(i+1) - x_i), m = max(q, 0) = |q| (1/2 + sign(q)/2)
+    /// and r = max(1 - m, 0) = |1 - m| (1/2 + sign(1 - m)/2), exact in f64 given q, the
+    /// variable is y = b - w r: equal to a + (b - a) P in exact arithmetic (the same
+    /// formula in value), and in f64 monotone in r ∈ [0, 1] from exactly b to b - w, where
+    /// w is b - a, rounded down when rounding to nearest would put b - w below a. It is
+    /// wrapped as |y| (-|y| for b <= 0, sign(y) |y| across 0), equal to y in f64 and a node
+    /// the engine does not merge into the patch's own sums (which would round it again).
+    /// Hints for [`super::formula::check_terms`]: m and r in [0, 1].
+    pub(crate) fn place_clamped(
+        &self,
+        dst: &mut Graph,
+        locals: &[Local],
+        domain: &[(f64, f64)],
+        hints: &mut Hints,
+    ) -> Vec<Id> {
+        let partial = self.is_partial();
+        let args: Vec<Id> = locals
+            .iter()
+            .zip(domain)
+            .map(|(local, &(a, b))| match *local {
+                Local::Const(c) => {
+                    let (na, nb) = (num(dst, a), num(dst, b));
+                    let w = dst.sub(nb, na);
+                    let wl = dst.mul(w, c);
+                    dst.add(na, wl)
+                }
+                Local::Cell { ramp, .. } if !partial => {
+                    let (na, nb) = (num(dst, a), num(dst, b));
+                    let w = dst.sub(nb, na);
+                    let wl = dst.mul(w, ramp);
+                    dst.add(na, wl)
+                }
+                Local::Cell { x, cell, .. } => clamped_argument(dst, x, cell, (a, b), hints),
+            })
+            .collect();
+        self.place(dst, &args)
+    }
+
     /// Checks that the patch is finite on a 9-point-per-variable grid of `domain`.
     /// Errors: [`Error::Expression`] naming the coordinate and the point.
     pub(crate) fn check_finite(&self, domain: &[(f64, f64)]) -> Result<()> {
         let k = FINITE_SAMPLES;
+        let samples: Vec<f64> = (0..k).map(|i| i as f64 / (k - 1) as f64).collect();
+        self.check_finite_at(domain, &samples)
+    }
+
+    /// Checks that the patch is finite at the local coordinates `samples` (each in [0, 1])
+    /// of every variable (all combinations) on `domain`. Errors: [`Error::Expression`]
+    /// naming the coordinate and the point.
+    pub(crate) fn check_finite_at(&self, domain: &[(f64, f64)], samples: &[f64]) -> Result<()> {
+        let k = samples.len();
         let total = k.pow(domain.len() as u32);
         let mut locals = vec![Vec::with_capacity(total); domain.len()];
         for idx in 0..total {
             let mut rest = idx;
             for l in locals.iter_mut() {
-                l.push((rest % k) as f64 / (k - 1) as f64);
+                l.push(samples[rest % k]);
                 rest /= k;
             }
         }
@@ -351,7 +426,7 @@ impl ExprPatch {
                 .iter()
                 .zip(&locals)
                 .zip(domain)
-                .map(|((v, l), &(a, b))| format!("{v} = {}", a + (b - a) * l[i]))
+                .map(|((v, l), &(a, b))| format!("{v} = {}", show(local_to_param(l[i], a, b))))
                 .collect();
             return Err(expression_error(
                 &self.names[c],
@@ -364,6 +439,96 @@ impl ExprPatch {
         }
         Ok(())
     }
+}
+
+/// The parameter at local coordinate s ∈ [0, 1] on [a, b]: a + (b - a) s, exactly b at
+/// s = 1 and never outside [a, b] (a + (b - a) rounds past b for a = 0.1, b = 0.3).
+#[inline]
+pub(crate) fn local_to_param(s: f64, a: f64, b: f64) -> f64 {
+    if s >= 1.0 {
+        b
+    } else {
+        (a + (b - a) * s).clamp(a, b)
+    }
+}
+
+/// A local coordinate for [`ExprPatch::place_clamped`].
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Local {
+    /// A constant in [0, 1] (a node of the destination graph).
+    Const(Id),
+    /// The variable `x` on the cell `cell` = (x_i, x_(i+1)), with its ramp P (the node).
+    Cell { x: Id, cell: (f64, f64), ramp: Id },
+}
+
+/// The variable of a partial patch on its domain [a, b] for x on `cell`, clamped in a form
+/// that holds in f64 ([`ExprPatch::place_clamped`]).
+fn clamped_argument(
+    dst: &mut Graph,
+    x: Id,
+    (xi, xj): (f64, f64),
+    (a, b): (f64, f64),
+    hints: &mut Hints,
+) -> Id {
+    let (nxi, nxj) = (num(dst, xi), num(dst, xj));
+    let width = dst.sub(nxj, nxi);
+    let shifted = dst.sub(x, nxi);
+    let q = dst.div(shifted, width);
+    let half = dst.rational(1, 2);
+    let one = dst.int(1);
+    let mut clamp_low = |dst: &mut Graph, v: Id| {
+        // max(v, 0) = |v| (1/2 + sign(v)/2): a product of two factors, which the engine
+        // keeps as it is (a sum would be flattened into its neighbours and rounded again).
+        let sv = dst.sign(v);
+        let hs = dst.mul(half, sv);
+        let step = dst.add(half, hs);
+        let av = dst.abs(v);
+        let out = dst.mul(av, step);
+        hints.cap(out, 1.0);
+        out
+    };
+    let m = clamp_low(dst, q);
+    let one_minus_m = dst.sub(one, m);
+    let r = clamp_low(dst, one_minus_m);
+    let nb = num(dst, b);
+    let w = clamped_width(dst, a, b);
+    let wr = dst.scale(&w, r);
+    let y = dst.sub(nb, wr);
+    let ay = dst.abs(y);
+    if a >= 0.0 {
+        ay
+    } else if b <= 0.0 {
+        dst.neg(ay)
+    } else {
+        let sy = dst.sign(y);
+        dst.mul(sy, ay)
+    }
+}
+
+/// The width b - a as the constant of [`ExprPatch::place_clamped`]: the exact rational of
+/// the short rationals of a and b, unless its nearest f64 w makes b - w fall below a in f64
+/// (w rounded up); then the f64 just below it, which does not.
+fn clamped_width(g: &mut Graph, a: f64, b: f64) -> Const {
+    let (qa, qb) = (num(g, a), num(g, b));
+    let wid = g.sub(qb, qa);
+    let exact = g.as_const(wid).cloned().unwrap_or(Const::Float(b - a));
+    let (af, bf) = (
+        g.as_const(qa).map_or(a, Const::to_f64),
+        g.as_const(qb).map_or(b, Const::to_f64),
+    );
+    let mut w = exact.to_f64();
+    if bf - w >= af {
+        return exact;
+    }
+    while bf - w < af {
+        w = next_down(w);
+    }
+    Const::Float(w)
+}
+
+/// The largest f64 below a positive finite x.
+fn next_down(x: f64) -> f64 {
+    f64::from_bits(x.to_bits() - 1)
 }
 
 /// One interval per variable, finite and increasing.

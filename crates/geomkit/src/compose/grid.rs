@@ -63,7 +63,40 @@ impl Axis {
     }
 }
 
-/// At least 2 finite, strictly increasing knots; errors name the first bad knot.
+/// A number for a message: plain when short, else in scientific notation (Rust prints
+/// 1.7e308 with all its 309 digits).
+pub(crate) fn show(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e16).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// b - a for a message, also where it overflows f64 (3.4e308 for 1.7e308 - -1.7e308).
+fn difference(b: f64, a: f64) -> String {
+    let d = b - a;
+    if d.is_finite() {
+        return show(d);
+    }
+    // A tenth of it fits: its mantissa, and the exponent one higher.
+    let tenth = format!("{:e}", b / 10.0 - a / 10.0);
+    match tenth.split_once('e').map(|(m, e)| (m, e.parse::<i32>())) {
+        Some((m, Ok(e))) => format!("{m}e{}", e + 1),
+        _ => tenth,
+    }
+}
+
+/// The largest span x_n - x_0 of the knots of one direction: every difference |x - x_i| of
+/// two points of the domain, and every 2w of a ramp P(x, x_i, w), then stays finite.
+pub const MAX_KNOT_SPAN: f64 = f64::MAX / 2.0;
+
+/// The smallest width x_(i+1) - x_i of a knot interval: the smallest normal f64, so that
+/// the ramp's 1/(2w) stays finite and its local coordinate keeps full precision.
+pub const MIN_KNOT_WIDTH: f64 = f64::MIN_POSITIVE;
+
+/// At least 2 finite, strictly increasing knots, spanning at most [`MAX_KNOT_SPAN`], each
+/// interval at least [`MIN_KNOT_WIDTH`] wide; errors name the first bad knot.
 pub(crate) fn check_increasing(what: &'static str, knots: &[f64]) -> Result<()> {
     if knots.len() < 2 {
         return Err(Error::TooFewPoints {
@@ -79,6 +112,32 @@ pub(crate) fn check_increasing(what: &'static str, knots: &[f64]) -> Result<()> 
         return Err(Error::InvalidKnots {
             index: index + 1,
             reason: "knots must be strictly increasing",
+        });
+    }
+    let (a, b) = (knots[0], knots[knots.len() - 1]);
+    if b - a > MAX_KNOT_SPAN {
+        return Err(Error::Overflow {
+            what: format!("{what} from {} to {}", show(a), show(b)),
+            step: format!(
+                "their span {} is above f64::MAX/2 = {MAX_KNOT_SPAN:.3e} (differences of points \
+                 in it would overflow f64)",
+                difference(b, a)
+            ),
+        });
+    }
+    if let Some(i) = knots.windows(2).position(|w| w[1] - w[0] < MIN_KNOT_WIDTH) {
+        return Err(Error::Overflow {
+            what: format!(
+                "{what} {i} and {} ({} and {})",
+                i + 1,
+                show(knots[i]),
+                show(knots[i + 1])
+            ),
+            step: format!(
+                "their width {:e} is below {MIN_KNOT_WIDTH:.3e}, the smallest normal f64 (the \
+                 ramp's 1/(2w) would overflow f64)",
+                knots[i + 1] - knots[i]
+            ),
         });
     }
     Ok(())

@@ -8,6 +8,16 @@
 //! - [`Piecewise`]: piecewise functions and composite curves (§5), polylines and polygons.
 //! - [`CompositeSurface`]: formulas (3)-(11) over an orthogonal grid of patches, its
 //!   [`ContinuityReport`] and a structural evaluator equal to the single formula.
+//!
+//! Every single formula passes one check before it is returned (issue 21): its constants
+//! are finite, normal f64 (or zero), and the absolute values of its terms add up to less
+//! than f64::MAX/2 on its domain widened by its span, so that no printer is handed inf or
+//! NaN and evaluating it in f64 cannot overflow; otherwise [`crate::Error::Overflow`] or
+//! [`crate::Error::Underflow`] names the patch, piece or coordinate. The steps that compute
+//! coefficients (power bases, B-spline cells, the sums of formula (9), the shifts after
+//! jumps) refuse overflow where it happens. Limits: knots spanning at most
+//! [`MAX_KNOT_SPAN`], intervals at least [`MIN_KNOT_WIDTH`] wide, ruled curves within
+//! [`MAX_RULED_COORDINATE`], body sizes at most [`bodies::MAX_BODY_SIZE`].
 
 pub mod bodies;
 mod expr_patch;
@@ -22,9 +32,10 @@ mod surface;
 
 pub use expr_patch::ExprPatch;
 pub use formula::{abs_sum_expr, ramp_expr, Formula};
+pub use grid::{MAX_KNOT_SPAN, MIN_KNOT_WIDTH};
 pub use linear::AbsSum;
 pub use piecewise::Piecewise;
 pub use poly::PolyPatch;
 pub use ramp::{ramp, ramp_checked, ramp_exact, simplest_rational};
-pub use ruled::{RuledCurve, RuledSurface};
+pub use ruled::{RuledCurve, RuledSurface, MAX_RULED_COORDINATE};
 pub use surface::{CompositeSurface, ContinuityReport, GridLine, Jump, SurfaceKind, EDGE_SAMPLES};

@@ -6,6 +6,43 @@
 //! by the jump, as the formula does). Polylines and polygons are the linear case, written
 //! the paper's way as sums of |x - x_i| ([`AbsSum::through`]).
 //!
+//! # The convention at breakpoints and beyond the knots
+//! One rule, the paper's formula, which [`Piecewise::formula`], [`Piecewise::eval_formula`]
+//! and the structural [`Piecewise::eval`] (and so `geomkit eval`) follow alike:
+//! F = f_0 on [x_0, x_1] and, on each later [x_i, x_(i+1)], F = f_i + s_i with the shift
+//! s_i = Σ_(k=1..i) (f_(k-1)(x_k) - f_k(x_k)), the jumps at the breakpoints before it. So F
+//! is continuous and has one value at every breakpoint, which both neighbouring pieces give
+//! (the interval of each piece is closed: no half-open choice is needed). Where the pieces
+//! jump, the [`ContinuityReport`] says so and the formula does not reproduce the jump: it
+//! keeps f_0 and shifts the later pieces to stay attached (the paper's formula is
+//! continuous by construction: a sum of continuous ramps cannot jump). Beyond the knots F
+//! is constant: F(x_0) for x < x_0, F(x_n) for x > x_n.
+//!
+//! Each piece is evaluated only on its own closed interval: the paper's argument
+//! x_i + (x_(i+1) - x_i) P(x, x_i, x_(i+1) - x_i) is x clamped to it. In exact arithmetic
+//! (a symbolic system) that holds as printed. In f64 the ramp's |.| terms round, and the
+//! argument may leave the interval by an ulp (further for x far beyond the knots): harmless
+//! for a polynomial, but `sqrt(x)` on [0, 1] would give NaN, and NaN spreads to every x
+//! through the sum. So pieces that may be undefined for a finite argument (sqrt, ln, asin,
+//! acos, tan, a division or negative power) get their argument written with `sign`, a form
+//! equal in value that stays in the interval in f64 too ([`ExprPatch`]'s clamped placement;
+//! the only difference from the paper: a longer formula for those pieces). A piece must be
+//! finite at both ends of its interval (its value there enters the formula at every x): an
+//! error otherwise. A piece not finite somewhere inside its interval (7 samples) is a
+//! warning ([`Piecewise::warnings`]): the formula is not finite there either, and only there.
+//!
+//! Accuracy in f64: the formula and the evaluator agree to a few ulps of the values for
+//! smooth pieces; for a piece with an infinite slope at an end of its interval (sqrt at
+//! its zero, acos at ±1) one rounding of the ramp becomes about sqrt(ε) ≈ 1.5e-8 there.
+//! Far beyond the knots the ramps' rounding grows like ε |x| / (smallest interval), so
+//! the held end values drift by that much times the pieces' slopes.
+//!
+//! Limits: the knots span at most [`super::MAX_KNOT_SPAN`] (f64::MAX/2), each interval at
+//! least [`super::MIN_KNOT_WIDTH`] (the smallest normal f64); a formula whose coefficients
+//! or terms could overflow f64 on the knots' interval is refused ([`Error::Overflow`]
+//! naming the piece), as are polylines whose consecutive points differ by more than f64
+//! holds.
+//!
 //! ```
 //! use geomkit::compose::Piecewise;
 //! // |x| on [-1, 1] from two pieces, then a constant.
@@ -16,14 +53,14 @@
 //! assert!(text.starts_with("f := (x) -> "), "{text}");
 //! ```
 
-use super::expr_patch::ExprPatch;
-use super::formula::{abs_sum_expr, Formula};
-use super::grid::Axis;
+use super::expr_patch::{ExprPatch, Local};
+use super::formula::{abs_sum_expr, check_terms, knot_hints, variable_bound, Formula, Hints};
+use super::grid::{show, Axis};
 use super::linear::{exact, AbsSum};
 use super::ramp::ramp;
 use super::surface::{ramps, ContinuityReport, GridLine, Jump};
 use crate::exact::Rational;
-use crate::expr::Graph;
+use crate::expr::{Graph, Id};
 use crate::geom::{check_point, Curve};
 use crate::{Error, Result};
 
@@ -36,6 +73,7 @@ pub struct Piecewise {
     names: Vec<String>,
     pieces: Pieces,
     report: ContinuityReport,
+    warnings: Vec<String>,
 }
 
 #[derive(Debug, Clone)]
@@ -84,6 +122,7 @@ impl Piecewise {
         check_count(&axis, pieces.len())?;
         let dim = pieces[0].dim();
         let mut domains = Vec::with_capacity(pieces.len());
+        let mut warnings = Vec::new();
         for (i, p) in pieces.iter().enumerate() {
             if p.dim() != dim {
                 return Err(Error::DimensionMismatch {
@@ -103,7 +142,17 @@ impl Piecewise {
             let d = p
                 .domain()
                 .map_or((axis.knots()[i], axis.knots()[i + 1]), |d| d[0]);
-            p.check_finite(&[d]).map_err(|e| in_piece(e, i))?;
+            // Its ends enter the formula at every x (F_i(x_i) is a constant of it, and
+            // beyond its interval its argument is held at an end): they must be finite.
+            p.check_finite_at(&[d], &[0.0, 1.0])
+                .map_err(|e| at_piece_end(in_piece(e, i)))?;
+            // Inside, a non-finite value stays where it is: a warning.
+            if let Err(e) = p.check_finite_at(&[d], &INTERIOR_SAMPLES) {
+                warnings.push(format!(
+                    "{}; the single formula is not finite there either (only there)",
+                    in_piece(e, i)
+                ));
+            }
             domains.push(d);
         }
         let ends: Vec<(Vec<f64>, Vec<f64>)> = pieces
@@ -118,15 +167,24 @@ impl Piecewise {
         let mut shifts = vec![vec![0.0; dim]];
         for i in 1..pieces.len() {
             let prev = shifts[i - 1].clone();
-            let s = (0..dim)
-                .map(|k| prev[k] + ends[i - 1].1[k] - ends[i].0[k])
+            let s: Vec<f64> = (0..dim)
+                .map(|k| prev[k] + (ends[i - 1].1[k] - ends[i].0[k]))
                 .collect();
+            if s.iter().any(|x| !x.is_finite()) {
+                return Err(Error::Overflow {
+                    what: format!("piece {i}"),
+                    step: "the shift formula §5 adds to it (the sum of the jumps at the \
+                           breakpoints before it) overflows f64: values near the end of its \
+                           range"
+                        .into(),
+                });
+            }
             shifts.push(s);
         }
         let report = breakpoint_report(
             axis.knots(),
             ends.iter().map(|e| (e.0.as_slice(), e.1.as_slice())),
-        );
+        )?;
         Ok(Piecewise {
             axis,
             var: var.into(),
@@ -137,6 +195,7 @@ impl Piecewise {
                 shifts,
             },
             report,
+            warnings,
         })
     }
 
@@ -176,10 +235,24 @@ impl Piecewise {
         breaks.extend(spans.last().map(|&s| knots[s + 1]));
         let pieces = spans
             .iter()
-            .map(|&s| {
+            .enumerate()
+            .map(|(i, &s)| {
                 let ctrl = &c.control_flat()[(s - p) * dim..];
                 let bez = super::poly::bezier_points_of_span(knots, p, s, ctrl, dim);
-                let power = crate::bezier::BezierCurve::from_flat(dim, bez)?.to_power();
+                let overflow = |step: &str| Error::Overflow {
+                    what: format!(
+                        "span {i} [{}, {}] of the B-spline curve",
+                        show(knots[s]),
+                        show(knots[s + 1])
+                    ),
+                    step: format!("{step} overflow f64: control points near the end of its range"),
+                };
+                let bezier = crate::bezier::BezierCurve::from_flat(dim, bez)
+                    .map_err(|_| overflow("its Bézier points (de Boor's triangle)"))?;
+                let power = bezier.to_power();
+                if power.iter().any(|x| !x.is_finite()) {
+                    return Err(overflow("its power-form coefficients"));
+                }
                 ExprPatch::from_power(&power, &names, "s")
             })
             .collect::<Result<Vec<_>>>()?;
@@ -220,19 +293,34 @@ impl Piecewise {
         if closed {
             values.push(values[0].clone());
         }
+        let n = values.len();
+        if let Some(i) =
+            (0..n - 1).find(|&i| (0..dim).any(|c| !(values[i + 1][c] - values[i][c]).is_finite()))
+        {
+            return Err(Error::Overflow {
+                what: format!(
+                    "polyline points {i} and {}",
+                    (i + 1) % (n - usize::from(closed))
+                ),
+                step: "the difference of their coordinates overflows f64: values near the end \
+                       of its range"
+                    .into(),
+            });
+        }
         let knots = knots.unwrap_or_else(|| (0..values.len()).map(|k| k as f64).collect());
         let axis = Axis::new("knots", knots)?;
         check_count(&axis, values.len() - 1)?;
         let ends = values
             .windows(2)
             .map(|w| (w[0].as_slice(), w[1].as_slice()));
-        let report = breakpoint_report(axis.knots(), ends);
+        let report = breakpoint_report(axis.knots(), ends)?;
         Ok(Piecewise {
             axis,
             var: if dim == 1 { "x" } else { "t" }.into(),
             names: coordinate_names(dim),
             pieces: Pieces::Linear { values },
             report,
+            warnings: Vec::new(),
         })
     }
 
@@ -344,38 +432,63 @@ impl Piecewise {
 
     /// The single formula: Σ_i (F_i(x) - [i>=1] F_i(x_i)) with the ramps (1) written out and
     /// the knots as exact rationals; polylines as constant + Σ c_i |x - x_i| per coordinate.
+    ///
+    /// A piece that may be undefined for some finite argument (a square root, a logarithm,
+    /// an arc sine or cosine, a tangent, a division: `sqrt(x)` on \[0, 1\]) gets its argument
+    /// clamped in a form that keeps it inside its interval also when the formula is
+    /// evaluated in f64 (where the ramp's rounding may put x_i + (x_(i+1) - x_i) P an ulp
+    /// outside, and NaN would spread to every x): equal in value to the paper's argument,
+    /// written with `sign` (see the module docs). Other pieces are written the paper's way.
+    ///
+    /// Errors: [`Error::Overflow`] naming the piece (or the coordinate of a polyline) when a
+    /// coefficient is not a finite f64 or the terms of the formula could overflow f64 on the
+    /// knots' interval (values near the end of the f64 range).
     pub fn formula(&self) -> Result<Formula> {
         let mut g = Graph::new();
         let x = g.var(&self.var);
-        let roots = match &self.pieces {
+        let k = self.axis.knots();
+        let bounds = [(self.var.as_str(), variable_bound(k[0], k[k.len() - 1]))];
+        let mut hints = Hints::default();
+        knot_hints(&mut g, x, k, &mut hints);
+        let (roots, groups, name): (Vec<Id>, Vec<Vec<Id>>, &str) = match &self.pieces {
             Pieces::Expr {
                 pieces, domains, ..
             } => {
-                let ps = ramps(&mut g, x, self.axis.knots())?;
+                let ps = ramps(&mut g, x, k, &mut hints)?;
                 let zero = g.int(0);
                 let mut sums = vec![Vec::new(); self.dim()];
+                let mut groups = Vec::with_capacity(pieces.len());
                 for (i, p) in pieces.iter().enumerate() {
-                    let at = p.place_local(&mut g, &[ps[i]], &[domains[i]]);
-                    let start = p.place_local(&mut g, &[zero], &[domains[i]]);
+                    let d = [domains[i]];
+                    let local = Local::Cell {
+                        x,
+                        cell: (k[i], k[i + 1]),
+                        ramp: ps[i],
+                    };
+                    let at = p.place_clamped(&mut g, &[local], &d, &mut hints);
+                    let start = p.place_local(&mut g, &[zero], &d);
+                    let mut group = Vec::with_capacity(self.dim());
                     for (c, sum) in sums.iter_mut().enumerate() {
-                        sum.push(if i >= 1 {
+                        let term = if i >= 1 {
                             g.sub(at[c], start[c])
                         } else {
                             at[c]
-                        });
+                        };
+                        sum.push(term);
+                        group.push(term);
                     }
+                    groups.push(group);
                 }
-                sums.iter().map(|t| g.sum(t)).collect()
+                let roots = sums.iter().map(|t| g.sum(t)).collect();
+                (roots, groups, "piece")
             }
             Pieces::Linear { values } => {
-                let knots: Vec<Rational> = self
-                    .axis
-                    .knots()
+                let knots: Vec<Rational> = k
                     .iter()
                     .enumerate()
                     .map(|(i, &k)| exact("knot", i, k))
                     .collect::<Result<_>>()?;
-                (0..self.dim())
+                let roots: Vec<Id> = (0..self.dim())
                     .map(|c| {
                         let vs: Vec<Rational> = values
                             .iter()
@@ -384,15 +497,43 @@ impl Piecewise {
                             .collect::<Result<_>>()?;
                         Ok(abs_sum_expr(&mut g, &AbsSum::through(&knots, &vs)?, x))
                     })
-                    .collect::<Result<_>>()?
+                    .collect::<Result<_>>()?;
+                let groups = roots.iter().map(|&r| vec![r]).collect();
+                (roots, groups, "coordinate")
             }
         };
+        check_terms(&g, &roots, &bounds, &hints).map_err(|e| {
+            e.in_groups(
+                &g,
+                &groups,
+                |i| match name {
+                    "piece" => format!("the single formula, piece {i}"),
+                    _ => format!("the single formula, coordinate {}", self.names[i]),
+                },
+                "the single formula, the sum of its pieces",
+            )
+        })?;
         Ok(Formula {
             graph: g,
             roots,
             names: self.names.clone(),
             vars: vec![self.var.clone()],
         })
+    }
+
+    /// What the construction found worth saying but not refusing: pieces that are not
+    /// finite somewhere inside their interval (sampled at 7 interior points; the ends must
+    /// be finite). There the function and its single formula are not finite either, and
+    /// only there: each piece enters the formula only through its own interval. One
+    /// sentence each, naming the piece and the point.
+    ///
+    /// ```
+    /// use geomkit::compose::Piecewise;
+    /// let f = Piecewise::function(vec![0.0, 1.0, 2.0], &["1/(x - 0.5)", "x"]).unwrap();
+    /// assert!(f.warnings()[0].starts_with("piece 0 coordinate f: the value inf at x = 0.5"));
+    /// ```
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 }
 
@@ -408,27 +549,36 @@ fn check_count(axis: &Axis, got: usize) -> Result<()> {
     Ok(())
 }
 
-/// An expression error inside piece i.
-fn in_piece(e: Error, i: usize) -> Error {
+/// An expression error with its place and message rewritten (others unchanged).
+fn reword(
+    e: Error,
+    place: impl FnOnce(String) -> String,
+    text: impl FnOnce(String) -> String,
+) -> Error {
     match e {
         Error::Expression {
             what,
             message,
             parse,
         } => Error::Expression {
-            what: format!("piece {i} {what}"),
-            message,
+            what: place(what),
+            message: text(message),
             parse,
         },
         e => e,
     }
 }
 
+/// An expression error inside piece i.
+fn in_piece(e: Error, i: usize) -> Error {
+    reword(e, |what| format!("piece {i} {what}"), |m| m)
+}
+
 /// Jumps |f_(i-1)(end) - f_i(start)| at the breakpoints, from each piece's (start, end).
 fn breakpoint_report<'a>(
     knots: &[f64],
     ends: impl Iterator<Item = (&'a [f64], &'a [f64])>,
-) -> ContinuityReport {
+) -> Result<ContinuityReport> {
     let ends: Vec<(&[f64], &[f64])> = ends.collect();
     let mut scale = 0.0f64;
     for (a, b) in &ends {
@@ -442,11 +592,42 @@ fn breakpoint_report<'a>(
             at: knots[i],
         })
         .collect();
-    ContinuityReport {
+    if let Some((i, j)) = jumps
+        .iter()
+        .enumerate()
+        .find(|(_, j)| !j.max_jump.is_finite())
+    {
+        return Err(Error::Overflow {
+            what: format!("breakpoint {} at {}", i + 1, show(j.at)),
+            step: format!(
+                "the jump between pieces {i} and {} overflows f64: values near the end of its \
+                 range",
+                i + 1
+            ),
+        });
+    }
+    Ok(ContinuityReport {
         max_jump: jumps.iter().fold(0.0f64, |m, j| m.max(j.max_jump)),
         jumps,
         tolerance: 64.0 * f64::EPSILON * scale.max(f64::MIN_POSITIVE),
-    }
+    })
+}
+
+/// Local coordinates of the interior samples of a piece's finiteness check (warnings).
+const INTERIOR_SAMPLES: [f64; 7] = [0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875];
+
+/// A piece that is not finite at an end of its interval: why that is refused.
+fn at_piece_end(e: Error) -> Error {
+    reword(
+        e,
+        |what| what,
+        |m| {
+            format!(
+                "{m} (an end of its interval: its value there enters the single formula at \
+                 every point)"
+            )
+        },
+    )
 }
 
 /// The structural evaluator of the single formula of spec/composite-surfaces.md §5, on

@@ -262,7 +262,11 @@ impl PolyPatch {
     /// The patches of a B-spline surface, one per non-empty knot cell of its domain, with
     /// the cells' parameter bounds: `(u_cells, v_cells, patches)` where `patches[i * m + j]`
     /// lives on \[u_cells\[i\], u_cells\[i+1\]\] × \[v_cells\[j\], v_cells\[j+1\]\] (in local (s, t)).
-    pub fn from_bspline(s: &BsplineSurface) -> (Vec<f64>, Vec<f64>, Vec<PolyPatch>) {
+    ///
+    /// Errors: [`Error::Overflow`] naming the cell when its Bézier points (de Boor's
+    /// triangle: combinations of the control points) overflow f64, for control points near
+    /// the end of its range.
+    pub fn from_bspline(s: &BsplineSurface) -> Result<(Vec<f64>, Vec<f64>, Vec<PolyPatch>)> {
         let (p, q) = s.degrees();
         let (ku, kv) = s.knots();
         let (nu, nv) = s.net_size();
@@ -272,10 +276,10 @@ impl PolyPatch {
         let net = s.control_flat();
         let mut patches = Vec::with_capacity(spans_u.len() * spans_v.len());
         let row_len = nv * dim;
-        for &su in &spans_u {
+        for (iu, &su) in spans_u.iter().enumerate() {
             // Bézier rows of this u-span: each "point" is a whole row of the net.
             let rows_u = bezier_points_of_span(ku, p, su, &net[(su - p) * row_len..], row_len);
-            for &sv in &spans_v {
+            for (iv, &sv) in spans_v.iter().enumerate() {
                 let mut bez = Vec::with_capacity((p + 1) * (q + 1) * dim);
                 for a in 0..=p {
                     let row = &rows_u[a * row_len..(a + 1) * row_len];
@@ -287,8 +291,14 @@ impl PolyPatch {
                         dim,
                     ));
                 }
-                let b = BezierSurface::from_flat(p + 1, q + 1, dim, bez)
-                    .expect("finite net of the right size");
+                let b = BezierSurface::from_flat(p + 1, q + 1, dim, bez).map_err(|_| {
+                    Error::Overflow {
+                        what: format!("cell ({iu}, {iv}) of the B-spline surface"),
+                        step: "its Bézier points (de Boor's triangle) overflow f64: control \
+                               points near the end of its range"
+                            .into(),
+                    }
+                })?;
                 patches.push(PolyPatch::from_bezier(&b));
             }
         }
@@ -297,7 +307,7 @@ impl PolyPatch {
             c.push(k[sp[sp.len() - 1] + 1]);
             c
         };
-        (cells(ku, &spans_u), cells(kv, &spans_v), patches)
+        Ok((cells(ku, &spans_u), cells(kv, &spans_v), patches))
     }
 }
 
@@ -404,7 +414,7 @@ mod tests {
         let ku = vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.5, 3.0, 3.0, 3.0, 3.0];
         let kv = vec![-1.0, -1.0, -1.0, 0.0, 2.0, 2.0, 2.0, 2.0];
         let s = BsplineSurface::from_flat((3, 2), ku, kv, nu, nv, dim, ctrl).unwrap();
-        let (uc, vc, patches) = PolyPatch::from_bspline(&s);
+        let (uc, vc, patches) = PolyPatch::from_bspline(&s).unwrap();
         assert_eq!(uc, vec![0.0, 0.5, 1.5, 3.0]);
         assert_eq!(vc, vec![-1.0, 0.0, 2.0]);
         for (i, w) in uc.windows(2).enumerate() {

@@ -18,7 +18,7 @@
 //! ```
 
 use super::expr_patch::ExprPatch;
-use super::formula::{abs_sum_expr, konst, num, Formula};
+use super::formula::{abs_sum_expr, check_terms, konst, num, variable_bound, Formula, Hints};
 use super::grid::{check_increasing, Axis};
 use super::linear::{exact, AbsSum};
 use crate::exact::Rational;
@@ -26,6 +26,10 @@ use crate::expr::{Const, Graph, Id};
 use crate::geom::{check_point, Curve, Surface};
 use crate::{Error, Result};
 use num_traits::One;
+
+/// The largest |coordinate| of a curve of a ruled surface: half of f64::MAX, so that the
+/// differences r_k(u) - r_(k-1)(u) of formula (2) stay finite.
+pub const MAX_RULED_COORDINATE: f64 = f64::MAX / 2.0;
 
 /// One curve of the family, with its own parameter interval.
 #[derive(Debug, Clone, PartialEq)]
@@ -99,6 +103,29 @@ impl RuledCurve {
                 (0.0, (vertices.len() - usize::from(!closed)) as f64)
             }
             RuledCurve::Circle { .. } => (0.0, std::f64::consts::TAU),
+        }
+    }
+
+    /// The largest |coordinate| of the curve: of its point or vertices, centre plus radius
+    /// for a circle, the largest sampled (9 points) for a formula curve.
+    fn magnitude(&self) -> f64 {
+        let max = |ps: &[[f64; 3]]| {
+            ps.iter().flatten().fold(
+                0.0f64,
+                |m, x| if x.is_nan() { f64::NAN } else { m.max(x.abs()) },
+            )
+        };
+        match self {
+            RuledCurve::Point(p) => max(&[*p]),
+            RuledCurve::Polyline { vertices, .. } => max(vertices),
+            RuledCurve::Circle { center, radius } => max(&[*center]) + radius,
+            RuledCurve::Expr(_) => {
+                let (t0, t1) = self.interval();
+                let ps: Vec<[f64; 3]> = (0..9)
+                    .map(|i| self.eval(super::expr_patch::local_to_param(i as f64 / 8.0, t0, t1)))
+                    .collect();
+                max(&ps)
+            }
         }
     }
 
@@ -180,6 +207,27 @@ pub struct RuledSurface {
     u_range: (f64, f64),
 }
 
+/// f = content · primitive ([`AbsSum::content`]) when both print and evaluate well: the
+/// content an exact short rational and every coefficient of the primitive a normal f64 of
+/// moderate size; else (1, f). (Data near 1e-300 gave a content that rounded to 0 in f64
+/// and wiped the coordinate out, or primitives with integers beyond f64.)
+fn factored(f: &AbsSum) -> (Rational, AbsSum) {
+    let (content, prim) = f.content();
+    let moderate = |q: &Rational| {
+        let x = crate::exact::rational_to_f64(q).abs();
+        x == 0.0 || (1e-200..1e200).contains(&x)
+    };
+    let short = matches!(konst(&content), Const::Rat(_)) && moderate(&content);
+    let coefs = std::iter::once(prim.constant_term())
+        .chain(std::iter::once(prim.slope()))
+        .chain(prim.terms().flat_map(|(k, c)| [k, c]));
+    if short && coefs.into_iter().all(moderate) {
+        (content, prim)
+    } else {
+        (Rational::one(), f.clone())
+    }
+}
+
 /// One coordinate of one curve, as a function of u.
 enum Coord {
     Constant(Rational),
@@ -249,6 +297,18 @@ impl RuledSurface {
                     let (t0, t1) = c.interval();
                     e.check_finite(&[(t0, t1)])?;
                 }
+            }
+        }
+        for (k, c) in curves.iter().enumerate() {
+            if c.magnitude().is_nan() || c.magnitude() > MAX_RULED_COORDINATE {
+                return Err(Error::Overflow {
+                    what: format!("curve {k} of the ruled surface"),
+                    step: format!(
+                        "its coordinates exceed f64::MAX/2 = {MAX_RULED_COORDINATE:.3e} in \
+                         absolute value (the differences between neighbouring curves would \
+                         overflow f64)"
+                    ),
+                });
             }
         }
         Ok(RuledSurface {
@@ -330,6 +390,10 @@ impl RuledSurface {
 
     /// The single formula (2) with the ramps written out by (1), grouped by curve (see the
     /// module docs): x, y, z in u, v.
+    ///
+    /// Errors: [`Error::Overflow`] naming the coordinate when a coefficient is not a finite
+    /// f64 or the terms could overflow f64 on the domain widened by its span;
+    /// [`Error::Underflow`] when a nonzero coefficient falls below the smallest normal f64.
     pub fn formula(&self) -> Result<Formula> {
         let mut g = Graph::new();
         let u = g.var("u");
@@ -369,7 +433,7 @@ impl RuledSurface {
                 match self.coordinate(&mut g, k, c, u, &u0, &u1)? {
                     Coord::Constant(q) => constant.add_scaled(w, &q),
                     Coord::Linear(f) => {
-                        let (content, prim) = f.content();
+                        let (content, prim) = factored(&f);
                         match linear.iter_mut().find(|(key, _)| *key == prim) {
                             Some((_, acc)) => acc.add_scaled(w, &content),
                             None => linear.push((prim, w.scaled(&content))),
@@ -394,13 +458,27 @@ impl RuledSurface {
                 if w.is_zero() {
                     continue;
                 }
-                let (content, prim) = w.content();
+                let (content, prim) = factored(&w);
                 let wv = abs_sum_expr(&mut g, &prim, v);
                 let cid = g.constant(konst(&content));
                 terms.push(g.product(&[cid, f, wv]));
             }
             roots.push(g.sum(&terms));
         }
+        let ((u0f, u1f), (v0f, v1f)) = self.domain();
+        let bounds = [
+            ("u", variable_bound(u0f, u1f)),
+            ("v", variable_bound(v0f, v1f)),
+        ];
+        let groups: Vec<Vec<Id>> = roots.iter().map(|&r| vec![r]).collect();
+        check_terms(&g, &roots, &bounds, &Hints::default()).map_err(|e| {
+            e.in_groups(
+                &g,
+                &groups,
+                |c| format!("formula (2), coordinate {}", ["x", "y", "z"][c]),
+                "formula (2)",
+            )
+        })?;
         Ok(Formula {
             graph: g,
             roots,

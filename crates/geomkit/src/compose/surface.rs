@@ -24,9 +24,11 @@
 //! assert!((s.eval_formula(1.5, 0.5)[2] - 0.25).abs() < 1e-15);
 //! ```
 
-use super::expr_patch::ExprPatch;
-use super::formula::{coef_const, int_const, num, Formula};
-use super::grid::Axis;
+use super::expr_patch::{ExprPatch, Local};
+use super::formula::{
+    check_terms, coef_const, int_const, knot_hints, num, variable_bound, Formula, Hints,
+};
+use super::grid::{show, Axis};
 use super::poly::PolyPatch;
 use super::ramp::ramp;
 use crate::bezier::BezierSurface;
@@ -249,7 +251,16 @@ impl CompositeSurface {
             kind,
             PolyPatch::dim,
             |u, v, flat| {
-                let effective = effective_patches(&flat, u.cells(), v.cells())?;
+                let m = v.cells();
+                if let Some(k) = flat.iter().position(|p| !p.is_finite()) {
+                    return Err(Error::Overflow {
+                        what: format!("patch ({}, {})", k / m, k % m),
+                        step: "its power-basis coefficients overflow f64: control points near \
+                               the end of its range"
+                            .into(),
+                    });
+                }
+                let effective = effective_patches(&flat, u.cells(), m)?;
                 Ok(Cells::Poly {
                     patches: flat,
                     effective,
@@ -281,7 +292,7 @@ impl CompositeSurface {
             cells,
             report: ContinuityReport::default(),
         };
-        s.report = s.measure_continuity();
+        s.report = s.measure_continuity()?;
         let (tapes, exprs) = s.effective_tapes()?;
         if let Cells::Expr {
             effective,
@@ -391,7 +402,7 @@ impl CompositeSurface {
     /// non-empty knot span pair, the grid its distinct knots (the single formula then equals
     /// the B-spline surface on its domain).
     pub fn from_bspline(s: &BsplineSurface) -> Result<Self> {
-        let (uc, vc, patches) = PolyPatch::from_bspline(s);
+        let (uc, vc, patches) = PolyPatch::from_bspline(s)?;
         let m = vc.len() - 1;
         let rows = patches.chunks(m).map(<[PolyPatch]>::to_vec).collect();
         let kind = if s.dim() == 1 {
@@ -633,8 +644,19 @@ impl CompositeSurface {
     /// `R_ij(u,v) - R_ij(u_i,v) - R_ij(u,v_j) + R_ij(u_i,v_j)`. For a polynomial patch they
     /// are collected symbolically: exactly Σ c_ab s^a t^b over a >= [i>=1], b >= [j>=1], the
     /// monomials shared by the coordinates. A formula patch is substituted: its variables
-    /// replaced by a + (b - a) s_i and c + (d - c) t_j on its domain [a, b] × [c, d]. Knots
+    /// replaced by a + (b - a) s_i and c + (d - c) t_j on its domain [a, b] × [c, d]; a
+    /// formula patch that may be undefined for some finite argument (sqrt, ln, asin, acos,
+    /// tan, a division) gets those arguments clamped in a form written with `sign` that
+    /// stays in its domain also in f64 (equal in value; see [`Piecewise::formula`]). Knots
     /// and domains print as exact rationals (decimal inputs become their fractions).
+    ///
+    /// Errors: [`Error::Overflow`] naming the patch when a coefficient is not a finite f64
+    /// or the terms could overflow f64 on the grid widened by its span (coordinates near the
+    /// end of the f64 range); [`Error::Underflow`] naming the patch when a nonzero
+    /// coefficient falls below the smallest normal f64 (values near 1e-300 over knots near
+    /// 1e300).
+    ///
+    /// [`Piecewise::formula`]: super::Piecewise::formula
     pub fn formula(&self) -> Result<Formula> {
         let mut g = Graph::new();
         let (names, vars): (Vec<&str>, [&str; 2]) = match self.kind {
@@ -649,17 +671,29 @@ impl CompositeSurface {
         let (uk, vk) = self.knots();
         let u = g.var(vars[0]);
         let v = g.var(vars[1]);
-        let ss = ramps(&mut g, u, uk)?;
-        let ts = ramps(&mut g, v, vk)?;
+        let mut hints = Hints::default();
+        let ss = ramps(&mut g, u, uk, &mut hints)?;
+        let ts = ramps(&mut g, v, vk, &mut hints)?;
         let (n, m) = self.cells();
         let zero = g.int(0);
+        let bounds = [
+            (vars[0], variable_bound(uk[0], uk[n])),
+            (vars[1], variable_bound(vk[0], vk[m])),
+        ];
         let mut sums: Vec<Vec<Id>> = vec![Vec::with_capacity(n * m); self.dim];
+        let mut cells: Vec<Vec<Id>> = Vec::with_capacity(n * m);
         for i in 0..n {
             for j in 0..m {
+                let start = sums[0].len();
                 let (a0, b0) = (usize::from(i >= 1), usize::from(j >= 1));
                 match &self.cells {
                     Cells::Poly { patches, .. } => {
                         let p = &patches[i * m + j];
+                        check_linear_terms(p, (a0, b0), (uk[i + 1] - uk[i], vk[j + 1] - vk[j]))
+                            .map_err(|value| Error::Underflow {
+                                what: format!("formula (9), the terms of patch ({i}, {j})"),
+                                value,
+                            })?;
                         for (k, sum) in sums.iter_mut().enumerate() {
                             sum.push(monomials(&mut g, p, k, (a0, b0), ss[i], ts[j]));
                         }
@@ -668,15 +702,26 @@ impl CompositeSurface {
                         patches, domains, ..
                     } => {
                         let (p, d) = (&patches[i * m + j], &domains[i * m + j]);
+                        let s = Local::Cell {
+                            x: u,
+                            cell: (uk[i], uk[i + 1]),
+                            ramp: ss[i],
+                        };
+                        let t = Local::Cell {
+                            x: v,
+                            cell: (vk[j], vk[j + 1]),
+                            ramp: ts[j],
+                        };
+                        let zero = Local::Const(zero);
                         let terms = [
-                            (ss[i], ts[j], 1, true),
-                            (zero, ts[j], -1, a0 == 1),
-                            (ss[i], zero, -1, b0 == 1),
+                            (s, t, 1, true),
+                            (zero, t, -1, a0 == 1),
+                            (s, zero, -1, b0 == 1),
                             (zero, zero, 1, a0 == 1 && b0 == 1),
                         ];
                         for (s, t, sign, present) in terms {
                             if present {
-                                let r = p.place_local(&mut g, &[s, t], d);
+                                let r = p.place_clamped(&mut g, &[s, t], d, &mut hints);
                                 for (k, sum) in sums.iter_mut().enumerate() {
                                     let term = g.scale(&int_const(sign), r[k]);
                                     sum.push(term);
@@ -685,9 +730,18 @@ impl CompositeSurface {
                         }
                     }
                 }
+                cells.push(sums.iter().flat_map(|t| t[start..].to_vec()).collect());
             }
         }
-        let roots = sums.iter().map(|terms| g.sum(terms)).collect();
+        let roots: Vec<Id> = sums.iter().map(|terms| g.sum(terms)).collect();
+        check_terms(&g, &roots, &bounds, &hints).map_err(|e| {
+            e.in_groups(
+                &g,
+                &cells,
+                |k| format!("formula (9), the terms of patch ({}, {})", k / m, k % m),
+                "formula (9), the sum of the patches' terms",
+            )
+        })?;
         Ok(Formula {
             graph: g,
             roots,
@@ -721,8 +775,21 @@ impl CompositeSurface {
             .filter(|j| j.max_jump > self.report.tolerance || j.max_jump.is_nan())
             .map(|j| (j.line, j.cell))
             .collect();
-        let place =
-            |g: &mut Graph, k: usize, x: Id, y: Id| patches[k].place_local(g, &[x, y], &domains[k]);
+        // The local coordinates @s, @t in [0, 1] (or the constants 0 and 1), with the
+        // arguments of partial patches clamped as in the single formula, so that the
+        // evaluator never sees a + (b - a) 1 an ulp beyond b.
+        let place = |g: &mut Graph, k: usize, x: Id, y: Id| {
+            let local = |g: &Graph, id: Id| match g.as_const(id) {
+                Some(_) => Local::Const(id),
+                None => Local::Cell {
+                    x: id,
+                    cell: (0.0, 1.0),
+                    ramp: id,
+                },
+            };
+            let locals = [local(g, x), local(g, y)];
+            patches[k].place_clamped(g, &locals, &domains[k], &mut Hints::default())
+        };
         let corner = |k: usize, x: f64, y: f64| {
             let mut o = vec![0.0; d];
             self.eval_local_many(k, &[x], &[y], &mut o);
@@ -742,9 +809,17 @@ impl CompositeSurface {
                 );
                 for k in 0..d {
                     let x = (a[k] - b[k]) - (e[k] - f[k]);
-                    c[(p + 1) * (m + 1) + q + 1][k] =
-                        x + c[p * (m + 1) + q + 1][k] + c[(p + 1) * (m + 1) + q][k]
-                            - c[p * (m + 1) + q][k];
+                    let sum = x + c[p * (m + 1) + q + 1][k] + c[(p + 1) * (m + 1) + q][k]
+                        - c[p * (m + 1) + q][k];
+                    if !sum.is_finite() {
+                        return Err(Error::Overflow {
+                            what: format!("formula (9) at patch ({p}, {q})"),
+                            step: "the sum of the corner jumps before it overflows f64: \
+                                   coordinates near the end of its range"
+                                .into(),
+                        });
+                    }
+                    c[(p + 1) * (m + 1) + q + 1][k] = sum;
                 }
             }
         }
@@ -788,7 +863,9 @@ impl CompositeSurface {
         Ok((tapes, (g, cell_roots)))
     }
 
-    fn measure_continuity(&self) -> ContinuityReport {
+    /// The continuity report. Errors: [`Error::Overflow`] naming the two patches when
+    /// their jump overflows f64 (coordinates of opposite signs near the end of its range).
+    fn measure_continuity(&self) -> Result<ContinuityReport> {
         let (n, m) = self.cells();
         let (uk, vk) = self.knots();
         let d = self.dim;
@@ -840,12 +917,25 @@ impl CompositeSurface {
                 });
             }
         }
+        if let Some(j) = jumps.iter().find(|j| !j.max_jump.is_finite()) {
+            let (a, b, line) = match j.line {
+                GridLine::U(i) => ((i - 1, j.cell), (i, j.cell), format!("u = {}", show(uk[i]))),
+                GridLine::V(k) => ((j.cell, k - 1), (j.cell, k), format!("v = {}", show(vk[k]))),
+            };
+            return Err(Error::Overflow {
+                what: format!("patches {a:?} and {b:?}"),
+                step: format!(
+                    "the jump between them on {line} overflows f64: coordinates of opposite \
+                     signs near the end of its range"
+                ),
+            });
+        }
         let max_jump = jumps.iter().fold(0.0f64, |m, j| m.max(j.max_jump));
-        ContinuityReport {
+        Ok(ContinuityReport {
             jumps,
             max_jump,
             tolerance: 64.0 * f64::EPSILON * scale.max(f64::MIN_POSITIVE),
-        }
+        })
     }
 }
 
@@ -854,8 +944,8 @@ impl CompositeSurface {
 /// R_ij(u_i,v_j), cell (p, q) carries D_pq(s,t) + Σ_(i<p) D_iq(1,t) + Σ_(j<q) D_pj(s,1) +
 /// Σ_(i<p, j<q) D_ij(1,1): the cells before it contribute their far edges (clamped P = 1).
 ///
-/// Errors: [`Error::Numerical`] when the sums overflow f64 (patches with coordinates near the
-/// end of the f64 range).
+/// Errors: [`Error::Overflow`] naming the patch when the sums overflow f64 (patches with
+/// coordinates near the end of the f64 range).
 fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Result<Vec<PolyPatch>> {
     let d = patches[0].dim();
     let diff: Vec<PolyPatch> = (0..n * m)
@@ -926,9 +1016,11 @@ fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Result<Vec<Po
             let mut e = own.padded(deg);
             e.add_scaled(&col_before[k], 1.0);
             e.add_scaled(&row_before[k], 1.0);
-            let overflow = || Error::Numerical {
-                operation: "formula (9): the sums of the patches' edges and corners",
-                reason: "they overflow f64 (coordinates too near the end of its range)",
+            let overflow = || Error::Overflow {
+                what: format!("formula (9) at patch ({p}, {q})"),
+                step: "the patch plus the edges and corners of the patches before it \
+                       overflows f64: coordinates near the end of its range"
+                    .into(),
             };
             let c = PolyPatch::new((0, 0), d, corner[p * (m + 1) + q].clone())
                 .map_err(|_| overflow())?;
@@ -942,8 +1034,11 @@ fn effective_patches(patches: &[PolyPatch], n: usize, m: usize) -> Result<Vec<Po
         .collect()
 }
 
-/// The ramps P(x, x_i, x_(i+1) - x_i) of every cell of one direction.
-pub(crate) fn ramps(g: &mut Graph, x: Id, knots: &[f64]) -> Result<Vec<Id>> {
+/// The ramps P(x, x_i, x_(i+1) - x_i) of every cell of one direction, with their
+/// magnitudes for [`check_terms`] in `hints`: P in [0, 1], and x - x_i, |x - x_i| as
+/// [`knot_hints`] gives them.
+pub(crate) fn ramps(g: &mut Graph, x: Id, knots: &[f64], hints: &mut Hints) -> Result<Vec<Id>> {
+    knot_hints(g, x, knots, hints);
     knots
         .windows(2)
         .map(|w| {
@@ -961,9 +1056,39 @@ pub(crate) fn ramps(g: &mut Graph, x: Id, knots: &[f64]) -> Result<Vec<Id>> {
             let diff = g.sub(abs_a, abs_b);
             let sum = g.add(width, diff);
             let den = g.mul(two, width);
-            Ok(g.div(sum, den))
+            let p = g.div(sum, den);
+            hints.cap(p, 1.0);
+            Ok(p)
         })
         .collect()
+}
+
+/// The monomials of degree 1 of a patch's terms in formula (9), c s or c t, are the only
+/// ones the engine multiplies out: c times the ramp 1/2 + |x - x_i|/(2w) - ... gives the
+/// coefficients c/2 and c/(2w), which must not underflow f64 (they would silently become
+/// 0 or lose their digits). Errors: the first such coefficient, approximately.
+fn check_linear_terms(
+    p: &PolyPatch,
+    (a0, b0): (usize, usize),
+    (wu, wv): (f64, f64),
+) -> std::result::Result<(), String> {
+    let (deg_a, deg_b) = p.degrees();
+    for (a, b, w) in [(1, 0, wu), (0, 1, wv)] {
+        if a < a0 || b < b0 || a > deg_a || b > deg_b {
+            continue;
+        }
+        for &c in p.coefficient(a, b) {
+            for d in [1.0, w] {
+                if c != 0.0 && (c / (2.0 * d)).abs() < f64::MIN_POSITIVE {
+                    // c/(2d), written without computing it (it underflows).
+                    let e = c.abs().log10() - (2.0 * d).log10();
+                    let m = 10f64.powf(e - e.floor()).copysign(c);
+                    return Err(format!("{m:.3}e{}", e.floor()));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Σ_(a >= a0, b >= b0) c_ab s^a t^b for coordinate k: one sum over monomials, which the
