@@ -365,7 +365,7 @@ pub enum Error {
     /// A result (or a step of its computation that cannot be avoided) whose magnitude is
     /// beyond f64 (about 1.8e308): refused rather than returned as an infinity or NaN.
     #[error("{what} overflows f64 (its magnitude is beyond 1.8e308)")]
-    Overflow {
+    ResultOverflow {
         /// The result or step, with where ("the share of point 3 (a=0, b=1) at a=1e308, b=0").
         what: String,
     },

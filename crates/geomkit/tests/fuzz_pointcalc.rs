@@ -269,7 +269,7 @@ proptest! {
         let t = g.var("t");
         if let Ok(e) = eq.to_expr(&mut g, t) {
             for c in e {
-                let text = g.print(c, Format::Numpy);
+                let text = g.print(c, Format::Numpy).unwrap();
                 prop_assert!(!text.contains("inf") && !text.contains("nan"), "{text}");
             }
         }

@@ -167,17 +167,17 @@ fn pieces_undefined_beyond_their_interval_do_not_poison_the_formula() {
     let end = 0.2f64.sqrt() - 0.4f64.sqrt();
     assert!((tape(&p, 17.0) - end).abs() <= 1e-15);
     // The clamp is written with sign(); printed in every syntax with finite numbers only.
-    let maple = p.formula().unwrap().print(Format::Maple);
+    let maple = p.formula().unwrap().print(Format::Maple).unwrap();
     assert!(maple.contains("signum("), "{maple}");
     for fmt in Format::ALL {
-        let text = p.formula().unwrap().print(fmt);
+        let text = p.formula().unwrap().print(fmt).unwrap();
         for bad in ["undefined", "infinity", "inf,", "NaN", "nan"] {
             assert!(!text.contains(bad), "{fmt:?}: {text}");
         }
     }
     // Pieces defined everywhere keep the paper's form.
     let q = Piecewise::function(vec![0.0, 1.0, 2.0], &["x^2", "2*x - 1"]).unwrap();
-    assert!(!q.formula().unwrap().print(Format::Maple).contains("signum"));
+    assert!(!q.formula().unwrap().print(Format::Maple).unwrap().contains("signum"));
 }
 
 /// A function that jumps at its breakpoints: the convention (the paper's formula (§5)) is

@@ -31,7 +31,7 @@ fn plane() -> Hypersurface {
 
 fn overflow(r: geomkit::Result<impl std::fmt::Debug>, words: &str) {
     match r {
-        Err(Error::Overflow { what }) => assert!(what.contains(words), "{what}"),
+        Err(Error::ResultOverflow { what }) => assert!(what.contains(words), "{what}"),
         other => panic!("expected an overflow naming {words:?}, got {other:?}"),
     }
 }

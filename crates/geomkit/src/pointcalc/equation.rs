@@ -257,7 +257,7 @@ impl PointEquation {
 
     /// Evaluates at every parameter of `ts` into `out` (`ts.len() * dim`), the nodes' basis
     /// buffer reused: the values of [`Curve::eval_into`]. Errors: wrong buffer length, a
-    /// non-finite parameter; [`Error::Overflow`] naming the first point beyond f64 (a
+    /// non-finite parameter; [`Error::ResultOverflow`] naming the first point beyond f64 (a
     /// parameter far outside the nodes, or source points near f64::MAX).
     pub fn eval_params(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         check_eval_args("parameter", ts, ts.len(), self.dim, out)?;
@@ -278,13 +278,13 @@ impl PointEquation {
         }
     }
 
-    /// [`Error::Overflow`] naming the first parameter whose point is not finite.
+    /// [`Error::ResultOverflow`] naming the first parameter whose point is not finite.
     fn check_finite(&self, ts: &[f64], out: &[f64]) -> Result<()> {
         match out
             .chunks_exact(self.dim)
             .position(|o| o.iter().any(|x| !x.is_finite()))
         {
-            Some(i) => Err(Error::Overflow {
+            Some(i) => Err(Error::ResultOverflow {
                 what: format!("the point of the curve at t={}", short(ts[i])),
             }),
             None => Ok(()),
@@ -336,7 +336,7 @@ impl Curve for PointEquation {
 
     /// [`PointEquation::eval_params`] (the basis buffer reused), in parallel chunks for
     /// large batches: the values of [`Curve::eval_into`], bit for bit. Errors as
-    /// [`PointEquation::eval_params`] ([`Error::Overflow`] for a point beyond f64).
+    /// [`PointEquation::eval_params`] ([`Error::ResultOverflow`] for a point beyond f64).
     fn eval_batch(&self, ts: &[f64], out: &mut [f64], options: &BatchOptions) -> Result<()> {
         check_eval_args("parameter", ts, ts.len(), self.dim, out)?;
         let parallel = options.parallel() && ts.len() > 4096;

@@ -14,7 +14,7 @@
 //! Every number of a formula is a finite f64 (the printers' targets compute in f64): a
 //! coefficient c_j beyond f64 (nodes extremely close together, or spanning so much that
 //! Π (t_j - t_k) overflows) or a folded product c_j · y_j beyond f64 (source values near
-//! f64::MAX) is refused with [`Error::Overflow`] naming it, never printed as infinity or
+//! f64::MAX) is refused with [`Error::ResultOverflow`] naming it, never printed as infinity or
 //! dropped as zero.
 //!
 //! ```
@@ -55,7 +55,7 @@ fn check_size(values: usize, nodes: usize) -> Result<()> {
 
 /// The cardinal function ℓ_j of `nodes` in the variable `t`: c_j Π_(k≠j) (t - t_k), exact
 /// for rational nodes ([`Nodes::is_rational`]), else with the f64 nodes and c_j rounded once
-/// (so 0.1 prints as 0.1, not as its dyadic value). Errors: [`Error::Overflow`] when c_j =
+/// (so 0.1 prints as 0.1, not as its dyadic value). Errors: [`Error::ResultOverflow`] when c_j =
 /// 1 / Π_(k≠j) (t_j - t_k) is beyond f64 or below its normal range (its f64 value would
 /// print as infinity or drop the term).
 pub fn cardinal_expr(g: &mut Graph, nodes: &Nodes, j: usize, t: Id) -> Result<Id> {
@@ -106,7 +106,7 @@ fn cardinal(g: &mut Graph, nodes: &Nodes, j: usize, t: Id, what: &str) -> Result
             "the product Π(t_j - t_k) (the reciprocal of the coefficient) of the cardinal \
              function"
         };
-        return Err(Error::Overflow {
+        return Err(Error::ResultOverflow {
             what: format!(
                 "{step} of node {j} (t={}) of {what}, in the formula (nodes too close together \
                  or spanning too much; rescale them)",
@@ -143,7 +143,7 @@ fn combine(
                         short(v)
                     )
                 };
-                return Err(Error::Overflow {
+                return Err(Error::ResultOverflow {
                     what: format!(
                         "{step} of source point {} in the formula (rescale the response)",
                         at(j)
@@ -167,7 +167,7 @@ fn check_numbers(g: &Graph, root: Id, what: &dyn Fn() -> String) -> Result<()> {
             _ => true,
         };
         if !ok {
-            return Err(Error::Overflow {
+            return Err(Error::ResultOverflow {
                 what: format!(
                     "a coefficient of {} (the cardinal functions' coefficients times the \
                      source values; rescale the response)",
@@ -181,7 +181,7 @@ fn check_numbers(g: &Graph, root: Id, what: &dyn Fn() -> String) -> Result<()> {
 
 impl PointEquation {
     /// The point equation as one expression per coordinate, in the variable `t`. Errors:
-    /// [`Error::TooMany`] above [`MAX_FORMULA_TERMS`]; [`Error::Overflow`] for a number of
+    /// [`Error::TooMany`] above [`MAX_FORMULA_TERMS`]; [`Error::ResultOverflow`] for a number of
     /// the formula beyond f64 (see the module documentation).
     pub fn to_expr(&self, g: &mut Graph, t: Id) -> Result<Vec<Id>> {
         check_size(self.points_flat().len(), self.nodes().len())?;
@@ -202,7 +202,7 @@ impl PointEquation {
 impl Hypersurface {
     /// The model as one expression per response component, in the variables `vars` (one per
     /// factor, in factor order). Panics if `vars.len() != k` (a programming error). Errors:
-    /// [`Error::TooMany`] above [`MAX_FORMULA_TERMS`]; [`Error::Overflow`] for a number of
+    /// [`Error::TooMany`] above [`MAX_FORMULA_TERMS`]; [`Error::ResultOverflow`] for a number of
     /// the formula beyond f64 (see the module documentation).
     pub fn to_expr(&self, g: &mut Graph, vars: &[Id]) -> Result<Vec<Id>> {
         assert_eq!(vars.len(), self.k(), "one variable per factor");

@@ -364,7 +364,7 @@ impl Hypersurface {
     }
 
     /// M(x) into `out` (length dim). Errors: x of the wrong length or not finite, wrong
-    /// buffer length; [`Error::Overflow`] where the result is beyond f64;
+    /// buffer length; [`Error::ResultOverflow`] where the result is beyond f64;
     /// [`Error::LostToRounding`] far outside the box of the nodes (see
     /// [`Hypersurface::eval_many`]). At a grid cell the result is exactly its source point.
     pub fn eval_into(&self, x: &[f64], out: &mut [f64]) -> Result<()> {
@@ -411,7 +411,7 @@ impl Hypersurface {
     /// (`scaled` from [`Hypersurface::scaled`]), every factor's shares as mantissas with an
     /// exponent of their own (the product form, [`Nodes::basis_wide`]), contracted, and only
     /// then scaled back; the same roundings as the plain computation. Errors:
-    /// [`Error::Overflow`] when the result is beyond f64; outside the box of the nodes,
+    /// [`Error::ResultOverflow`] when the result is beyond f64; outside the box of the nodes,
     /// [`Error::LostToRounding`] when the rounding error bound γ Σ |share| |value| (γ = (4 Σ
     /// n_i + 8 k + 8) ε) exceeds both the result and the largest source value.
     fn eval_wide(&self, x: &[f64], scaled: &(Vec<f64>, i64), out: &mut [f64]) -> Result<()> {
@@ -445,7 +445,7 @@ impl Hypersurface {
             let sum = kernel::contract::<kernel::Plain, 1>(&grid, &bases, &mut work, c)[0];
             let value = ldexp(sum, ev + e_sum);
             if !value.is_finite() {
-                return Err(Error::Overflow {
+                return Err(Error::ResultOverflow {
                     what: format!("{} at {}", self.what_value(c), self.describe_at(x)),
                 });
             }
@@ -513,7 +513,7 @@ impl Hypersurface {
     /// evaluated again one by one with nothing overflowing on the way (the values scaled by a
     /// power of two, the shares in the product form with an exponent of their own).
     ///
-    /// Errors: lengths, non-finite factor values; [`Error::Overflow`] for a result beyond
+    /// Errors: lengths, non-finite factor values; [`Error::ResultOverflow`] for a result beyond
     /// f64 (far outside the nodes, or huge source values); [`Error::LostToRounding`] outside
     /// the box when the rounding error bound γ Σ |share| |value| (γ = (4 Σ n_i + 8 k + 8) ε)
     /// exceeds both the result and the largest source value (extrapolating so far that no
@@ -593,7 +593,7 @@ impl Hypersurface {
     }
 
     /// The gradient: ∂M/∂x_f for every factor f, `k * dim` numbers (factor-major).
-    /// Errors: as [`Hypersurface::eval`]; [`Error::Overflow`] when a component is beyond f64.
+    /// Errors: as [`Hypersurface::eval`]; [`Error::ResultOverflow`] when a component is beyond f64.
     pub fn gradient(&self, x: &[f64]) -> Result<Vec<f64>> {
         self.check_point(x)?;
         let grid = self.grid();
@@ -621,7 +621,7 @@ impl Hypersurface {
             }
         }
         if out.iter().any(|v| !v.is_finite()) {
-            return Err(Error::Overflow {
+            return Err(Error::ResultOverflow {
                 what: format!("the gradient at {}", self.describe_at(x)),
             });
         }
@@ -631,7 +631,7 @@ impl Hypersurface {
     /// The shares of all source points in M(x) (row-major like the values, one number per
     /// cell): the products of the factors' function-parameters. They sum to 1 (up to
     /// rounding: far outside the nodes they are huge, of both signs, and their sum cancels).
-    /// Errors: as [`Hypersurface::eval`]; [`Error::Overflow`] naming the first share beyond
+    /// Errors: as [`Hypersurface::eval`]; [`Error::ResultOverflow`] naming the first share beyond
     /// f64 (far outside the nodes a share grows like x^(n-1) per factor).
     pub fn shares(&self, x: &[f64]) -> Result<Vec<f64>> {
         self.check_point(x)?;
@@ -647,7 +647,7 @@ impl Hypersurface {
             *s = ldexp(*s, e);
             if !s.is_finite() {
                 let levels = self.describe_at(&self.cell_levels(c));
-                return Err(Error::Overflow {
+                return Err(Error::ResultOverflow {
                     what: format!(
                         "the share of point {c} ({levels}) at {}",
                         self.describe_at(x)
@@ -801,7 +801,7 @@ impl Hypersurface {
     }
 
     /// The model with `factor` fixed at the value `x` (contracted there) and removed.
-    /// Errors: indices out of range, x not finite, the only factor; [`Error::Overflow`] when a
+    /// Errors: indices out of range, x not finite, the only factor; [`Error::ResultOverflow`] when a
     /// value of the section is beyond f64 (x far outside the factor's nodes).
     pub fn fix_factor(&self, factor: usize, x: f64) -> Result<Hypersurface> {
         self.check_factor_level(factor, 0)?;
@@ -830,7 +830,7 @@ impl Hypersurface {
             }
         }
         if values.iter().any(|v| !v.is_finite()) {
-            return Err(Error::Overflow {
+            return Err(Error::ResultOverflow {
                 what: format!(
                     "the section at {}={} (the model with factor {} fixed there)",
                     self.factors[factor].name,

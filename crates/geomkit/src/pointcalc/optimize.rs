@@ -17,7 +17,7 @@
 //!
 //! The search runs on the values scaled by a power of two to |v| < 1 (exact), so source
 //! values up to f64::MAX neither overflow the Bernstein coefficients nor the range; value,
-//! bound and gap are scaled back at the end, and refused ([`Error::Overflow`]) if they are
+//! bound and gap are scaled back at the end, and refused ([`Error::ResultOverflow`]) if they are
 //! beyond f64. A certified result always has a finite bound.
 //!
 //! Limits: at most [`OptimizeOptions::max_boxes`] boxes (4000) and
@@ -136,7 +136,7 @@ impl Ord for BoxItem {
 /// The global largest or smallest modeled response over the box of the factors' nodes
 /// (see the module documentation). Errors: a model with vector source points (dim ≠ 1), an
 /// invalid tolerance; [`Error::TooMany`] for a model one box of which costs more than
-/// [`OptimizeOptions::max_work`]; [`Error::Overflow`] when the optimum or its bound is beyond
+/// [`OptimizeOptions::max_work`]; [`Error::ResultOverflow`] when the optimum or its bound is beyond
 /// f64 (source values near f64::MAX whose interpolant overshoots them, or nodes so uneven
 /// that the Bernstein coefficients overflow).
 pub fn optimize(model: &Hypersurface, goal: Goal, options: &OptimizeOptions) -> Result<Optimum> {
@@ -176,12 +176,12 @@ pub fn optimize(model: &Hypersurface, goal: Goal, options: &OptimizeOptions) -> 
     };
     let (value, bound, gap) = (back(best.value), back(best.bound), back(best.gap));
     if !value.is_finite() {
-        return Err(Error::Overflow {
+        return Err(Error::ResultOverflow {
             what: format!("the {name} modeled value"),
         });
     }
     if !bound.is_finite() || !gap.is_finite() {
-        return Err(Error::Overflow {
+        return Err(Error::ResultOverflow {
             what: format!(
                 "the certified bound of the {name} modeled value (the Bernstein coefficients \
                  of the model on its box, or its distance to the value found)"
@@ -317,7 +317,7 @@ fn search(
     let upper = upper_of(&lo0, &hi0);
     if !upper.is_finite() {
         // Nothing to refine: the Bernstein coefficients of the whole box overflow.
-        return Err(Error::Overflow {
+        return Err(Error::ResultOverflow {
             what: format!(
                 "the Bernstein bound of the model on its box (degree {} in a factor: the \
                  Bernstein coefficients of high-degree cardinal functions grow like 2^n; use \

@@ -223,7 +223,7 @@ impl PointSurface {
 
     /// Points on the grid `us` × `vs` (row-major, u slowest), into `out`
     /// (`us.len() * vs.len() * dim`). Errors: wrong buffer length, non-finite parameters;
-    /// [`Error::Overflow`] naming the first point beyond f64.
+    /// [`Error::ResultOverflow`] naming the first point beyond f64.
     pub fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim;
         check_grid_args(us, vs, d, out)?;
@@ -255,7 +255,7 @@ impl PointSurface {
                         .collect();
                     self.across_wide(v, &rows, o);
                     if o.iter().any(|x| !x.is_finite()) {
-                        return Err(Error::Overflow {
+                        return Err(Error::ResultOverflow {
                             what: format!(
                                 "the point of the surface at u={}, v={}",
                                 short(us[a]),
@@ -389,7 +389,7 @@ impl PrintedSurface {
     }
 
     /// Points on the grid `us` × `vs` (row-major, u slowest). Errors: wrong buffer length,
-    /// non-finite parameters; [`Error::Overflow`] naming the first point beyond f64.
+    /// non-finite parameters; [`Error::ResultOverflow`] naming the first point beyond f64.
     pub fn eval_grid(&self, us: &[f64], vs: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim;
         check_grid_args(us, vs, d, out)?;
@@ -398,7 +398,7 @@ impl PrintedSurface {
                 let o = &mut out[(a * vs.len() + b) * d..][..d];
                 self.eval_into(u, v, o);
                 if o.iter().any(|x| !x.is_finite()) {
-                    return Err(Error::Overflow {
+                    return Err(Error::ResultOverflow {
                         what: format!("the point of the surface at u={}, v={}", short(u), short(v)),
                     });
                 }
