@@ -177,7 +177,12 @@ fn pieces_undefined_beyond_their_interval_do_not_poison_the_formula() {
     }
     // Pieces defined everywhere keep the paper's form.
     let q = Piecewise::function(vec![0.0, 1.0, 2.0], &["x^2", "2*x - 1"]).unwrap();
-    assert!(!q.formula().unwrap().print(Format::Maple).unwrap().contains("signum"));
+    assert!(!q
+        .formula()
+        .unwrap()
+        .print(Format::Maple)
+        .unwrap()
+        .contains("signum"));
 }
 
 /// A function that jumps at its breakpoints: the convention (the paper's formula (§5)) is

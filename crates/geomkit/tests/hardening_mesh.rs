@@ -306,11 +306,15 @@ fn polygon_limits() {
     assert!(c[0].abs() < 1e-12 && c[1].abs() < 1e-12, "{c:?}");
     let e = bodies::regular_polygon(bodies::MAX_POLYGON_VERTICES + 1, 1.0).unwrap_err();
     assert!(e.to_string().contains("at most 10000"), "{e}");
-    // Scaled per axis: 1e-300 × 1 and 1e300 × 1e-300 rectangles are simple.
-    for (a, b) in [(1e-300, 1.0), (1e300, 1e-300)] {
+    // Scaled per axis: 1e-300 × 1 and 1e100 × 1e-300 rectangles are simple; coordinates
+    // beyond the bodies' size limit of 1e100 are refused.
+    for (a, b) in [(1e-300, 1.0), (1e100, 1e-300)] {
         let r = [[a, b], [-a, b], [-a, -b], [a, -b]];
         assert_eq!(bodies::check_polygon(&r).unwrap(), [0.0, 0.0]);
     }
+    let r = [[1e300, 1.0], [-1e300, 1.0], [-1e300, -1.0], [1e300, -1.0]];
+    let e = bodies::check_polygon(&r).unwrap_err();
+    assert!(e.to_string().contains("1e100"), "{e}");
     // A polygon winding twice about its centroid is not simple.
     let twice: Vec<[f64; 2]> = (0..7)
         .map(|k| {

@@ -56,11 +56,11 @@ pub const CASES: &[Case] = &[
     c(&[SURFACE], &["mesh", "s.json", "-o", "s.xyz"], &["s.xyz", ".obj, .stl, .ply or .glb"]),
     c(&[SURFACE], &["mesh", "s.json", "-o", "s.obj", "--obj-normals", "weird"], &["--obj-normals", "weird", "per-vertex"]),
     // compose body: sizes whose mesh f64 cannot hold, counts beyond the limits.
-    c(&[], &["compose", "body", "cylinder", "--radius", "1e-308", "-o", "b.obj"], &["radius", "1e-308", "too thin or too small"]),
+    c(&[], &["compose", "body", "cylinder", "--radius", "1e-308", "-o", "b.obj"], &["radius", "1e-308", "underflows"]),
     c(&[], &["compose", "body", "cylinder", "--radius", "1e308", "-o", "b.stl"], &["radius", "1e308"]),
     c(&[], &["compose", "body", "cylinder", "--height", "1e-300", "-o", "b.glb"], &["height", "1e-300", "not watertight"]),
     c(&[], &["compose", "body", "box", "--size", "1e-300,1,1", "-o", "b.ply"], &["box", "1e-300", "too thin or too small"]),
-    c(&[], &["compose", "body", "pyramid", "--side", "1e-320", "-o", "b.stl"], &["side", "1e-320", "empty"]),
+    c(&[], &["compose", "body", "pyramid", "--side", "1e-320", "-o", "b.stl"], &["side", "1e-320", "underflows"]),
     c(&[], &["compose", "body", "prism", "--ngon", "100000000", "-o", "b.obj"], &["--ngon", "100000000", "10000"]),
     c(&[], &["compose", "body", "prism", "--ngon", "2"], &["--ngon", "2", "3..=10000"]),
     c(&[], &["compose", "body", "pyramid", "--ngon", "-5", "-o", "b.obj"], &["--ngon", "-5"]),
