@@ -38,6 +38,15 @@ pub struct Case {
     pub names: &'static [&'static str],
 }
 
+/// A case on one line: files, arguments, words of the error.
+pub const fn case(
+    files: &'static [(&'static str, &'static str)],
+    args: &'static [&'static str],
+    names: &'static [&'static str],
+) -> Case {
+    Case { files, args, names }
+}
+
 /// Address space and CPU time a refusal may use: a command that starts a huge allocation or
 /// a long computation before refusing fails the case (killed, or aborted by the allocator).
 const MEMORY_LIMIT_BYTES: u64 = 3 << 30;

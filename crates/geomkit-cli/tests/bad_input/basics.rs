@@ -1,24 +1,24 @@
 //! Bad input common to every command: missing, malformed and wrong-typed files, unknown
 //! options, unwritable outputs.
 
-use crate::Case;
+use crate::{case, Case};
 
 const CUBIC: &str = "{\"type\": \"bezier_curve\", \"points\": [[0,0],[1,2],[2,2],[3,0]]}";
 
 pub const CASES: &[Case] = &[
-    Case {
-        files: &[],
-        args: &["bezier", "degree", "missing.json"],
-        names: &["missing.json"],
-    },
-    Case {
-        files: &[("c.json", "{\"points\": [[0,0],[1,2],[2,2],[3,0]]")],
-        args: &["bezier", "degree", "c.json"],
-        names: &["c.json", "line 1"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &[
+    case(
+        &[],
+        &["bezier", "degree", "missing.json"],
+        &["missing.json"],
+    ),
+    case(
+        &[("c.json", "{\"points\": [[0,0],[1,2],[2,2],[3,0]]")],
+        &["bezier", "degree", "c.json"],
+        &["c.json", "line 1"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &[
             "bezier",
             "elevate",
             "c.json",
@@ -27,11 +27,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "keep.json",
         ],
-        names: &["--to", "five"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &[
+        &["--to", "five"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &[
             "bezier",
             "elevate",
             "c.json",
@@ -40,8 +40,8 @@ pub const CASES: &[Case] = &[
             "-o",
             "keep.json",
         ],
-        names: &["2"],
-    },
+        &["2"],
+    ),
 ];
 
 #[test]

@@ -1,7 +1,7 @@
 //! `geomkit bezier ...`: degrees, tolerances, continuity, sample counts, and models that
 //! are not Bézier curves or surfaces.
 
-use crate::Case;
+use crate::{case, Case};
 
 const CUBIC: &str = "{\"type\": \"bezier_curve\", \"points\": [[0,0],[1,2],[2,2],[3,0]]}";
 const SURFACE: &str =
@@ -15,59 +15,59 @@ const RAGGED: &str = "{\"type\": \"bezier_curve\", \"points\": [[0,0],[1,2,3]]}"
 const BSPLINE: &str = "{\"type\": \"bspline_curve\", \"degree\": 1, \"knots\": [0,0,1,1], \"control_points\": [[0,0],[1,1]]}";
 
 pub const CASES: &[Case] = &[
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "degree", "c.json", "--tolerance", "-1"],
-        names: &["tolerance", "-1"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "degree", "c.json", "--tolerance", "nan"],
-        names: &["tolerance", "nan"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "degree", "c.json", "--tolerance", "inf"],
-        names: &["tolerance", "inf"],
-    },
-    Case {
-        files: &[("c.json", NAN_POINT)],
-        args: &["bezier", "degree", "c.json"],
-        names: &["c.json"],
-    },
-    Case {
-        files: &[("c.json", HUGE_POINT)],
-        args: &["bezier", "degree", "c.json"],
-        names: &["c.json"],
-    },
-    Case {
-        files: &[("c.json", NO_POINTS)],
-        args: &["bezier", "degree", "c.json"],
-        names: &["c.json", "points"],
-    },
-    Case {
-        files: &[("c.json", RAGGED)],
-        args: &["bezier", "degree", "c.json"],
-        names: &["c.json", "points[1]"],
-    },
-    Case {
-        files: &[("c.json", BSPLINE)],
-        args: &["bezier", "degree", "c.json"],
-        names: &["c.json", "B-spline"],
-    },
-    Case {
-        files: &[("c.json", RATIONAL)],
-        args: &["bezier", "degree", "c.json"],
-        names: &["c.json", "weight"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "elevate", "c.json", "--to", "2", "-o", "e.json"],
-        names: &["c.json", "2"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &[
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "degree", "c.json", "--tolerance", "-1"],
+        &["tolerance", "-1"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "degree", "c.json", "--tolerance", "nan"],
+        &["tolerance", "nan"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "degree", "c.json", "--tolerance", "inf"],
+        &["tolerance", "inf"],
+    ),
+    case(
+        &[("c.json", NAN_POINT)],
+        &["bezier", "degree", "c.json"],
+        &["c.json"],
+    ),
+    case(
+        &[("c.json", HUGE_POINT)],
+        &["bezier", "degree", "c.json"],
+        &["c.json"],
+    ),
+    case(
+        &[("c.json", NO_POINTS)],
+        &["bezier", "degree", "c.json"],
+        &["c.json", "points"],
+    ),
+    case(
+        &[("c.json", RAGGED)],
+        &["bezier", "degree", "c.json"],
+        &["c.json", "points[1]"],
+    ),
+    case(
+        &[("c.json", BSPLINE)],
+        &["bezier", "degree", "c.json"],
+        &["c.json", "B-spline"],
+    ),
+    case(
+        &[("c.json", RATIONAL)],
+        &["bezier", "degree", "c.json"],
+        &["c.json", "weight"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "elevate", "c.json", "--to", "2", "-o", "e.json"],
+        &["c.json", "2"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &[
             "bezier",
             "elevate",
             "c.json",
@@ -76,31 +76,31 @@ pub const CASES: &[Case] = &[
             "-o",
             "e.json",
         ],
-        names: &["--to", "1000000000"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "elevate", "c.json", "--to", "-3", "-o", "e.json"],
-        names: &["-3"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "elevate", "c.json", "--to", "5,5", "-o", "e.json"],
-        names: &["--to"],
-    },
-    Case {
-        files: &[("s.json", SURFACE)],
-        args: &["bezier", "elevate", "s.json", "--to", "5", "-o", "e.json"],
-        names: &["--to"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "elevate", "c.json", "--to", "5", "-o", "e.txt"],
-        names: &["e.txt"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &[
+        &["--to", "1000000000"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "elevate", "c.json", "--to", "-3", "-o", "e.json"],
+        &["-3"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "elevate", "c.json", "--to", "5,5", "-o", "e.json"],
+        &["--to"],
+    ),
+    case(
+        &[("s.json", SURFACE)],
+        &["bezier", "elevate", "s.json", "--to", "5", "-o", "e.json"],
+        &["--to"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "elevate", "c.json", "--to", "5", "-o", "e.txt"],
+        &["e.txt"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &[
             "bezier",
             "elevate",
             "c.json",
@@ -109,21 +109,21 @@ pub const CASES: &[Case] = &[
             "-o",
             "missing/e.json",
         ],
-        names: &["missing"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "reduce", "c.json", "--to", "1", "-o", "r.json"],
-        names: &["c.json", "real degree", "--approx"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "reduce", "c.json", "--to", "5", "-o", "r.json"],
-        names: &["c.json", "5"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &[
+        &["missing"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "reduce", "c.json", "--to", "1", "-o", "r.json"],
+        &["c.json", "real degree", "--approx"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "reduce", "c.json", "--to", "5", "-o", "r.json"],
+        &["c.json", "5"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &[
             "bezier",
             "reduce",
             "c.json",
@@ -135,11 +135,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "r.json",
         ],
-        names: &["continuity"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &[
+        &["continuity"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &[
             "bezier",
             "reduce",
             "c.json",
@@ -151,11 +151,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "r.json",
         ],
-        names: &["--continuity", "x"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &[
+        &["--continuity", "x"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &[
             "bezier",
             "reduce",
             "c.json",
@@ -166,25 +166,25 @@ pub const CASES: &[Case] = &[
             "-o",
             "r.json",
         ],
-        names: &["--approx"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &[
+        &["--approx"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &[
             "bezier", "reduce", "c.json", "--to", "2", "--approx", "--norm", "max", "-o", "r.json",
         ],
-        names: &["--norm", "max"],
-    },
-    Case {
-        files: &[("s.json", SURFACE)],
-        args: &[
+        &["--norm", "max"],
+    ),
+    case(
+        &[("s.json", SURFACE)],
+        &[
             "bezier", "reduce", "s.json", "--to", "0,0", "--approx", "-o", "r.json",
         ],
-        names: &["s.json", "surface"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &[
+        &["s.json", "surface"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &[
             "bezier",
             "change",
             "c.json",
@@ -195,28 +195,28 @@ pub const CASES: &[Case] = &[
             "-o",
             "r.json",
         ],
-        names: &["tolerance"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "eval", "c.json", "--samples", "1"],
-        names: &["--samples", "1"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "eval", "c.json", "--samples", "0"],
-        names: &["--samples"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "eval", "c.json", "--samples", "100000000000"],
-        names: &["--samples"],
-    },
-    Case {
-        files: &[("c.json", CUBIC)],
-        args: &["bezier", "eval", "c.json", "--samples", "1e3"],
-        names: &["--samples", "1e3"],
-    },
+        &["tolerance"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "eval", "c.json", "--samples", "1"],
+        &["--samples", "1"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "eval", "c.json", "--samples", "0"],
+        &["--samples"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "eval", "c.json", "--samples", "100000000000"],
+        &["--samples"],
+    ),
+    case(
+        &[("c.json", CUBIC)],
+        &["bezier", "eval", "c.json", "--samples", "1e3"],
+        &["--samples", "1e3"],
+    ),
 ];
 
 #[test]

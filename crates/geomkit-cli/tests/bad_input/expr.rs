@@ -5,7 +5,7 @@
 //! `(7e-4000)^100*x`, `((2.5)^-1)^100**3`), exact constants outside f64, divisions by zero,
 //! unknown names, nesting too deep, printed formulas too long.
 
-use crate::Case;
+use crate::{case, Case};
 
 /// `prefix`, `open` `times` times, `middle`, `close` `times` times, `suffix`, as bytes of
 /// length `N` (a deeply nested formula as a constant).
@@ -73,67 +73,63 @@ macro_rules! piece {
 
 pub const CASES: &[Case] = &[
     // The issue's formulas: each was a stack overflow, 34 GB or a hang.
-    Case {
-        files: piece!("1.5^100000*x"),
-        args: PIECEWISE,
-        names: &[
+    case(
+        piece!("1.5^100000*x"),
+        PIECEWISE,
+        &[
             "p.json",
             "piece 0",
             "`1.5^100000`",
             "more than 4096 bits",
             "above the largest f64",
         ],
-    },
-    Case {
-        files: piece!("(2^1048576)^1048576 + x"),
-        args: PIECEWISE,
-        names: &["at byte 1", "`2^1048576`", "above the largest f64"],
-    },
-    Case {
-        files: piece!("(7e-4000)^100*x"),
-        args: PIECEWISE,
-        names: &["`7e-4000`", "below the smallest f64"],
-    },
-    Case {
-        files: piece!("((2.5)^-1)^100**3*x"),
-        args: PIECEWISE,
-        names: &["`((2.5)^-1)^100**3`", "below the smallest f64"],
-    },
+    ),
+    case(
+        piece!("(2^1048576)^1048576 + x"),
+        PIECEWISE,
+        &["at byte 1", "`2^1048576`", "above the largest f64"],
+    ),
+    case(
+        piece!("(7e-4000)^100*x"),
+        PIECEWISE,
+        &["`7e-4000`", "below the smallest f64"],
+    ),
+    case(
+        piece!("((2.5)^-1)^100**3*x"),
+        PIECEWISE,
+        &["`((2.5)^-1)^100**3`", "below the smallest f64"],
+    ),
     // Each way of building a constant: sum, product, quotient, negative power.
-    Case {
-        files: piece!("x + 2^4095 + 2^4095"),
-        args: PIECEWISE,
-        names: &["`x + 2^4095 + 2^4095`", "too long to keep exact"],
-    },
-    Case {
-        files: piece!("(2^4000*x)*(2^4000*x)"),
-        args: PIECEWISE,
-        names: &["`(2^4000*x)*(2^4000*x)`", "above the largest f64"],
-    },
-    Case {
-        files: piece!("x/2^5000"),
-        args: PIECEWISE,
-        names: &["`2^5000`", "at byte 2"],
-    },
-    Case {
-        files: piece!("(3/7)^-5000 + x"),
-        args: PIECEWISE,
-        names: &["`(3/7)^-5000`", "above the largest f64"],
-    },
-    Case {
-        files: piece!("1e5000*x"),
-        args: PIECEWISE,
-        names: &["byte 1", "an exponent of at most 4000"],
-    },
+    case(
+        piece!("x + 2^4095 + 2^4095"),
+        PIECEWISE,
+        &["`x + 2^4095 + 2^4095`", "too long to keep exact"],
+    ),
+    case(
+        piece!("(2^4000*x)*(2^4000*x)"),
+        PIECEWISE,
+        &["`(2^4000*x)*(2^4000*x)`", "above the largest f64"],
+    ),
+    case(piece!("x/2^5000"), PIECEWISE, &["`2^5000`", "at byte 2"]),
+    case(
+        piece!("(3/7)^-5000 + x"),
+        PIECEWISE,
+        &["`(3/7)^-5000`", "above the largest f64"],
+    ),
+    case(
+        piece!("1e5000*x"),
+        PIECEWISE,
+        &["byte 1", "an exponent of at most 4000"],
+    ),
     // Exact, but outside the range of f64 the formula is evaluated in.
-    Case {
-        files: piece!("1e400*x"),
-        args: PIECEWISE,
-        names: &["constant 1.0000e400", "outside the range of f64"],
-    },
-    Case {
-        files: piece!("x*1e-400"),
-        args: &[
+    case(
+        piece!("1e400*x"),
+        PIECEWISE,
+        &["constant 1.0000e400", "outside the range of f64"],
+    ),
+    case(
+        piece!("x*1e-400"),
+        &[
             "compose",
             "piecewise",
             "p.json",
@@ -142,135 +138,123 @@ pub const CASES: &[Case] = &[
             "-o",
             "f.json",
         ],
-        names: &["constant 1.0000e-400", "outside the range of f64"],
-    },
+        &["constant 1.0000e-400", "outside the range of f64"],
+    ),
     // Division by zero, unknown names, syntax.
-    Case {
-        files: piece!("x/(1 - 1)"),
-        args: PIECEWISE,
-        names: &["piece 0", "division by exact zero"],
-    },
-    Case {
-        files: piece!("1/(x - 1)"),
-        args: PIECEWISE,
-        names: &["inf", "x = 1", "not a finite number"],
-    },
-    Case {
-        files: piece!("ln(x - 5)"),
-        args: PIECEWISE,
-        names: &["NaN", "x = 0"],
-    },
-    Case {
-        files: piece!("foo(x)"),
-        args: PIECEWISE,
-        names: &["a known function", "not `foo`"],
-    },
-    Case {
-        files: piece!("x + y"),
-        args: PIECEWISE,
-        names: &["unknown variable `y`", "the variables are x", "byte 4"],
-    },
-    Case {
-        files: piece!("x^1.5"),
-        args: PIECEWISE,
-        names: &["unsupported exponent", "only integer exponents"],
-    },
-    Case {
-        files: piece!("x^2147483648"),
-        args: PIECEWISE,
-        names: &["unsupported exponent", "too large"],
-    },
-    Case {
-        files: piece!(""),
-        args: PIECEWISE,
-        names: &["byte 0", "found end of input"],
-    },
-    Case {
-        files: piece!("x·2"),
-        args: PIECEWISE,
-        names: &["byte 1", "found `·`"],
-    },
-    Case {
-        files: &[("p.json", DEEP_PARENS)],
-        args: PIECEWISE,
-        names: &["nests deeper than 200 levels"],
-    },
+    case(
+        piece!("x/(1 - 1)"),
+        PIECEWISE,
+        &["piece 0", "division by exact zero"],
+    ),
+    case(
+        piece!("1/(x - 1)"),
+        PIECEWISE,
+        &["inf", "x = 1", "not a finite number"],
+    ),
+    case(piece!("ln(x - 5)"), PIECEWISE, &["NaN", "x = 0"]),
+    case(
+        piece!("foo(x)"),
+        PIECEWISE,
+        &["a known function", "not `foo`"],
+    ),
+    case(
+        piece!("x + y"),
+        PIECEWISE,
+        &["unknown variable `y`", "the variables are x", "byte 4"],
+    ),
+    case(
+        piece!("x^1.5"),
+        PIECEWISE,
+        &["unsupported exponent", "only integer exponents"],
+    ),
+    case(
+        piece!("x^2147483648"),
+        PIECEWISE,
+        &["unsupported exponent", "too large"],
+    ),
+    case(piece!(""), PIECEWISE, &["byte 0", "found end of input"]),
+    case(piece!("x·2"), PIECEWISE, &["byte 1", "found `·`"]),
+    case(
+        &[("p.json", DEEP_PARENS)],
+        PIECEWISE,
+        &["nests deeper than 200 levels"],
+    ),
     // Printed formulas too long: refused before anything is written, file or stdout.
-    Case {
-        files: &[("p.json", DEEP_SIGNS)],
-        args: &["compose", "piecewise", "p.json", "--format", "c"],
-        names: &["coordinate f", "longer than 268435456 bytes"],
-    },
-    Case {
-        files: &[("p.json", DEEP_SIGNS)],
-        args: &["compose", "piecewise", "p.json", "-o", "f.json"],
-        names: &["longer than 268435456 bytes"],
-    },
+    case(
+        &[("p.json", DEEP_SIGNS)],
+        &["compose", "piecewise", "p.json", "--format", "c"],
+        &["coordinate f", "longer than 268435456 bytes"],
+    ),
+    case(
+        &[("p.json", DEEP_SIGNS)],
+        &["compose", "piecewise", "p.json", "-o", "f.json"],
+        &["longer than 268435456 bytes"],
+    ),
     // Composite curves, formula patches, ruled curves, saved formula files.
-    Case {
-        files: &[(
+    case(
+        &[(
             "p.json",
             r#"{"type":"piecewise","knots":[0,1],"pieces":[{"x":"t","y":"(7e-4000)^100*t"}]}"#,
         )],
-        args: PIECEWISE,
-        names: &["coordinate y", "`7e-4000`"],
-    },
-    Case {
-        files: &[(
+        PIECEWISE,
+        &["coordinate y", "`7e-4000`"],
+    ),
+    case(
+        &[(
             "s.json",
             r#"{"type":"composite_explicit","x_knots":[0,1],"y_knots":[0,1],"patches":[["1.5^100000*x + y"]]}"#,
         )],
-        args: &["compose", "patches", "s.json"],
-        names: &["s.json", "patches[0][0]", "coordinate z", "`1.5^100000`"],
-    },
-    Case {
-        files: &[(
+        &["compose", "patches", "s.json"],
+        &["s.json", "patches[0][0]", "coordinate z", "`1.5^100000`"],
+    ),
+    case(
+        &[(
             "s.json",
             r#"{"type":"composite_explicit","x_knots":[0,1],"y_knots":[0,1],"patches":[[{"z":"x + y*1e400"}]]}"#,
         )],
-        args: &["compose", "patches", "s.json", "-o", "s.obj"],
-        names: &["patches[0][0]", "constant 1.0000e400"],
-    },
-    Case {
-        files: &[(
+        &["compose", "patches", "s.json", "-o", "s.obj"],
+        &["patches[0][0]", "constant 1.0000e400"],
+    ),
+    case(
+        &[(
             "s.json",
             r#"{"type":"composite_surface","u_knots":[0,1],"v_knots":[0,1],"patches":[[{"x":"u","y":"v","z":"((2.5)^-1)^100**3*u"}]]}"#,
         )],
-        args: &["compose", "patches", "s.json"],
-        names: &["patches[0][0]", "coordinate z", "below the smallest f64"],
-    },
-    Case {
-        files: &[(
+        &["compose", "patches", "s.json"],
+        &["patches[0][0]", "coordinate z", "below the smallest f64"],
+    ),
+    case(
+        &[(
             "r.json",
             r#"{"type":"ruled","u":[0,1],"v":[0,1],"curves":[{"x":"cos(t)","y":"sin(t)","z":"(2^1048576)^1048576","t":[0,1]},{"point":[0,0,1]}]}"#,
         )],
-        args: &["compose", "ruled", "r.json"],
-        names: &["r.json", "curves[0]", "coordinate z", "`2^1048576`"],
-    },
-    Case {
-        files: &[(
+        &["compose", "ruled", "r.json"],
+        &["r.json", "curves[0]", "coordinate z", "`2^1048576`"],
+    ),
+    case(
+        &[(
             "r.json",
             r#"{"type":"ruled","u":[0,1],"v":[0,1],"curves":[{"x":"cos(t)","y":"sin(s)","z":"1","t":[0,1]},{"point":[0,0,1]}]}"#,
         )],
-        args: &["compose", "ruled", "r.json"],
-        names: &["curves[0]", "coordinate y", "unknown variable `s`"],
-    },
-    Case {
-        files: &[(
+        &["compose", "ruled", "r.json"],
+        &["curves[0]", "coordinate y", "unknown variable `s`"],
+    ),
+    case(
+        &[(
             "f.json",
             r#"{"type":"formula","what":"x","variables":["x"],"coordinates":["f"],"op_count":1,"formulas":{},"model":{"type":"piecewise","knots":[0,1],"pieces":["(7e-4000)^100*x"]}}"#,
         )],
-        args: &["eval", "f.json", "--samples", "3"],
-        names: &["f.json", "\"model\"", "`7e-4000`"],
-    },
-    Case {
-        files: &[(
+        &["eval", "f.json", "--samples", "3"],
+        &["f.json", "\"model\"", "`7e-4000`"],
+    ),
+    case(
+        &[(
             "f.json",
             r#"{"type":"formula","what":"x","variables":["x"],"coordinates":["f"],"op_count":1,"formulas":{},"model":{"type":"piecewise","knots":[0,1],"pieces":["1.5^100000*x"]}}"#,
         )],
-        args: &["render", "f.json", "-o", "f.svg"],
-        names: &["f.json", "`1.5^100000`"],
-    },
+        &["render", "f.json", "-o", "f.svg"],
+        &["f.json", "`1.5^100000`"],
+    ),
 ];
 
 #[test]

@@ -1,49 +1,49 @@
 //! `geomkit interpolate curve|surface`: points, parameters, end conditions, offsets,
 //! tangents, tiles and sample counts.
 
-use crate::Case;
+use crate::{case, Case};
 
 const POINTS: &str = "x,y\n0,0\n1,2\n2,1\n3,3\n";
 
 pub const CASES: &[Case] = &[
-    Case {
-        files: &[("p.csv", "x,y\n0,0\n1,nan\n2,1\n")],
-        args: &["interpolate", "curve", "p.csv", "-o", "c.json"],
-        names: &["p.csv:3:2", "nan"],
-    },
-    Case {
-        files: &[("p.csv", "x,y\n0,0\n1,1e999\n2,1\n")],
-        args: &["interpolate", "curve", "p.csv", "-o", "c.json"],
-        names: &["p.csv"],
-    },
-    Case {
-        files: &[("p.csv", "x,y\n0,0\n")],
-        args: &["interpolate", "curve", "p.csv", "-o", "c.json"],
-        names: &["p.csv", "2"],
-    },
-    Case {
-        files: &[("p.csv", "x,y\n")],
-        args: &["interpolate", "curve", "p.csv", "-o", "c.json"],
-        names: &["p.csv"],
-    },
-    Case {
-        files: &[("p.csv", "x,y\n0,0\n1,2,3\n2,1\n")],
-        args: &["interpolate", "curve", "p.csv", "-o", "c.json"],
-        names: &["p.csv:3", "columns"],
-    },
-    Case {
-        files: &[("p.csv", "x,y\n0,0\n0,0\n2,1\n3,3\n")],
-        args: &["interpolate", "curve", "p.csv", "-o", "c.json"],
-        names: &["lines 2 and 3", "same point"],
-    },
-    Case {
-        files: &[("p.csv", "x,y\n-1.7e308,0\n1.7e308,1\n0,2\n1,3\n")],
-        args: &["interpolate", "curve", "p.csv", "-o", "c.json"],
-        names: &["p.csv"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &[
+    case(
+        &[("p.csv", "x,y\n0,0\n1,nan\n2,1\n")],
+        &["interpolate", "curve", "p.csv", "-o", "c.json"],
+        &["p.csv:3:2", "nan"],
+    ),
+    case(
+        &[("p.csv", "x,y\n0,0\n1,1e999\n2,1\n")],
+        &["interpolate", "curve", "p.csv", "-o", "c.json"],
+        &["p.csv"],
+    ),
+    case(
+        &[("p.csv", "x,y\n0,0\n")],
+        &["interpolate", "curve", "p.csv", "-o", "c.json"],
+        &["p.csv", "2"],
+    ),
+    case(
+        &[("p.csv", "x,y\n")],
+        &["interpolate", "curve", "p.csv", "-o", "c.json"],
+        &["p.csv"],
+    ),
+    case(
+        &[("p.csv", "x,y\n0,0\n1,2,3\n2,1\n")],
+        &["interpolate", "curve", "p.csv", "-o", "c.json"],
+        &["p.csv:3", "columns"],
+    ),
+    case(
+        &[("p.csv", "x,y\n0,0\n0,0\n2,1\n3,3\n")],
+        &["interpolate", "curve", "p.csv", "-o", "c.json"],
+        &["lines 2 and 3", "same point"],
+    ),
+    case(
+        &[("p.csv", "x,y\n-1.7e308,0\n1.7e308,1\n0,2\n1,3\n")],
+        &["interpolate", "curve", "p.csv", "-o", "c.json"],
+        &["p.csv"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -54,11 +54,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["offset"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &[
+        &["offset"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -69,11 +69,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["offset"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &[
+        &["offset"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -84,11 +84,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["p.csv"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &[
+        &["p.csv"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -97,11 +97,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["--end", "bogus"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &[
+        &["--end", "bogus"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -112,11 +112,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["tangent"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &[
+        &["tangent"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -127,11 +127,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["tangent"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &[
+        &["tangent"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -142,11 +142,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["uniform"],
-    },
-    Case {
-        files: &[("p.csv", POINTS), ("t.csv", "t\n0\n1\n1\n2\n")],
-        args: &[
+        &["uniform"],
+    ),
+    case(
+        &[("p.csv", POINTS), ("t.csv", "t\n0\n1\n1\n2\n")],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -155,11 +155,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["t.csv", "increasing"],
-    },
-    Case {
-        files: &[("p.csv", POINTS), ("t.csv", "t\n0\n1\n2\n")],
-        args: &[
+        &["t.csv", "increasing"],
+    ),
+    case(
+        &[("p.csv", POINTS), ("t.csv", "t\n0\n1\n2\n")],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -168,14 +168,14 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["t.csv"],
-    },
-    Case {
-        files: &[
+        &["t.csv"],
+    ),
+    case(
+        &[
             ("p.csv", POINTS),
             ("t.csv", "t\n-1e308\n0\n1e308\n1.7e308\n"),
         ],
-        args: &[
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -184,11 +184,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["scale the parameters down"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &[
+        &["scale the parameters down"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -197,11 +197,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["missing.csv"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &[
+        &["missing.csv"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -210,11 +210,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.csv",
         ],
-        names: &["--samples"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &[
+        &["--samples"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &[
             "interpolate",
             "curve",
             "p.csv",
@@ -223,16 +223,16 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        names: &["--tile"],
-    },
-    Case {
-        files: &[("p.csv", POINTS)],
-        args: &["interpolate", "curve", "p.csv", "-o", "c.xyz"],
-        names: &["c.xyz"],
-    },
-    Case {
-        files: &[("h.csv", "1,2,3\n4,5,6\n7,8,9\n")],
-        args: &[
+        &["--tile"],
+    ),
+    case(
+        &[("p.csv", POINTS)],
+        &["interpolate", "curve", "p.csv", "-o", "c.xyz"],
+        &["c.xyz"],
+    ),
+    case(
+        &[("h.csv", "1,2,3\n4,5,6\n7,8,9\n")],
+        &[
             "interpolate",
             "surface",
             "h.csv",
@@ -242,11 +242,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "s.json",
         ],
-        names: &["--dx"],
-    },
-    Case {
-        files: &[("h.csv", "1,2,3\n4,5,6\n7,8,9\n")],
-        args: &[
+        &["--dx"],
+    ),
+    case(
+        &[("h.csv", "1,2,3\n4,5,6\n7,8,9\n")],
+        &[
             "interpolate",
             "surface",
             "h.csv",
@@ -256,11 +256,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "s.json",
         ],
-        names: &["--dy"],
-    },
-    Case {
-        files: &[("h.csv", "1,2,3\n4,5,6\n7,8,9\n")],
-        args: &[
+        &["--dy"],
+    ),
+    case(
+        &[("h.csv", "1,2,3\n4,5,6\n7,8,9\n")],
+        &[
             "interpolate",
             "surface",
             "h.csv",
@@ -270,11 +270,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "s.json",
         ],
-        names: &["--x0"],
-    },
-    Case {
-        files: &[("h.csv", "1,2,3\n4,5\n7,8,9\n")],
-        args: &[
+        &["--x0"],
+    ),
+    case(
+        &[("h.csv", "1,2,3\n4,5\n7,8,9\n")],
+        &[
             "interpolate",
             "surface",
             "h.csv",
@@ -282,11 +282,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "s.json",
         ],
-        names: &["h.csv:2", "columns"],
-    },
-    Case {
-        files: &[("h.csv", "1,2,3\n4,nan,6\n7,8,9\n")],
-        args: &[
+        &["h.csv:2", "columns"],
+    ),
+    case(
+        &[("h.csv", "1,2,3\n4,nan,6\n7,8,9\n")],
+        &[
             "interpolate",
             "surface",
             "h.csv",
@@ -294,11 +294,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "s.json",
         ],
-        names: &["h.csv"],
-    },
-    Case {
-        files: &[("p.csv", "x,y,z\n0,0,0\n1,0,1\n0,1,0\n1,1,1\n")],
-        args: &[
+        &["h.csv"],
+    ),
+    case(
+        &[("p.csv", "x,y,z\n0,0,0\n1,0,1\n0,1,0\n1,1,1\n")],
+        &[
             "interpolate",
             "surface",
             "p.csv",
@@ -309,11 +309,11 @@ pub const CASES: &[Case] = &[
             "-o",
             "s.json",
         ],
-        names: &["--rows", "--cols"],
-    },
-    Case {
-        files: &[("h.csv", "1,2,3\n4,5,6\n7,8,9\n")],
-        args: &[
+        &["--rows", "--cols"],
+    ),
+    case(
+        &[("h.csv", "1,2,3\n4,5,6\n7,8,9\n")],
+        &[
             "interpolate",
             "surface",
             "h.csv",
@@ -323,8 +323,8 @@ pub const CASES: &[Case] = &[
             "-o",
             "s.csv",
         ],
-        names: &["--samples"],
-    },
+        &["--samples"],
+    ),
 ];
 
 #[test]
