@@ -1094,6 +1094,42 @@ impl Graph {
         v
     }
 
+    /// The first node reachable from `roots` (in topological order) that depends on no
+    /// variable and has no finite `f64` value: a function of a constant outside its domain
+    /// (`asin(3/2)`, `sqrt(-2)`, `ln(0)`, which the engine keeps unfolded), a division by an
+    /// exact zero, or a constant beyond the range of `f64`. Such a node makes every value of
+    /// the expression NaN or infinite whatever the variables; `None` when there is none.
+    ///
+    /// ```
+    /// use geomkit_expr::{parse, Graph};
+    /// let mut g = Graph::new();
+    /// let ok = parse(&mut g, "asin(x) + asin(1/2)").unwrap();
+    /// assert_eq!(g.undefined_constant(&[ok]), None);
+    /// let bad = parse(&mut g, "x + asin(3/2)").unwrap();
+    /// let at = g.undefined_constant(&[bad]).unwrap();
+    /// assert!(g.eval(at, &[]).unwrap().is_nan());
+    /// ```
+    pub fn undefined_constant(&self, roots: &[Id]) -> Option<Id> {
+        let order = self.reachable(roots);
+        // The value of each node that depends on no variable (children come first: ids
+        // are given out bottom-up).
+        let mut val: HashMap<Id, Option<f64>> = HashMap::with_capacity(order.len());
+        for id in order {
+            let mut constant = !matches!(self.node(id), Node::Var(_));
+            self.for_each_child(id, |c| constant &= val[&c].is_some());
+            let x = if constant {
+                match self.eval_node(id, |c| val[&c].unwrap_or(f64::NAN), |_| None) {
+                    Ok(x) if x.is_finite() => Some(x),
+                    _ => return Some(id),
+                }
+            } else {
+                None
+            };
+            val.insert(id, x);
+        }
+        None
+    }
+
     /// The value of `e` in `f64` with the given variable values.
     ///
     /// # Errors

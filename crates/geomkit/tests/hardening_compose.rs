@@ -310,3 +310,53 @@ fn structural_evaluator_of_partial_patches_stays_in_the_cell() {
         );
     }
 }
+
+/// asin((x - 2.005)/0.004999999999999893) on [2, 2.01]: with the decimals exact, the
+/// argument at x = 2 is -1.00000000000002 and asin is undefined; in f64 it is exactly -1
+/// (the patch is finite where the construction checks it). The formulas' constant terms
+/// F(x_i) (piecewise) and the edge terms r(0, t), r(s, 0), r(0, 0) of formula (9) took the
+/// exact value and were NaN everywhere (found by `fuzz_formula_patches`); they now take
+/// the f64 parameter, and the formulas equal the clamped arc sine.
+#[test]
+fn decimals_an_ulp_outside_a_function_domain_do_not_poison_the_formula() {
+    let f = "asin((x - 2.005)/0.004999999999999893)";
+    let want = |x: f64| ((x.clamp(2.0, 2.01) - 2.005) / 0.004999999999999893).clamp(-1.0, 1.0);
+    let xs: [f64; 9] = [-3.0, 0.5, 1.0, 2.0, 2.0025, 2.005, 2.0075, 2.01, 7.0];
+    // Piecewise: x on [1, 2], then the arc sine shifted onto F(2) = 2.
+    let p = Piecewise::function(vec![1.0, 2.0, 2.01], &["x", f]).unwrap();
+    for x in xs {
+        let w = if x <= 2.0 {
+            x.clamp(1.0, 2.0)
+        } else {
+            2.0 + want(x).asin() + std::f64::consts::FRAC_PI_2
+        };
+        let got = tape(&p, x);
+        assert!((got - w).abs() <= 1e-6, "x = {x}: formula {got}, want {w}");
+    }
+    // A surface whose second column of cells holds the arc sine: its edge terms at x = 2.
+    let z = |f: &str| ExprPatch::parse(&[("z", f)], &["x", "y"], None).unwrap();
+    let s = CompositeSurface::from_expr(
+        vec![1.0, 2.0, 2.01],
+        vec![0.0, 1.0, 2.0],
+        vec![
+            vec![z("-pi/2 + y"), z("-pi/2 + y")],
+            vec![z(&format!("{f} + y")), z(&format!("{f} + y"))],
+        ],
+        SurfaceKind::Explicit,
+    )
+    .unwrap();
+    let formula = s.formula().unwrap();
+    for x in xs {
+        for y in [-1.0f64, 0.0, 0.5, 1.0, 1.5, 2.0, 3.0] {
+            let w = want(x).asin() + y.clamp(0.0, 2.0);
+            let mut out = [0.0];
+            formula.eval_batch(&[&[x], &[y]], &mut out).unwrap();
+            let e = geomkit::geom::Surface::eval(&s, x, y)[0];
+            assert!(
+                (out[0] - w).abs() <= 1e-6 && (e - w).abs() <= 1e-6,
+                "({x}, {y}): formula {}, evaluator {e}, want {w}",
+                out[0]
+            );
+        }
+    }
+}

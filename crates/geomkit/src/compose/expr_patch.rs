@@ -371,25 +371,35 @@ impl ExprPatch {
         hints: &mut Hints,
     ) -> Vec<Id> {
         let partial = self.is_partial();
-        let args: Vec<Id> = locals
+        let exact = |dst: &mut Graph, l: Id, (a, b): (f64, f64)| {
+            let (na, nb) = (num(dst, a), num(dst, b));
+            let w = dst.sub(nb, na);
+            let wl = dst.mul(w, l);
+            dst.add(na, wl)
+        };
+        let mut args: Vec<Id> = locals
             .iter()
             .zip(domain)
-            .map(|(local, &(a, b))| match *local {
-                Local::Const(c) => {
-                    let (na, nb) = (num(dst, a), num(dst, b));
-                    let w = dst.sub(nb, na);
-                    let wl = dst.mul(w, c);
-                    dst.add(na, wl)
-                }
-                Local::Cell { ramp, .. } if !partial => {
-                    let (na, nb) = (num(dst, a), num(dst, b));
-                    let w = dst.sub(nb, na);
-                    let wl = dst.mul(w, ramp);
-                    dst.add(na, wl)
-                }
-                Local::Cell { x, cell, .. } => clamped_argument(dst, x, cell, (a, b), hints),
+            .map(|(local, &d)| match *local {
+                Local::Const(c) => exact(dst, c, d),
+                Local::Cell { ramp, .. } if !partial => exact(dst, ramp, d),
+                Local::Cell { x, cell, .. } => clamped_argument(dst, x, cell, d, hints),
             })
             .collect();
+        let placed = self.place(dst, &args);
+        if dst.undefined_constant(&placed).is_none() {
+            return placed;
+        }
+        // The decimals of the patch and of its domain, exact, can put a function beyond its
+        // domain at a constant argument where f64 does not (asin((x - 2.005)/0.004999999999999893)
+        // on [2, 2.01] is asin(-1.00000000000002) at x = 2 exactly, and asin(-1) in f64, as
+        // the construction checked): such arguments are the f64 values of the parameters.
+        for ((arg, local), &(a, b)) in args.iter_mut().zip(locals).zip(domain) {
+            if let Local::Const(c) = *local {
+                let s = dst.as_const(c).map_or(0.0, Const::to_f64);
+                *arg = dst.num(local_to_param(s, a, b));
+            }
+        }
         self.place(dst, &args)
     }
 

@@ -202,7 +202,9 @@ impl TermsOverflow {
 ///   smaller than their terms suggest ([`Hints`]: a ramp P is in [0, 1], |x - x_i| at most
 ///   twice the span of the knots: cancellation the terms cannot show); functions
 ///   without a bound (exp, ln, tan, a division) leave their node unbounded, and unbounded
-///   nodes are not judged.
+///   nodes are not judged;
+/// - no part that depends on no variable is undefined ([`Graph::undefined_constant`]:
+///   `asin` of a constant beyond 1, which would make the formula NaN everywhere).
 ///
 /// Errors: the first node that fails, with the coefficient or the bound.
 pub(crate) fn check_terms(
@@ -301,6 +303,17 @@ pub(crate) fn check_terms(
             (b, None) => b,
         };
         bound.insert(id, b);
+    }
+    if let Some(node) = g.undefined_constant(roots) {
+        return Err(TermsOverflow {
+            node,
+            step: format!(
+                "it evaluates to {} whatever the variables (a function of a constant outside \
+                 its domain)",
+                g.eval(node, &[]).unwrap_or(f64::NAN)
+            ),
+            underflow: None,
+        });
     }
     Ok(())
 }

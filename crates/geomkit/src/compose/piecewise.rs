@@ -466,16 +466,7 @@ impl Piecewise {
                         ramp: ps[i],
                     };
                     let at = p.place_clamped(&mut g, &[local], &d, &mut hints);
-                    let mut start = p.place_local(&mut g, &[zero], &d);
-                    // F_i(x_i) as the formula writes it keeps the piece's decimals exact; where
-                    // that lands outside the piece's domain (asin((2 - 2.005)/0.0049999) is
-                    // asin(-1.00000000000002) exactly, but finite in f64, as checked), the f64
-                    // value stands in, so that the constant never poisons the formula.
-                    for (c, s) in start.iter_mut().enumerate() {
-                        if !g.eval(*s, &[]).is_ok_and(f64::is_finite) {
-                            *s = g.num(ends_at_start(p, &d)[c]);
-                        }
-                    }
+                    let start = p.place_clamped(&mut g, &[Local::Const(zero)], &d, &mut hints);
                     let mut group = Vec::with_capacity(self.dim());
                     for (c, sum) in sums.iter_mut().enumerate() {
                         let term = if i >= 1 {
@@ -620,13 +611,6 @@ fn breakpoint_report<'a>(
         jumps,
         tolerance: 64.0 * f64::EPSILON * scale.max(f64::MIN_POSITIVE),
     })
-}
-
-/// A piece's value at the start of its domain, in f64 (finite: checked at construction).
-fn ends_at_start(p: &ExprPatch, d: &[(f64, f64)]) -> Vec<f64> {
-    let mut out = vec![0.0; p.dim()];
-    p.eval_local_many(d, &[&[0.0]], &mut out);
-    out
 }
 
 /// Local coordinates of the interior samples of a piece's finiteness check (warnings).
