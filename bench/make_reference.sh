@@ -7,7 +7,8 @@
 #
 # Creates bench/.venv (git-ignored) if missing and installs bench/requirements.txt into it
 # (again whenever that file changes), then runs bench/make_reference.py, which writes
-# bezier_reference.json and bspline_scipy.json (deterministic: same versions and CPU, same bytes).
+# bezier_reference.json and bspline_scipy.json, and make_reference_spline.py, which writes
+# spline_scipy.json (any degree; deterministic: same versions and CPU, same bytes).
 # The files are committed; the Rust tests (crates/geomkit/tests/reference_*.rs) read them
 # and never run Python. Environment: PYTHON (default python3) creates the venv.
 set -euo pipefail
@@ -27,4 +28,5 @@ if ! cmp -s "$here/requirements.txt" "$stamp"; then
 fi
 
 "$venv/bin/python" "$here/make_reference.py" "$@"
+"$venv/bin/python" "$here/make_reference_spline.py"
 exec "$venv/bin/python" "$here/make_reference_pointcalc.py"

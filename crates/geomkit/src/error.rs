@@ -194,6 +194,16 @@ pub enum Error {
         /// Why.
         reason: &'static str,
     },
+    /// Interpolation data, knots or end conditions that do not make an interpolating spline
+    /// (the cases of SciPy's `make_interp_spline`, worded so that its phrases appear: "Shapes
+    /// of x", "x to not have duplicates", "Expect x to be a 1D strictly increasing
+    /// sequence", "The number of derivatives at boundaries does not match"), with what to
+    /// change.
+    #[error("{reason}")]
+    Interpolation {
+        /// What is wrong, where, and what to change.
+        reason: String,
+    },
     /// Given parameters that are not finite and strictly increasing, or of the wrong count.
     #[error("invalid parameter {index}: {reason}")]
     InvalidParameter {

@@ -47,6 +47,16 @@ impl BandMatrix {
         self.data[k] = v;
     }
 
+    /// Adds v to entry (i, j), which must lie within the band.
+    pub fn add(&mut self, i: usize, j: usize, v: f64) {
+        debug_assert!(
+            j + self.kl >= i && j <= i + self.ku,
+            "({i},{j}) outside band"
+        );
+        let k = self.idx(i, j);
+        self.data[k] += v;
+    }
+
     /// Solves A X = B in place (B row-major n × cols), destroying A. Errors when A is
     /// singular to working precision.
     #[cfg(test)]
@@ -57,10 +67,17 @@ impl BandMatrix {
 
     /// LU factorization with partial pivoting (row exchanges within the band). Errors when A
     /// is singular to working precision.
-    pub fn factor(mut self) -> Result<BandLu> {
+    pub fn factor(self) -> Result<BandLu> {
+        let rel = f64::EPSILON * self.n as f64 * 1e-3;
+        self.factor_below(rel)
+    }
+
+    /// [`BandMatrix::factor`] refusing pivots at most `rel` times the largest entry (0: only
+    /// zero pivots; for callers that judge the solution by iterative refinement instead).
+    pub fn factor_below(mut self, rel: f64) -> Result<BandLu> {
         let (n, kl, ku) = (self.n, self.kl, self.ku);
         let scale = self.data.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let tiny = scale * f64::EPSILON * n as f64 * 1e-3;
+        let tiny = scale * rel;
         let mut pivots = Vec::with_capacity(n);
         for k in 0..n {
             let last = (k + kl).min(n - 1);
@@ -104,6 +121,34 @@ impl BandMatrix {
             }
         }
         Ok(BandLu { a: self, pivots })
+    }
+}
+
+impl BandMatrix {
+    /// The residual B - A X (row-major n × cols) in doubled precision: each product exact
+    /// (a fused multiply-add gives its rounding error) and the sums compensated (TwoSum),
+    /// rounded once at the end. What iterative refinement needs to recover the digits an
+    /// ill-conditioned solve loses.
+    pub fn residual(&self, x: &[f64], b: &[f64], cols: usize) -> Vec<f64> {
+        let (n, kl, ku) = (self.n, self.kl, self.ku);
+        let mut out = vec![0.0; n * cols];
+        for i in 0..n {
+            let (lo, hi) = (i.saturating_sub(kl), (i + ku).min(n - 1));
+            for c in 0..cols {
+                let (mut s, mut err) = (b[i * cols + c], 0.0);
+                for j in lo..=hi {
+                    let a = self.data[self.idx(i, j)];
+                    let p = -a * x[j * cols + c];
+                    let pe = (-a).mul_add(x[j * cols + c], -p);
+                    let t = s + p;
+                    let z = t - s;
+                    err += (s - (t - z)) + (p - z) + pe;
+                    s = t;
+                }
+                out[i * cols + c] = s + err;
+            }
+        }
+        out
     }
 }
 

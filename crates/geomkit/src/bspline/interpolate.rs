@@ -1163,7 +1163,7 @@ pub(crate) fn fill_open_ends(knots: &mut [f64]) {
 }
 
 /// Derivative at t[0] of the parabola through the first three points (or the chord for two).
-fn bessel_tangent(points: &[f64], dim: usize, t: &[f64]) -> Vec<f64> {
+pub(crate) fn bessel_tangent(points: &[f64], dim: usize, t: &[f64]) -> Vec<f64> {
     if t.len() == 2 || points.len() / dim == 2 {
         return (0..dim)
             .map(|c| (points[dim + c] - points[c]) / (t[1] - t[0]))

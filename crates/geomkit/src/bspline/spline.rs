@@ -1,0 +1,795 @@
+//! Interpolating B-splines of any degree k = 1..=7 through data (x_i, y_i), in SciPy's
+//! representation (spec/bspline-interpolation.md §6; issue 22): the knots t and
+//! coefficients c of `scipy.interpolate.make_interp_spline(x, y, k, t, bc_type)`, with its
+//! knot placement, its end conditions (a list of derivative conditions at each end, the
+//! aliases "natural" and "clamped", periodic) and its errors, worded so that its phrases
+//! appear ("Shapes of x", "Expect x to not have duplicates", ...).
+//!
+//! The method: with nt = len(t) - k - 1 coefficients, n interpolation conditions
+//! s(x_i) = y_i and nt - n derivative conditions at the ends form a banded system (at most k
+//! sub- and k super-diagonals: each row holds the k + 1 B-splines that are nonzero at its
+//! point), solved by LU with partial pivoting in O(n k^2), as SciPy's LAPACK `gbsv`. The
+//! derivative rows are formed in units of the end interval (SciPy's rows exactly when it is
+//! near 1; on data spaced 1e-50 apart SciPy's entries ~ 1/h^k overflow).
+//!
+//! Knots (none given):
+//! - no end conditions: not-a-knot, t = [x_0]*(k+1) + x[(k+1)/2 .. n-(k+1)/2] +
+//!   [x_(n-1)]*(k+1) for odd k; for even k the midpoints (x_i + x_(i+1))/2 in place of the
+//!   x (from the k/2-th midpoint on; FITPACK's and SciPy's choice);
+//! - derivative conditions: t = [x_0]*k + x + [x_(n-1)]*k (k - 1 conditions in all);
+//! - periodic: the x (even k: the midpoints inside) continued by the spacings of the other
+//!   end (SciPy's `_periodic_knots`); n - 1 free coefficients, the first and last k
+//!   coefficients repeating them. Solved as a cyclic band (corner blocks by the Woodbury
+//!   formula, as SciPy) or, for few points, densely.
+//!
+//! Differences from SciPy, on purpose: degree 0 is not offered (a step function: use the
+//! data), and "bessel" is an extra end condition (the first derivative of the parabola
+//! through the three points nearest the end), which geomkit's cubic interpolation offers too.
+//! Smoothing (s > 0) and complex values are out of scope.
+//!
+//! ```
+//! use geomkit::bspline::{make_interp_spline, EndSpec, SplineEnds, SplineOptions};
+//! use geomkit::geom::Curve;
+//! let x = [0.0, 1.0, 2.5, 3.0, 4.0, 6.0];
+//! let y = [1.0, 0.0, 2.0, 1.5, -1.0, 0.5];
+//! // A quintic, clamped at the left (zero slope and curvature), natural at the right.
+//! let ends = SplineEnds::Open {
+//!     left: EndSpec::Derivatives(vec![(1, vec![0.0]), (2, vec![0.0])]),
+//!     right: EndSpec::Derivatives(vec![(2, vec![0.0]), (3, vec![0.0])]),
+//! };
+//! let s = make_interp_spline(&x, &y, 1, &SplineOptions::new(5).with_ends(ends)).unwrap();
+//! assert_eq!(s.knots().len(), x.len() + 2 * 5);
+//! for (xi, yi) in x.iter().zip(y) {
+//!     assert!((s.eval(*xi)[0] - yi).abs() < 1e-13);
+//! }
+//! ```
+
+use super::banded::BandMatrix;
+use super::curve::{basis_funs, basis_funs_derivs, find_span, BsplineCurve};
+use super::interpolate::bessel_tangent;
+use crate::{Error, Result};
+
+/// The highest degree [`make_interp_spline`] takes (the B-spline curves' own limit).
+pub const MAX_SPLINE_DEGREE: usize = 7;
+
+/// Conditions at one end of an open interpolating spline: one half of SciPy's `bc_type`.
+#[derive(Debug, Clone, PartialEq, Default)]
+#[non_exhaustive]
+pub enum EndSpec {
+    /// No condition at this end (SciPy's `None`); with none at either end and no knots
+    /// given, the not-a-knot knots.
+    #[default]
+    NotAKnot,
+    /// Derivatives of the given orders (0..=k) with their values: one value per coordinate,
+    /// or one for all coordinates (SciPy's `[(order, value), ...]`).
+    Derivatives(Vec<(usize, Vec<f64>)>),
+    /// The first derivative of the parabola through the three points nearest the end
+    /// (Bessel's estimate; with two points the chord's slope).
+    Bessel,
+}
+
+impl EndSpec {
+    /// A zero second derivative (SciPy's "natural").
+    pub fn natural() -> Self {
+        EndSpec::Derivatives(vec![(2, vec![0.0])])
+    }
+
+    /// A zero first derivative (SciPy's "clamped").
+    pub fn clamped() -> Self {
+        EndSpec::Derivatives(vec![(1, vec![0.0])])
+    }
+}
+
+/// The end conditions of [`make_interp_spline`] (SciPy's `bc_type`).
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum SplineEnds {
+    /// An open curve with conditions at its left (first) and right (last) ends.
+    Open {
+        /// At x_0.
+        left: EndSpec,
+        /// At x_(n-1).
+        right: EndSpec,
+    },
+    /// A periodic curve: y_(n-1) equals y_0 (within SciPy's `allclose`: 1e-5 relative,
+    /// 1e-15 absolute) and the derivatives up to order k - 1 are continuous across the ends.
+    Periodic,
+}
+
+impl Default for SplineEnds {
+    fn default() -> Self {
+        SplineEnds::Open {
+            left: EndSpec::NotAKnot,
+            right: EndSpec::NotAKnot,
+        }
+    }
+}
+
+impl SplineEnds {
+    /// The same condition at both ends.
+    pub fn both(end: EndSpec) -> Self {
+        SplineEnds::Open {
+            left: end.clone(),
+            right: end,
+        }
+    }
+}
+
+/// Options of [`make_interp_spline`].
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub struct SplineOptions {
+    /// Degree k (1..=7; default 3).
+    pub degree: usize,
+    /// End conditions (default: not-a-knot).
+    pub ends: SplineEnds,
+    /// Knots (SciPy's `t`), or `None` for the default placement of the module docs.
+    pub knots: Option<Vec<f64>>,
+}
+
+impl Default for SplineOptions {
+    fn default() -> Self {
+        SplineOptions::new(3)
+    }
+}
+
+impl SplineOptions {
+    /// Degree k, not-a-knot ends, default knots.
+    pub fn new(degree: usize) -> Self {
+        SplineOptions {
+            degree,
+            ends: SplineEnds::default(),
+            knots: None,
+        }
+    }
+
+    /// Sets the end conditions.
+    pub fn with_ends(mut self, ends: SplineEnds) -> Self {
+        self.ends = ends;
+        self
+    }
+
+    /// Sets the knots.
+    pub fn with_knots(mut self, knots: Vec<f64>) -> Self {
+        self.knots = Some(knots);
+        self
+    }
+}
+
+/// The interpolating B-spline of degree k through (x_i, y_i) (`y` row-major, `dim`
+/// coordinates per point) in SciPy's representation: the knots and coefficients of
+/// `make_interp_spline(x, y, k, t, bc_type)` (to rounding). The result evaluates beyond
+/// [x_0, x_(n-1)] by its end polynomials; a periodic one repeats with the period
+/// x_(n-1) - x_0 (evaluate at x_0 + (x - x_0) mod period, as SciPy's `extrapolate='periodic'`).
+///
+/// Errors ([`Error::Interpolation`] unless said): y of the wrong length for x ("Shapes of
+/// x"), non-finite x or y ([`Error::NonFinite`]), fewer than 2 points, repeated or
+/// decreasing x, a degree outside 1..=7, knots that are not sorted, too few, or do not
+/// cover x, end conditions of the wrong number for the knots ("The number of derivatives at
+/// boundaries does not match"), derivative orders above k, values of the wrong dimension,
+/// periodic ends whose first and last y differ or with given knots, and a singular system
+/// (knots that do not suit x: the Schoenberg–Whitney condition).
+pub fn make_interp_spline(
+    x: &[f64],
+    y: &[f64],
+    dim: usize,
+    options: &SplineOptions,
+) -> Result<BsplineCurve> {
+    let k = options.degree;
+    check_data(x, y, dim)?;
+    let n = x.len();
+    let periodic = options.ends == SplineEnds::Periodic;
+    if periodic {
+        check_closed(y, dim)?;
+    }
+    if k == 0 || k > MAX_SPLINE_DEGREE {
+        return Err(interp(format!(
+            "degree {k} is not supported: give a degree from 1 to {MAX_SPLINE_DEGREE}"
+        )));
+    }
+    let (left, right) = match &options.ends {
+        SplineEnds::Open { left, right } => (left, right),
+        SplineEnds::Periodic => (&EndSpec::NotAKnot, &EndSpec::NotAKnot),
+    };
+    let free = *left == EndSpec::NotAKnot && *right == EndSpec::NotAKnot;
+    let t = match &options.knots {
+        Some(_) if periodic => {
+            return Err(interp(
+                "periodic splines make their own knots: give no knots with periodic ends".into(),
+            ))
+        }
+        Some(t) => {
+            check_knots(t, x, k)?;
+            t.clone()
+        }
+        // SciPy's special case: the broken line through the points (closed when periodic).
+        None if k == 1 && free => {
+            let mut t = Vec::with_capacity(n + 2);
+            t.push(x[0]);
+            t.extend_from_slice(x);
+            t.push(x[n - 1]);
+            return BsplineCurve::from_flat(1, t, dim, y.to_vec());
+        }
+        None if periodic => periodic_knots(x, k),
+        None if free => not_a_knot_knots(x, k),
+        None => augmented_knots(x, k),
+    };
+    let c = if periodic {
+        solve_periodic(x, y, dim, &t, k)?
+    } else {
+        let left = resolve_end(left, x, y, dim, k, true)?;
+        let right = resolve_end(right, x, y, dim, k, false)?;
+        solve_open(x, y, dim, &t, k, &left, &right)?
+    };
+    if let Some(i) = crate::points::first_non_finite(&c) {
+        return Err(Error::Overflow {
+            what: format!("interpolating spline coefficient {}", i / dim),
+            step: "it is not a finite number: the data or the end values are too large for \
+                   f64 at this spacing"
+                .into(),
+        });
+    }
+    BsplineCurve::from_flat(k, t, dim, c)
+}
+
+/// The not-a-knot knots of degree k for the points x (module docs; SciPy's `_not_a_knot`).
+/// For n < k + 1 points the inner part is empty (the knots then need end conditions).
+pub fn not_a_knot_knots(x: &[f64], k: usize) -> Vec<f64> {
+    let n = x.len();
+    let mut t = vec![x[0]; k + 1];
+    if k % 2 == 1 {
+        let h = k.div_ceil(2);
+        if n > 2 * h {
+            t.extend_from_slice(&x[h..n - h]);
+        }
+    } else {
+        let h = k / 2;
+        // Midpoints m_i = (x_i + x_(i+1))/2, i = h .. n - 1 - h.
+        t.extend((h..(n - 1).saturating_sub(h)).map(|i| (x[i] + x[i + 1]) / 2.0));
+    }
+    t.extend(std::iter::repeat_n(x[n - 1], k + 1));
+    t
+}
+
+/// The knots for derivative end conditions: every x, the ends k + 1 fold (SciPy's
+/// `_augknt`).
+pub fn augmented_knots(x: &[f64], k: usize) -> Vec<f64> {
+    let n = x.len();
+    let mut t = Vec::with_capacity(n + 2 * k);
+    t.extend(std::iter::repeat_n(x[0], k));
+    t.extend_from_slice(x);
+    t.extend(std::iter::repeat_n(x[n - 1], k));
+    t
+}
+
+/// The knots of a periodic spline of degree k through x (n + 2k knots; SciPy's
+/// `_periodic_knots`): x itself (even k: the midpoints of x in place of its inner points)
+/// at k.., continued beyond each end by the spacings of the other end.
+pub fn periodic_knots(x: &[f64], k: usize) -> Vec<f64> {
+    let n = x.len();
+    let mut xc = x.to_vec();
+    if k.is_multiple_of(2) {
+        for i in 1..n - 1 {
+            xc[i] = x[i] - (x[i] - x[i - 1]) / 2.0;
+        }
+    }
+    let dx: Vec<f64> = xc.windows(2).map(|w| w[1] - w[0]).collect();
+    let mut t = vec![0.0; n + 2 * k];
+    t[k..k + n].copy_from_slice(&xc);
+    let len = t.len();
+    for i in 0..k {
+        t[k - i - 1] = t[k - i] - dx[n - 2 - i % (n - 1)];
+        t[len - k + i] = t[len - k + i - 1] + dx[i % (n - 1)];
+    }
+    t
+}
+
+fn interp(reason: String) -> Error {
+    Error::Interpolation { reason }
+}
+
+/// x finite, strictly increasing, one per point of y; y finite; at least 2 points.
+fn check_data(x: &[f64], y: &[f64], dim: usize) -> Result<()> {
+    if dim == 0 {
+        return Err(Error::ZeroDimension { what: "values y" });
+    }
+    if !y.len().is_multiple_of(dim) {
+        return Err(interp(format!(
+            "y has {} numbers, not a whole number of points of {dim} coordinates",
+            y.len()
+        )));
+    }
+    if x.len() != y.len() / dim {
+        return Err(interp(format!(
+            "Shapes of x ({},) and y ({}, {dim}) are incompatible: give one x per point",
+            x.len(),
+            y.len() / dim
+        )));
+    }
+    if x.len() < 2 {
+        return Err(Error::TooFewPoints {
+            what: "data points",
+            got: x.len(),
+            min: 2,
+        });
+    }
+    if let Some(i) = crate::points::first_non_finite(x) {
+        return Err(Error::NonFinite {
+            what: "x",
+            index: i,
+        });
+    }
+    if let Some(i) = crate::points::first_non_finite(y) {
+        return Err(Error::NonFinite {
+            what: "y",
+            index: i / dim,
+        });
+    }
+    if let Some(i) = (1..x.len()).find(|&i| x[i] == x[i - 1]) {
+        return Err(interp(format!(
+            "Expect x to not have duplicates: x[{}] = x[{i}] = {}; remove or merge the \
+             repeated point",
+            i - 1,
+            x[i]
+        )));
+    }
+    if let Some(i) = (1..x.len()).find(|&i| x[i] < x[i - 1]) {
+        return Err(interp(format!(
+            "Expect x to be a 1D strictly increasing sequence: x[{i}] = {} < x[{}] = {}; \
+             sort the points by x",
+            x[i],
+            i - 1,
+            x[i - 1]
+        )));
+    }
+    Ok(())
+}
+
+/// SciPy's check of periodic data: `allclose(y[0], y[-1], atol=1e-15)` (rtol 1e-5).
+fn check_closed(y: &[f64], dim: usize) -> Result<()> {
+    let n = y.len() / dim;
+    let (first, last) = (&y[..dim], &y[(n - 1) * dim..]);
+    let close = first
+        .iter()
+        .zip(last)
+        .all(|(a, b)| (a - b).abs() <= 1e-15 + 1e-5 * b.abs());
+    if close {
+        return Ok(());
+    }
+    Err(interp(format!(
+        "First and last points does not match while periodic case expected: y[0] = {first:?}, \
+         y[{}] = {last:?}; end the data with the first point again (to within 1e-5 relative)",
+        n - 1
+    )))
+}
+
+/// Given knots: finite, sorted, at least n + k + 1, with x inside [t_k, t_(len-k)].
+fn check_knots(t: &[f64], x: &[f64], k: usize) -> Result<()> {
+    if let Some(i) = crate::points::first_non_finite(t) {
+        return Err(Error::NonFinite {
+            what: "knot",
+            index: i,
+        });
+    }
+    if let Some(i) = (1..t.len()).find(|&i| t[i] < t[i - 1]) {
+        return Err(interp(format!(
+            "Expect t to be a 1-D sorted array_like: knot {i} = {} < knot {} = {}",
+            t[i],
+            i - 1,
+            t[i - 1]
+        )));
+    }
+    let n = x.len();
+    if t.len() < n + k + 1 {
+        return Err(interp(format!(
+            "Got {} knots, need at least {} (n + k + 1 for {n} points of degree {k})",
+            t.len(),
+            n + k + 1
+        )));
+    }
+    if x[0] < t[k] || x[n - 1] > t[t.len() - k] {
+        return Err(interp(format!(
+            "Out of bounds w/ x: x spans [{}, {}], the knots' base interval [t[{k}], t[{}]] \
+             is [{}, {}]",
+            x[0],
+            x[n - 1],
+            t.len() - k,
+            t[k],
+            t[t.len() - k]
+        )));
+    }
+    Ok(())
+}
+
+/// The derivative conditions of one end, values expanded to `dim` and checked.
+fn resolve_end(
+    end: &EndSpec,
+    x: &[f64],
+    y: &[f64],
+    dim: usize,
+    k: usize,
+    at_left: bool,
+) -> Result<Vec<(usize, Vec<f64>)>> {
+    let side = if at_left { "left" } else { "right" };
+    let at = if at_left { x[0] } else { x[x.len() - 1] };
+    Ok(match end {
+        EndSpec::NotAKnot => Vec::new(),
+        EndSpec::Bessel => {
+            let n = x.len();
+            let m = n.min(3);
+            if at_left {
+                vec![(1, bessel_tangent(&y[..m * dim], dim, &x[..m]))]
+            } else {
+                let pts: Vec<f64> = y[(n - m) * dim..]
+                    .chunks_exact(dim)
+                    .rev()
+                    .flatten()
+                    .copied()
+                    .collect();
+                let t: Vec<f64> = x[n - m..].iter().rev().map(|v| -v).collect();
+                let d = bessel_tangent(&pts, dim, &t);
+                vec![(1, d.iter().map(|v| -v).collect())]
+            }
+        }
+        EndSpec::Derivatives(list) => list
+            .iter()
+            .map(|(order, value)| {
+                if *order > k {
+                    return Err(interp(format!(
+                        "Bad boundary conditions at {at} ({side} end): derivative order \
+                         {order} is above the degree {k}; give orders 0..={k}"
+                    )));
+                }
+                let v = match value.len() {
+                    1 => vec![value[0]; dim],
+                    d if d == dim => value.clone(),
+                    d => {
+                        return Err(interp(format!(
+                            "the {side} end's derivative of order {order} has {d} values: \
+                             give one per coordinate ({dim}) or one for all"
+                        )))
+                    }
+                };
+                if v.iter().any(|a| !a.is_finite()) {
+                    return Err(interp(format!(
+                        "the {side} end's derivative of order {order} is not a finite number"
+                    )));
+                }
+                Ok((*order, v))
+            })
+            .collect::<Result<_>>()?,
+    })
+}
+
+/// The open system: nleft derivative rows at x_0, the n interpolation rows, nright
+/// derivative rows at x_(n-1); banded with k sub- and super-diagonals.
+fn solve_open(
+    x: &[f64],
+    y: &[f64],
+    dim: usize,
+    t: &[f64],
+    k: usize,
+    left: &[(usize, Vec<f64>)],
+    right: &[(usize, Vec<f64>)],
+) -> Result<Vec<f64>> {
+    let n = x.len();
+    let nt = t.len() - k - 1;
+    let (nl, nr) = (left.len(), right.len());
+    if nt != n + nl + nr {
+        let fix = if nt > n + nl + nr {
+            "add end conditions (e.g. \"natural\" or \"clamped\" at both ends), or lower the \
+             degree"
+        } else {
+            "remove end conditions"
+        };
+        return Err(interp(format!(
+            "The number of derivatives at boundaries does not match: expected {}, got {nl}+{nr} \
+             ({nt} coefficients for degree {k} on these knots, {n} points): {fix}",
+            nt as isize - n as isize
+        )));
+    }
+    let mut a = BandMatrix::zeros(nt, k, k);
+    let mut rhs = vec![0.0; nt * dim];
+    let mut basis = [0.0f64; 8];
+    // Derivative rows in the units of the end interval h (scaled by 2^(e ν) with 2^e the
+    // power of two nearest h: exact, and for h near 1 SciPy's rows bit for bit): formed on
+    // the knots scaled by 2^-e, where d/dx = 2^-e d/dx'. Unscaled, entries ~ 1/h^ν overflow
+    // for h = 1e-50 and decide the pivots for h = 1e-5; scaled by their largest entry
+    // instead, they let partial pivoting pick rows that lose digits in the ill-conditioned
+    // systems of conditions all at one end.
+    let derivative_rows = |a: &mut BandMatrix,
+                           rhs: &mut [f64],
+                           first_row: usize,
+                           at: f64,
+                           h: f64,
+                           conds: &[(usize, Vec<f64>)]|
+     -> Result<()> {
+        let l = find_span(t, k, nt, at);
+        let e = (h.log2().round() as i32).clamp(-1000, 1000);
+        let s = 2f64.powi(-e);
+        // t[l-k ..= l+k+1] scaled; |t|/h < 2^53, so no scaled knot overflows.
+        let local: Vec<f64> = t[l - k..=l + k + 1].iter().map(|v| v * s).collect();
+        for (r, (order, value)) in conds.iter().enumerate() {
+            check_band(first_row + r, l, k, || format!("the end condition at {at}"))?;
+            let ders = basis_funs_derivs(&local, k, at * s, k, *order);
+            for (j, v) in ders[*order][..=k].iter().enumerate() {
+                a.set(first_row + r, l - k + j, *v);
+            }
+            let out = &mut rhs[(first_row + r) * dim..(first_row + r + 1) * dim];
+            for (o, v) in out.iter_mut().zip(value) {
+                *o = (0..*order).fold(*v, |acc, _| acc * 2f64.powi(e));
+            }
+        }
+        Ok(())
+    };
+    derivative_rows(&mut a, &mut rhs, 0, x[0], x[1] - x[0], left)?;
+    derivative_rows(
+        &mut a,
+        &mut rhs,
+        nl + n,
+        x[n - 1],
+        x[n - 1] - x[n - 2],
+        right,
+    )?;
+    let mut l = k;
+    for (i, &xi) in x.iter().enumerate() {
+        // The knot interval t_l <= x_i < t_(l+1) (at the right end the last non-empty one).
+        l = find_span_from(t, k, nt, xi, l);
+        let r = nl + i;
+        check_band(r, l, k, || format!("x[{i}] = {xi}"))?;
+        basis_funs(t, l, xi, k, &mut basis[..=k]);
+        for (j, v) in basis[..=k].iter().enumerate() {
+            a.set(r, l - k + j, *v);
+        }
+        rhs[r * dim..(r + 1) * dim].copy_from_slice(&y[i * dim..(i + 1) * dim]);
+    }
+    solve_refined(a, rhs, dim)
+}
+
+/// Coefficients more than this many times the right-hand side's largest entry mark an
+/// ill-conditioned system (interpolation proper gives coefficients near the data), which
+/// [`solve_refined`] then refines.
+const AMPLIFIED: f64 = 8.0;
+
+/// Systems with at most this many right-hand side entries are refined in any case.
+const REFINE_ALWAYS: usize = 1 << 16;
+
+/// Refinement steps at most.
+const REFINE_STEPS: usize = 40;
+
+/// Solves A X = B by banded LU with partial pivoting; for small systems, and where X came
+/// out much larger than B (conditions all at one end: the system is ill-conditioned and a
+/// solve loses up to log10(cond) digits), refines X by iterative refinement with residuals in doubled
+/// precision ([`BandMatrix::residual`]) until the correction is below 1e-15 of X, which
+/// recovers the digits lost while cond · ε < 1. A system beyond that (the correction does
+/// not shrink) is refused as singular: an answer without correct digits is not returned.
+fn solve_refined(a: BandMatrix, b: Vec<f64>, dim: usize) -> Result<Vec<f64>> {
+    // Only exact zero pivots are refused here: refinement judges the rest.
+    let lu = a.clone().factor_below(0.0).map_err(|_| singular())?;
+    let mut x = b.clone();
+    lu.solve(&mut x, dim);
+    // Small systems are always refined (it costs less than the solve); large ones when
+    // amplified.
+    if b.len() > REFINE_ALWAYS && max_abs(&x) <= AMPLIFIED * max_abs(&b) {
+        return Ok(x);
+    }
+    let mut last = f64::INFINITY;
+    for _ in 0..REFINE_STEPS {
+        let mut d = a.residual(&x, &b, dim);
+        lu.solve(&mut d, dim);
+        for (v, e) in x.iter_mut().zip(&d) {
+            *v += e;
+        }
+        let step = max_abs(&d);
+        if step <= 1e-15 * max_abs(&x) {
+            return Ok(x);
+        }
+        if step.is_nan() || step >= 0.5 * last {
+            break;
+        }
+        last = step;
+    }
+    Err(interp(
+        "the interpolation system is too ill-conditioned for f64 (iterative refinement does \
+         not converge): conditions all at one end, or knots far from the points; split the \
+         end conditions between the ends or lower the degree"
+            .into(),
+    ))
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+/// [`find_span`] for x at or after the knot interval `from` (the points increase: a walk
+/// over the knots, O(n) for all points).
+fn find_span_from(t: &[f64], k: usize, nt: usize, x: f64, from: usize) -> usize {
+    if x >= t[nt] {
+        return find_span(t, k, nt, x);
+    }
+    let mut l = from;
+    while l + 1 < nt && t[l + 1] <= x {
+        l += 1;
+    }
+    l
+}
+
+/// Row r of a system with k sub- and super-diagonals can hold the k + 1 B-splines of knot
+/// interval l (columns l - k ..= l) when r <= l <= r + k; else the knots do not suit the
+/// points (`what`: the row's point, for the message).
+fn check_band(r: usize, l: usize, k: usize, what: impl FnOnce() -> String) -> Result<()> {
+    if l < r || l > r + k {
+        return Err(interp(format!(
+            "the knots do not suit x: {} lies in the knot interval [t[{l}], t[{}]), which \
+             puts its row outside the band of the collocation matrix (the Schoenberg–Whitney \
+             condition fails); place about one knot per point",
+            what(),
+            l + 1
+        )));
+    }
+    Ok(())
+}
+
+fn singular() -> Error {
+    interp(
+        "the collocation matrix is singular: the knots do not suit x (the Schoenberg–Whitney \
+         condition), or the end conditions repeat one another"
+            .into(),
+    )
+}
+
+/// Systems of at most this many unknowns are solved densely (periodic splines).
+const DENSE_PERIODIC: usize = 64;
+
+/// The periodic system (SciPy's `_make_periodic_spline`): n - 1 unknowns d_j, the
+/// coefficients c_j = d_((j - k/2) mod (n - 1)); few points (n <= k) as SciPy, by the full
+/// system with the k - 1 derivative continuity rows.
+fn solve_periodic(x: &[f64], y: &[f64], dim: usize, t: &[f64], k: usize) -> Result<Vec<f64>> {
+    let n = x.len();
+    let nt = n + k - 1;
+    if n <= k {
+        return solve_periodic_full(x, y, dim, t, k);
+    }
+    let m = n - 1;
+    let half = k / 2;
+    let mut basis = [0.0f64; 8];
+    // Row i: (column, value) of the cyclic matrix.
+    let mut entries: Vec<(usize, usize, f64)> = Vec::with_capacity(m * (k + 1));
+    let mut l = k;
+    for (i, &xi) in x[..m].iter().enumerate() {
+        l = find_span_from(t, k, nt, xi, l);
+        basis_funs(t, l, xi, k, &mut basis[..=k]);
+        for (r, v) in basis[..=k].iter().enumerate() {
+            let j = (l - k + r) as isize - half as isize;
+            entries.push((i, j.rem_euclid(m as isize) as usize, *v));
+        }
+    }
+    let rhs = &y[..m * dim];
+    let d = if m <= DENSE_PERIODIC {
+        dense_solve(m, &entries, rhs, dim)?
+    } else {
+        cyclic_band_solve(m, k, &entries, rhs, dim)?
+    };
+    let mut c = vec![0.0; nt * dim];
+    for j in 0..nt {
+        let q = (j as isize - half as isize).rem_euclid(m as isize) as usize;
+        c[j * dim..(j + 1) * dim].copy_from_slice(&d[q * dim..(q + 1) * dim]);
+    }
+    Ok(c)
+}
+
+/// SciPy's `_make_interp_per_full_matr`: rows 0..k-1 equate the derivatives of orders
+/// 1..k-1 at x_0 and x_(n-1), rows k-1.. interpolate; dense (n <= k).
+fn solve_periodic_full(x: &[f64], y: &[f64], dim: usize, t: &[f64], k: usize) -> Result<Vec<f64>> {
+    let n = x.len();
+    let nt = n + k - 1;
+    let mut entries = Vec::new();
+    for i in 0..k - 1 {
+        let at0 = basis_funs_derivs(t, k, x[0], k, i + 1);
+        for (j, v) in at0[i + 1][..=k].iter().enumerate() {
+            entries.push((i, j, *v));
+        }
+        let at1 = basis_funs_derivs(t, nt, x[n - 1], k, i + 1);
+        for (j, v) in at1[i + 1][..k].iter().enumerate() {
+            entries.push((i, nt - k + j, -v));
+        }
+    }
+    let mut basis = [0.0f64; 8];
+    for (i, &xi) in x.iter().enumerate() {
+        let l = if xi == t[k] {
+            k
+        } else {
+            t.partition_point(|&v| v < xi) - 1
+        };
+        basis_funs(t, l, xi, k, &mut basis[..=k]);
+        for (j, v) in basis[..=k].iter().enumerate() {
+            entries.push((k - 1 + i, l - k + j, *v));
+        }
+    }
+    let mut rhs = vec![0.0; nt * dim];
+    rhs[(k - 1) * dim..].copy_from_slice(y);
+    dense_solve(nt, &entries, &rhs, dim)
+}
+
+/// Solves the m × m system given by `entries` (row, column, value; repeated entries add)
+/// for the row-major right-hand sides `rhs` (m × dim), by LU with partial pivoting.
+fn dense_solve(
+    m: usize,
+    entries: &[(usize, usize, f64)],
+    rhs: &[f64],
+    dim: usize,
+) -> Result<Vec<f64>> {
+    let mut a = nalgebra::DMatrix::<f64>::zeros(m, m);
+    for &(i, j, v) in entries {
+        a[(i, j)] += v;
+    }
+    let b = nalgebra::DMatrix::from_row_slice(m, dim, rhs);
+    let sol = a.lu().solve(&b).ok_or_else(singular)?;
+    let mut out = vec![0.0; m * dim];
+    for i in 0..m {
+        for c in 0..dim {
+            out[i * dim + c] = sol[(i, c)];
+        }
+    }
+    Ok(out)
+}
+
+/// A cyclic band system: the entries within k of the diagonal form a band matrix B, the
+/// wrapped ones (corner blocks) a low-rank part U V^T with one column of U per row that
+/// holds any; A^-1 y = B^-1 y - Z (I + V^T Z)^-1 V^T B^-1 y with Z = B^-1 U (Woodbury).
+fn cyclic_band_solve(
+    m: usize,
+    k: usize,
+    entries: &[(usize, usize, f64)],
+    rhs: &[f64],
+    dim: usize,
+) -> Result<Vec<f64>> {
+    let mut band = BandMatrix::zeros(m, k, k);
+    let mut corner: Vec<(usize, usize, f64)> = Vec::new();
+    for &(i, j, v) in entries {
+        if i.abs_diff(j) <= k {
+            band.add(i, j, v);
+        } else {
+            corner.push((i, j, v));
+        }
+    }
+    let lu = band.factor().map_err(|_| singular())?;
+    let mut rows: Vec<usize> = corner.iter().map(|c| c.0).collect();
+    rows.dedup();
+    let r = rows.len();
+    let mut u = rhs.to_vec();
+    lu.solve(&mut u, dim);
+    if r == 0 {
+        return Ok(u);
+    }
+    // Z = B^-1 E_rows (m × r, row-major).
+    let mut z = vec![0.0; m * r];
+    for (a, &row) in rows.iter().enumerate() {
+        z[row * r + a] = 1.0;
+    }
+    lu.solve(&mut z, r);
+    // S = I + V^T Z (r × r) and V^T u (r × dim); V^T's row a holds the corner entries of
+    // rows[a].
+    let mut s = nalgebra::DMatrix::<f64>::identity(r, r);
+    let mut w = nalgebra::DMatrix::<f64>::zeros(r, dim);
+    for &(i, j, v) in &corner {
+        let a = rows.binary_search(&i).expect("a corner row");
+        for b in 0..r {
+            s[(a, b)] += v * z[j * r + b];
+        }
+        for c in 0..dim {
+            w[(a, c)] += v * u[j * dim + c];
+        }
+    }
+    let sw = s.lu().solve(&w).ok_or_else(singular)?;
+    for i in 0..m {
+        for c in 0..dim {
+            let mut acc = 0.0;
+            for b in 0..r {
+                acc += z[i * r + b] * sw[(b, c)];
+            }
+            u[i * dim + c] -= acc;
+        }
+    }
+    Ok(u)
+}
