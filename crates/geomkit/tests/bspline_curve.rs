@@ -29,6 +29,7 @@ fn all_ends() -> Vec<EndCondition> {
             start: None,
             end: None,
         },
+        EndCondition::Bessel,
         EndCondition::Clamped {
             start: Some(vec![1.0, 0.5, 0.0]),
             end: Some(vec![0.0, -1.0, 2.0]),
@@ -218,10 +219,25 @@ fn bad_input_is_a_clear_error() {
         interpolate_curve(&nan, &o),
         Err(Error::NonFinite { index: 1, .. })
     ));
+    // Periodic through two distinct points (as SciPy): closed, through both.
     let tri = vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![0.0, 0.0]];
+    let loop2 = interpolate_curve(&tri, &o.clone().with_end(EndCondition::Periodic)).unwrap();
+    let (a, b) = loop2.curve().domain();
+    for (t, p) in [
+        (a, [0.0, 0.0]),
+        (loop2.parameters()[1], [1.0, 0.0]),
+        (b, [0.0, 0.0]),
+    ] {
+        let q = loop2.curve().eval(t);
+        assert!(
+            (q[0] - p[0]).abs() < 1e-15 && (q[1] - p[1]).abs() < 1e-15,
+            "{t}: {q:?}"
+        );
+    }
+    let one = vec![vec![1.0, 0.0], vec![1.0, 0.0]];
     assert!(matches!(
-        interpolate_curve(&tri, &o.clone().with_end(EndCondition::Periodic)),
-        Err(Error::TooFewPoints { got: 2, min: 3, .. })
+        interpolate_curve(&one, &o.clone().with_end(EndCondition::Periodic)),
+        Err(Error::TooFewPoints { got: 1, min: 2, .. })
     ));
     assert!(matches!(
         interpolate_curve(&tri, &o.clone().with_end(EndCondition::Repeat)),
@@ -264,6 +280,7 @@ fn tiles_equal_the_global_solve() {
                 start: None,
                 end: None,
             },
+            EndCondition::Bessel,
         ] {
             let opts = InterpolationOptions::default()
                 .with_end(end.clone())
@@ -483,6 +500,7 @@ fn tiny_parameter_steps_are_fine() {
             start: None,
             end: None,
         },
+        EndCondition::Bessel,
     ] {
         let opts = InterpolationOptions::default().with_end(end.clone());
         let fit = geomkit::bspline::interpolate_curve_flat(2, &pts, &opts)
@@ -648,7 +666,7 @@ proptest::proptest! {
         // 2 to 4 chunks of 8192 rows (tridiag.rs: FUSED_CHUNK / 3 coordinates).
         n in 17_000usize..40_000,
         seed in 1u64..u64::MAX,
-        end in 0usize..3,
+        end in 0usize..4,
         spread in 0.5f64..3.0,
     ) {
         let mut rng = Rng(seed | 1);
@@ -662,6 +680,7 @@ proptest::proptest! {
             EndCondition::NotAKnot,
             EndCondition::Natural,
             EndCondition::Clamped { start: None, end: None },
+            EndCondition::Bessel,
         ][end]
             .clone();
         let par = interpolate_curve_at(3, &pts, &t, &end).unwrap();

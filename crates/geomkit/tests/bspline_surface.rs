@@ -57,6 +57,7 @@ fn passes_through_every_grid_point() {
             start: None,
             end: None,
         },
+        EndCondition::Bessel,
         EndCondition::OuterPoints { offset: 0.1 },
     ];
     for (rows, cols) in [(2usize, 2usize), (3, 5), (14, 14), (40, 23)] {

@@ -34,6 +34,7 @@ fn end() -> impl Strategy<Value = EndCondition> {
             start: None,
             end: None
         }),
+        Just(EndCondition::Bessel),
         (coord(), coord()).prop_map(|(a, b)| EndCondition::Clamped {
             start: Some(vec![a]),
             end: Some(vec![b]),

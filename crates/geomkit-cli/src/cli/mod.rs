@@ -228,7 +228,8 @@ pub struct EvalArgs {
 /// `geomkit interpolate ...`
 #[derive(Debug, Subcommand)]
 pub enum InterpolateCommand {
-    /// A cubic B-spline curve through points (spec/bspline-interpolation.md §2, §6).
+    /// A B-spline curve through points, cubic or of any degree 1..7 (spec/bspline-interpolation.md
+    /// §2, §6; SciPy's make_interp_spline).
     #[command(long_about = CURVE_ABOUT)]
     Curve(CurveArgs),
     /// A bicubic B-spline surface through a grid of points or heights (§3).
@@ -237,7 +238,9 @@ pub enum InterpolateCommand {
 }
 
 const CURVE_ABOUT: &str = "\
-A cubic B-spline curve through points (spec/bspline-interpolation.md §2, §6).
+A B-spline curve through points (spec/bspline-interpolation.md §2, §6): the paper's cubic, or
+any degree 1..7 with SciPy's make_interp_spline conditions, knots and coefficients (--degree,
+--left/--right, --form scipy; SciPy's x are --params).
 
 IN holds one point per row: a CSV file (2 or 3 columns, or any number d >= 1; an optional
 header line; commas, semicolons, tabs or blanks) or a NumPy .npy float64 array of shape (N, d).
@@ -247,12 +250,21 @@ OUT by extension: .json (the model, with the parameters of the reference points)
 .svg (the curve, its control polygon and the reference points). Default: the JSON model on
 standard output.
 
-With --control, a .csv/.npy OUT = NAME.EXT receives the control points instead (one per row,
-N+2 for open curves) and the sibling file NAME.knots.EXT the knot vector (one knot per row;
-for open curves the parameters of the N points with three more knots at each end, spaced like
-the end intervals); `geomkit eval NAME.EXT` reads the pair back as a B-spline curve. With --tile, the points are solved in tiles with halos (equal to the global solve
-within rounding); with --tile, a .npy IN and --control, the solve streams: tiles are read from
-IN and written to OUT one after the other, so any N runs in the memory of a few tiles.";
+With --control, a .csv/.npy OUT = NAME.EXT receives the control points instead (one per row)
+and the sibling file NAME.knots.EXT the knot vector (one knot per row); `geomkit eval
+NAME.EXT` reads the pair back as a B-spline curve. Two forms (--form):
+  - extended (cubics with one --end, the default there): N+2 control points for open curves,
+    the knots the parameters of the N points with three more at each end, spaced like the
+    end intervals;
+  - scipy (any degree, per-end conditions): exactly SciPy's make_interp_spline(x, y, k,
+    bc_type) t and c: the end knots k+1-fold (not-a-knot: N control points; derivative
+    conditions: N + k - 1), periodic knots continued by the other end's spacings.
+The same curve on the points' interval either way.
+
+With --tile (extended form), the points are solved in tiles with halos (equal to the global
+solve within rounding); with --tile, a .npy IN and --control, the solve streams: tiles are
+read from IN and written to OUT one after the other, so any N runs in the memory of a few
+tiles.";
 
 const SURFACE_ABOUT: &str = "\
 A bicubic B-spline surface through a grid of points or heights (spec/bspline-interpolation.md
@@ -277,14 +289,58 @@ pub enum EndArg {
     Repeat,
     /// Zero second derivative at both ends.
     Natural,
-    /// Given end tangents (--start-tangent, --end-tangent), else estimated (Bessel).
+    /// Given first derivatives (--start-tangent, --end-tangent), zero by default (SciPy's
+    /// "clamped").
     Clamped,
+    /// First derivatives estimated from the parabola through the three end points (Bessel).
+    Bessel,
     /// Continuous third derivative at the second and next-to-last points.
     NotAKnot,
     /// A closed C2 curve (a last point equal to the first is dropped).
     Periodic,
     /// The paper's outer points: one extra control point beyond each end (--offset).
     Outer,
+}
+
+/// The representation of an interpolating curve (`--form`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FormArg {
+    /// The paper's: three knots beyond each end, N+2 control points (cubics).
+    Extended,
+    /// SciPy's make_interp_spline: the end knots k+1-fold, its knots and coefficients.
+    Scipy,
+}
+
+/// The condition at one end of a curve (`--left`, `--right`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct EndSpecArg(pub geomkit::bspline::EndSpec);
+
+/// Parses `not-a-knot`, `natural`, `clamped`, `bessel` or `ORDER:VALUE[;ORDER:VALUE...]`.
+pub fn parse_end_spec(s: &str) -> Result<EndSpecArg, String> {
+    use geomkit::bspline::EndSpec;
+    let t = s.trim();
+    Ok(EndSpecArg(match t {
+        "not-a-knot" | "none" => EndSpec::NotAKnot,
+        "natural" => EndSpec::natural(),
+        "clamped" => EndSpec::clamped(),
+        "bessel" => EndSpec::Bessel,
+        _ => EndSpec::Derivatives(
+            t.split([';', '+'])
+                .map(|d| {
+                    let (order, value) = d.split_once(':').ok_or_else(|| {
+                        format!(
+                            "'{d}' is not an end condition: expected not-a-knot, natural,                              clamped, bessel or ORDER:VALUE (e.g. 1:0.5,2 or 2:0)"
+                        )
+                    })?;
+                    let order = order
+                        .trim()
+                        .parse::<usize>()
+                        .map_err(|_| format!("'{order}' is not a derivative order (0, 1, 2, ...)"))?;
+                    Ok((order, parse_vector(value)?.0))
+                })
+                .collect::<Result<_, String>>()?,
+        ),
+    }))
 }
 
 /// How parameters are assigned to the reference points.
@@ -365,12 +421,29 @@ pub struct CurveArgs {
     /// [default: 1].
     #[arg(long, value_name = "F")]
     pub offset: Option<f64>,
-    /// With --end clamped: the derivative dc/dt at the start ("x,y"); default: estimated.
+    /// With --end clamped: the derivative dc/dt at the start ("x,y"); default: zero.
     #[arg(long, value_name = "X,Y,..", value_parser = parse_vector, allow_hyphen_values = true)]
     pub start_tangent: Option<Vector>,
-    /// With --end clamped: the derivative dc/dt at the end ("x,y"); default: estimated.
+    /// With --end clamped: the derivative dc/dt at the end ("x,y"); default: zero.
     #[arg(long, value_name = "X,Y,..", value_parser = parse_vector, allow_hyphen_values = true)]
     pub end_tangent: Option<Vector>,
+    /// Degree k, 1 to 7 (SciPy's make_interp_spline k) [default: 3].
+    #[arg(long, value_name = "K")]
+    pub degree: Option<usize>,
+    /// Condition at the first point, overriding --end there (SciPy's bc_type[0]): not-a-knot
+    /// (none), natural, clamped, bessel, or derivatives "ORDER:VALUE[;ORDER:VALUE...]" with a
+    /// VALUE per coordinate ("1:0.5,2" is dc/dt = (0.5, 2); one number is for every
+    /// coordinate).
+    #[arg(long, value_name = "COND", value_parser = parse_end_spec, allow_hyphen_values = true)]
+    pub left: Option<EndSpecArg>,
+    /// Condition at the last point, overriding --end there (SciPy's bc_type[1]); as --left.
+    #[arg(long, value_name = "COND", value_parser = parse_end_spec, allow_hyphen_values = true)]
+    pub right: Option<EndSpecArg>,
+    /// Representation: extended (the paper's: three knots beyond each end, N+2 control
+    /// points; cubics) or scipy (SciPy's make_interp_spline: end knots k+1-fold, N control
+    /// points for not-a-knot) [default: extended for cubics with one --end, else scipy].
+    #[arg(long, value_enum)]
+    pub form: Option<FormArg>,
     /// Output file: .json, .csv, .npy or .svg; default: the JSON model to stdout.
     #[arg(short, long, value_name = "OUT")]
     pub output: Option<PathBuf>,
@@ -507,6 +580,22 @@ mod tests {
         assert!(parse_samples("3xa").is_err());
         assert_eq!(parse_vector("1,-2.5"), Ok(Vector(vec![1.0, -2.5])));
         assert!(parse_vector("1,nan").is_err());
+        use geomkit::bspline::EndSpec;
+        assert_eq!(
+            parse_end_spec("natural"),
+            Ok(EndSpecArg(EndSpec::natural()))
+        );
+        assert_eq!(
+            parse_end_spec("1:0.5,-2;2:0"),
+            Ok(EndSpecArg(EndSpec::Derivatives(vec![
+                (1, vec![0.5, -2.0]),
+                (2, vec![0.0])
+            ])))
+        );
+        assert!(parse_end_spec("1=0").unwrap_err().contains("ORDER:VALUE"));
+        assert!(parse_end_spec("x:0")
+            .unwrap_err()
+            .contains("derivative order"));
     }
 
     #[test]

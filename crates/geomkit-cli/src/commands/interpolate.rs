@@ -6,7 +6,9 @@
 //! one exception to "compute first" is the streaming tile solve, which writes as it goes into
 //! temporary files that are renamed into place only when everything succeeded.
 
-use crate::cli::{CurveArgs, EndArg, InterpolateCommand, ParamArg, Samples, SurfaceArgs};
+use crate::cli::{
+    CurveArgs, EndArg, FormArg, InterpolateCommand, ParamArg, Samples, SurfaceArgs, Vector,
+};
 use crate::cli::{MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::model::{knots_sibling, write_bspline_curve_json, write_bspline_surface_json};
 use crate::npy::NpyReader;
@@ -18,8 +20,9 @@ use anyhow::{anyhow, bail, Context, Result};
 use clap::ValueEnum;
 use geomkit::bspline::{
     interpolate_curve_at, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
-    interpolate_surface_flat, BsplineCurve, BsplineSurface, CurveTiler, EndCondition,
-    InterpolationOptions, Parametrization, SurfaceInterpolationOptions, TileOptions, TileSolution,
+    interpolate_surface_flat, make_interp_spline, parameters, BsplineCurve, BsplineSurface,
+    CurveTiler, EndCondition, EndSpec, InterpolationOptions, Parametrization, SplineEnds,
+    SplineOptions, SurfaceInterpolationOptions, TileOptions, TileSolution, MAX_SPLINE_DEGREE,
 };
 use geomkit_plot::figures::{
     bspline_curve_figure, heightmap_svg, linspace, surface_svg, Layer, REFERENCE,
@@ -73,6 +76,7 @@ fn end_condition(
             start: start_tangent,
             end: end_tangent,
         },
+        EndArg::Bessel => EndCondition::Bessel,
         EndArg::NotAKnot => EndCondition::NotAKnot,
         EndArg::Periodic => EndCondition::Periodic,
         EndArg::Outer => {
@@ -206,85 +210,46 @@ fn curve(args: CurveArgs) -> Result<()> {
     if !(2..=MAX_CURVE_SAMPLES).contains(&samples) {
         bail!("--samples must be from 2 to {MAX_CURVE_SAMPLES} (got {samples})");
     }
-    let end_text = end_name(args.end);
-    let param = parametrization(args.param, &[args.end])?;
-    let (start_tangent, end_tangent) = (
-        args.start_tangent.as_ref().map(|v| v.0.clone()),
-        args.end_tangent.as_ref().map(|v| v.0.clone()),
-    );
-    let end = end_condition(args.end, args.offset, start_tangent, end_tangent)?;
-    let options = InterpolationOptions::default()
-        .with_end(end)
-        .with_parametrization(param);
-    let tiles = match args.tile {
-        None => None,
-        Some(t) if t < 2 => bail!("--tile must be at least 2 points (got {t})"),
-        Some(_) if matches!(args.end, EndArg::Periodic | EndArg::Repeat) => bail!(
-            "--tile takes natural, clamped, not-a-knot or outer ends (periodic and repeat \
-             couple the whole curve; solve them without --tile, it is O(N) too)"
+    let degree = args.degree.unwrap_or(3);
+    let per_end = args.left.is_some() || args.right.is_some();
+    let scipy = match args.form {
+        Some(FormArg::Scipy) => true,
+        Some(FormArg::Extended) if degree != 3 || per_end => bail!(
+            "--form extended is the paper's cubic with one --end: drop --degree {degree}, \
+             --left and --right, or use --form scipy"
         ),
-        Some(t) => Some(
-            TileOptions::default()
-                .with_tile_size(t)
-                .with_halo(args.halo.unwrap_or(32)),
-        ),
+        Some(FormArg::Extended) => false,
+        None => degree != 3 || per_end,
     };
     let progress = Progress::start();
-    if let (Some(tiles), CurveOutput::Control(format), true) = (tiles, output, is_npy(&args.input))
-    {
-        let out = args.output.as_deref().unwrap_or(Path::new(""));
-        return stream_tiles(&args, &options, &tiles, out, format, &progress);
-    }
-
-    let table = Table::read(&args.input, &progress)?;
-    let (n, dim) = table.as_records()?;
-    for (name, t) in [
-        ("--start-tangent", &args.start_tangent),
-        ("--end-tangent", &args.end_tangent),
-    ] {
-        if let Some(t) = t.as_ref().filter(|t| t.0.len() != dim) {
-            bail!(
-                "{name} has {} coordinates but the points of {} have {dim}",
-                t.0.len(),
-                table.name()
-            );
+    let (fit, table, about) = if scipy {
+        curve_scipy(&args, degree, &progress)?
+    } else {
+        match curve_extended(&args, output, &progress)? {
+            Some(fit) => fit,
+            // Streamed to its output.
+            None => return Ok(()),
         }
-    }
-    progress.busy("solving");
-    let fit = match (&tiles, &args.params) {
-        (_, Some(path)) => {
-            if args.end == EndArg::Repeat {
-                bail!("--params cannot be used with --end repeat (it fixes its own parameters)");
-            }
-            let params = Table::read(path, &progress)?;
-            let (_, cols) = params.as_records()?;
-            if cols != 1 {
-                bail!(
-                    "{}: expected one parameter per line, found {cols} columns",
-                    params.name()
-                );
-            }
-            interpolate_curve_at(dim, &table.data, &params.data, &options.end)
-                .with_context(|| format!("{} with parameters from {}", table.name(), params.name()))
-        }
-        (Some(tiles), None) => interpolate_curve_tiled(dim, &table.data, &options, tiles)
-            .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text)),
-        (None, None) => interpolate_curve_flat(dim, &table.data, &options)
-            .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text)),
-    }?;
-    let curve = fit.curve();
+    };
+    let (curve, parameters) = (&fit.0, &fit.1[..]);
+    let (n, dim) = (table.data.len() / curve.dim(), curve.dim());
     let dest = Destination::from_option(args.output.as_deref());
     match output {
         CurveOutput::Json => {
             progress.busy("writing");
-            dest.write_with(|w| write_bspline_curve_json(w, curve, Some(fit.parameters())))
+            dest.write_with(|w| write_bspline_curve_json(w, curve, Some(parameters)))
         }
         CurveOutput::Samples(format) => {
             progress.busy("sampling");
             let mut points = vec![0.0; samples * dim];
-            curve
-                .sample_uniform_fd(samples, &mut points)
-                .context("forward-differenced sampling")?;
+            if curve.degree() <= 3 {
+                curve
+                    .sample_uniform_fd(samples, &mut points)
+                    .context("forward-differenced sampling")?;
+            } else {
+                let (a, b) = curve.domain();
+                curve.eval_many_par(&linspace(a, b, samples), &mut points)?;
+            }
             progress.busy("writing");
             dest.write_with(|w| {
                 let mut sink = RowSink::start(w, format, &[samples, dim], &coordinate_names(dim))?;
@@ -305,18 +270,232 @@ fn curve(args: CurveArgs) -> Result<()> {
                     table.name()
                 );
             }
-            let title = format!("Interpolating cubic B-spline through {n} points");
+            let title = match curve.degree() {
+                3 => format!("Interpolating cubic B-spline through {n} points"),
+                k => format!("Interpolating B-spline of degree {k} through {n} points"),
+            };
             let subtitle = format!(
-                "{}: end {end_text}, {} parameters, {} control points",
+                "{}: {about}, {} control points",
                 file_name(&table.path),
-                param_name(param),
                 curve.n_control()
             );
-            let fig =
-                bspline_curve_figure(&title, &subtitle, curve, &table.data, fit.parameters())?;
+            let fig = bspline_curve_figure(&title, &subtitle, curve, &table.data, parameters)?;
             dest.write(fig.render().as_bytes())
         }
     }
+}
+
+/// A fitted curve with the parameter of each input point.
+type CurveFit = (BsplineCurve, Vec<f64>);
+
+/// `--start-tangent` / `--end-tangent` of the points' dimension.
+fn check_tangents(args: &CurveArgs, dim: usize, name: &str) -> Result<()> {
+    for (flag, t) in [
+        ("--start-tangent", &args.start_tangent),
+        ("--end-tangent", &args.end_tangent),
+    ] {
+        if let Some(t) = t.as_ref().filter(|t| t.0.len() != dim) {
+            bail!(
+                "{flag} has {} coordinates but the points of {name} have {dim}",
+                t.0.len()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Parameters from `--params FILE`: one column.
+fn read_params(path: &Path, progress: &Progress) -> Result<Table> {
+    let params = Table::read(path, progress)?;
+    let (_, cols) = params.as_records()?;
+    if cols != 1 {
+        bail!(
+            "{}: expected one parameter per line, found {cols} columns",
+            params.name()
+        );
+    }
+    Ok(params)
+}
+
+/// The paper's extended cubic (and the tiles); `None` when the tile solve streamed to the
+/// output itself.
+fn curve_extended(
+    args: &CurveArgs,
+    output: CurveOutput,
+    progress: &Progress,
+) -> Result<Option<(CurveFit, Table, String)>> {
+    let end_text = end_name(args.end);
+    let param = parametrization(args.param, &[args.end])?;
+    let (start_tangent, end_tangent) = (
+        args.start_tangent.as_ref().map(|v| v.0.clone()),
+        args.end_tangent.as_ref().map(|v| v.0.clone()),
+    );
+    let end = end_condition(args.end, args.offset, start_tangent, end_tangent)?;
+    let options = InterpolationOptions::default()
+        .with_end(end)
+        .with_parametrization(param);
+    let tiles = match args.tile {
+        None => None,
+        Some(t) if t < 2 => bail!("--tile must be at least 2 points (got {t})"),
+        Some(_) if matches!(args.end, EndArg::Periodic | EndArg::Repeat) => bail!(
+            "--tile takes natural, clamped, bessel, not-a-knot or outer ends (periodic and \
+             repeat couple the whole curve; solve them without --tile, it is O(N) too)"
+        ),
+        Some(t) => Some(
+            TileOptions::default()
+                .with_tile_size(t)
+                .with_halo(args.halo.unwrap_or(32)),
+        ),
+    };
+    if let (Some(tiles), CurveOutput::Control(format), true) = (tiles, output, is_npy(&args.input))
+    {
+        let out = args.output.as_deref().unwrap_or(Path::new(""));
+        stream_tiles(args, &options, &tiles, out, format, progress)?;
+        return Ok(None);
+    }
+
+    let table = Table::read(&args.input, progress)?;
+    let (n, dim) = table.as_records()?;
+    check_tangents(args, dim, &table.name())?;
+    progress.busy("solving");
+    let fit = match (&tiles, &args.params) {
+        (_, Some(path)) => {
+            if args.end == EndArg::Repeat {
+                bail!("--params cannot be used with --end repeat (it fixes its own parameters)");
+            }
+            let params = read_params(path, progress)?;
+            interpolate_curve_at(dim, &table.data, &params.data, &options.end)
+                .with_context(|| format!("{} with parameters from {}", table.name(), params.name()))
+        }
+        (Some(tiles), None) => interpolate_curve_tiled(dim, &table.data, &options, tiles)
+            .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text)),
+        (None, None) => interpolate_curve_flat(dim, &table.data, &options)
+            .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text)),
+    }?;
+    let parameters = fit.parameters().to_vec();
+    let about = format!("end {end_text}, {} parameters", param_name(param));
+    Ok(Some(((fit.into_curve(), parameters), table, about)))
+}
+
+/// Any degree in SciPy's representation ([`make_interp_spline`]): x the parameters (given or
+/// from the points), conditions from --end, overridden per end by --left / --right.
+fn curve_scipy(
+    args: &CurveArgs,
+    degree: usize,
+    progress: &Progress,
+) -> Result<(CurveFit, Table, String)> {
+    if !(1..=MAX_SPLINE_DEGREE).contains(&degree) {
+        bail!("--degree must be from 1 to {MAX_SPLINE_DEGREE} (got {degree})");
+    }
+    if args.tile.is_some() {
+        bail!(
+            "--tile solves the paper's cubic (--form extended); the scipy form and degrees \
+             other than 3 solve the whole curve at once"
+        );
+    }
+    let end_text = end_name(args.end);
+    if matches!(args.end, EndArg::Repeat | EndArg::Outer) {
+        bail!(
+            "--end {end_text} is the paper's cubic in the extended form; with --form scipy, \
+             --degree, --left or --right use not-a-knot, natural, clamped, bessel or periodic"
+        );
+    }
+    if args.offset.is_some() {
+        bail!("--offset applies to --end outer only");
+    }
+    if (args.start_tangent.is_some() || args.end_tangent.is_some()) && args.end != EndArg::Clamped {
+        bail!("--start-tangent and --end-tangent apply to --end clamped only");
+    }
+    let periodic = args.end == EndArg::Periodic;
+    if periodic && (args.left.is_some() || args.right.is_some()) {
+        bail!("--left and --right set the ends of an open curve, not of --end periodic");
+    }
+    let param = parametrization(args.param, &[args.end])?;
+    let table = Table::read(&args.input, progress)?;
+    let (n, dim) = table.as_records()?;
+    check_tangents(args, dim, &table.name())?;
+    let base = |tangent: &Option<Vector>| match args.end {
+        EndArg::Natural => EndSpec::natural(),
+        EndArg::Clamped => EndSpec::Derivatives(vec![(
+            1,
+            tangent.as_ref().map_or(vec![0.0], |t| t.0.clone()),
+        )]),
+        EndArg::Bessel => EndSpec::Bessel,
+        _ => EndSpec::NotAKnot,
+    };
+    let ends = if periodic {
+        SplineEnds::Periodic
+    } else {
+        SplineEnds::Open {
+            left: args
+                .left
+                .clone()
+                .map_or_else(|| base(&args.start_tangent), |a| a.0),
+            right: args
+                .right
+                .clone()
+                .map_or_else(|| base(&args.end_tangent), |a| a.0),
+        }
+    };
+    progress.busy("solving");
+    // Periodic data end with the first point again (SciPy's y[-1] == y[0]); added here when
+    // the points do not close themselves (to within SciPy's allclose).
+    let data = &table.data;
+    let closed = n >= 2 && allclose(&data[..dim], &data[(n - 1) * dim..]);
+    let (x, source) = match &args.params {
+        Some(path) => {
+            let params = read_params(path, progress)?;
+            let name = format!("{} with parameters from {}", table.name(), params.name());
+            let want = if periodic && !closed { n + 1 } else { n };
+            if params.data.len() != want {
+                let fix = match (periodic, closed) {
+                    (false, _) => "give one per point".to_string(),
+                    (true, true) => format!(
+                        "the last point repeats the first (within 1e-5), so give one per \
+                         point ({n})"
+                    ),
+                    (true, false) => format!(
+                        "periodic: give one per point and one more closing the curve ({}), or \
+                         end the points with the first point again",
+                        n + 1
+                    ),
+                };
+                bail!(
+                    "{name}: {} parameters for {n} points: {fix}",
+                    params.data.len()
+                );
+            }
+            (params.data, name)
+        }
+        None => {
+            let x = parameters(data, dim, param, periodic && !closed)
+                .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text))?;
+            (x, table.name())
+        }
+    };
+    let y: std::borrow::Cow<[f64]> = if x.len() == n + 1 {
+        let mut y = data.clone();
+        y.extend_from_slice(&data[..dim]);
+        y.into()
+    } else {
+        data.as_slice().into()
+    };
+    let curve = make_interp_spline(&x, &y, dim, &SplineOptions::new(degree).with_ends(ends))
+        .with_context(|| source.clone())?;
+    let about = format!(
+        "degree {degree}, SciPy's form, end {end_text}, {} parameters",
+        param_name(param)
+    );
+    let mut x = x;
+    x.truncate(n);
+    Ok(((curve, x), table, about))
+}
+
+/// SciPy's `allclose(a, b, atol=1e-15)` (rtol 1e-5): its test of periodic data.
+fn allclose(a: &[f64], b: &[f64]) -> bool {
+    a.iter()
+        .zip(b)
+        .all(|(a, b)| (a - b).abs() <= 1e-15 + 1e-5 * b.abs())
 }
 
 fn file_name(path: &Path) -> String {
@@ -391,17 +570,7 @@ fn stream_tiles(
             reader.header.shape_text()
         ),
     };
-    for (flag, t) in [
-        ("--start-tangent", &args.start_tangent),
-        ("--end-tangent", &args.end_tangent),
-    ] {
-        if let Some(t) = t.as_ref().filter(|t| t.0.len() != dim) {
-            bail!(
-                "{flag} has {} coordinates but the points of {name} have {dim}",
-                t.0.len()
-            );
-        }
-    }
+    check_tangents(args, dim, &name)?;
     let end_text = end_name(args.end);
     let tiler = CurveTiler::new(n, dim, options, tiles).map_err(|e| match e {
         geomkit::Error::TooFewPoints { got, min, .. } => {

@@ -41,14 +41,18 @@ pub enum EndCondition {
     Repeat,
     /// Zero second derivative at both ends.
     Natural,
-    /// Given first derivatives dc/dt at the ends (`None`: estimated from the parabola through
-    /// the first / last three points, Bessel's condition).
+    /// Given first derivatives dc/dt at the ends, zero where `None` (SciPy's "clamped":
+    /// `bc_type=([(1, start)], [(1, end)])`, zero by default).
     Clamped {
-        /// Tangent at the start, or `None` to estimate it.
+        /// Tangent at the start, or `None` for zero.
         start: Option<Vec<f64>>,
-        /// Tangent at the end, or `None` to estimate it.
+        /// Tangent at the end, or `None` for zero.
         end: Option<Vec<f64>>,
     },
+    /// First derivatives at the ends estimated from the parabola through the first / last
+    /// three points (Bessel's condition; with two points the chord). Until issue 22 this was
+    /// `Clamped` without tangents; "clamped" now means SciPy's zero slope.
+    Bessel,
     /// The third derivative is continuous at the second and the next-to-last knots (SciPy's
     /// default). With 3 points: the parabola; with 2: the line.
     #[default]
@@ -61,8 +65,8 @@ pub enum EndCondition {
         /// Distance of the extra points, as a fraction of the end interval (> 0).
         offset: f64,
     },
-    /// A closed C2 curve (isolines). A last point equal to the first is dropped; at least 3
-    /// distinct points.
+    /// A closed C2 curve (isolines). A last point equal to the first (within SciPy's
+    /// `allclose`: 1e-5 relative) is dropped; at least 2 distinct points.
     Periodic,
 }
 
@@ -186,10 +190,18 @@ pub fn interpolate_curve_flat(
         crate::points::check_shape("reference points", dim, points)?;
     }
     let mut n = points.len() / dim;
-    if options.end == EndCondition::Periodic && n >= 2 && points[..dim] == points[(n - 1) * dim..] {
+    let closed = options.end == EndCondition::Periodic;
+    if closed && n >= 2 && closes(points, dim) {
         n -= 1;
     }
     let points = &points[..n * dim];
+    if closed {
+        check_distinct_periodic(n)?;
+    }
+    if closed && n == 2 {
+        let t = parameters(points, dim, options.parametrization, true)?;
+        return periodic_through_two(points, dim, &t);
+    }
     let knots = knots_around_parameters(
         points,
         dim,
@@ -231,13 +243,75 @@ pub fn interpolate_curve_at(
     }
     let mut n = points.len() / dim;
     let closed = *end == EndCondition::Periodic;
-    if closed && parameters.len() == n && n >= 2 && points[..dim] == points[(n - 1) * dim..] {
+    let repeats_first = closed && n >= 2 && closes(points, dim);
+    if repeats_first && parameters.len() == n {
         n -= 1;
     }
-    check_parameters(parameters, if closed { n + 1 } else { n })?;
+    if parameters.len() != if closed { n + 1 } else { n } {
+        let fix = match (closed, repeats_first) {
+            (false, _) => format!("give one per point ({n})"),
+            (true, true) => format!(
+                "the last point repeats the first, so give one per point ({n})",
+                n = n
+            ),
+            (true, false) => format!(
+                "periodic: give one per point and one more closing the curve ({}), or end the \
+                 points with the first point again",
+                n + 1
+            ),
+        };
+        return Err(Error::Interpolation {
+            reason: format!(
+                "{} parameters for {} points: {fix}",
+                parameters.len(),
+                points.len() / dim
+            ),
+        });
+    }
+    check_parameters(parameters, parameters.len())?;
     let points = &points[..n * dim];
+    if closed {
+        check_distinct_periodic(n)?;
+    }
+    if closed && n == 2 {
+        return periodic_through_two(points, dim, parameters);
+    }
     let solver = Solver1d::new_single(knots_around(parameters), end, Parametrization::ChordLength)?;
     solver.interpolate(points, dim, false)
+}
+
+/// Whether the last point repeats the first, within SciPy's `allclose` (1e-5 relative,
+/// 1e-15 absolute): periodic data may close themselves so.
+fn closes(points: &[f64], dim: usize) -> bool {
+    let n = points.len() / dim;
+    points[..dim]
+        .iter()
+        .zip(&points[(n - 1) * dim..])
+        .all(|(a, b)| (a - b).abs() <= 1e-15 + 1e-5 * b.abs())
+}
+
+/// A periodic curve needs two distinct points (SciPy's least).
+fn check_distinct_periodic(n: usize) -> Result<()> {
+    if n < 2 {
+        return Err(Error::TooFewPoints {
+            what: "distinct reference points (periodic)",
+            got: n,
+            min: 2,
+        });
+    }
+    Ok(())
+}
+
+/// A periodic cubic through two distinct points (as SciPy accepts): too few for the cyclic
+/// tridiagonal system, solved as SciPy does ([`super::make_interp_spline`]), whose periodic
+/// cubic has this module's representation (three knots beyond each end continued by the
+/// period, N + 3 control points).
+fn periodic_through_two(points: &[f64], dim: usize, t: &[f64]) -> Result<CurveInterpolation> {
+    let mut y = points.to_vec();
+    y.extend_from_slice(&points[..dim]);
+    let options = super::SplineOptions::new(3).with_ends(super::SplineEnds::Periodic);
+    let curve = super::make_interp_spline(t, &y, dim, &options)?;
+    Ok(CurveInterpolation::new(curve, Params::Own(t[..2].to_vec())))
 }
 
 /// `want` finite, strictly increasing parameters.
@@ -503,7 +577,7 @@ fn fill_parameters(
 /// What the end rows of an open system ask for.
 #[derive(Debug, Clone)]
 enum EndRhs {
-    /// Zero (natural, not-a-knot).
+    /// Zero (natural, not-a-knot, clamped without a tangent).
     Zero,
     /// A given tangent.
     Given(Vec<f64>),
@@ -741,9 +815,10 @@ impl Solver1d {
                 EndCondition::NotAKnot if n == 2 => (first, deriv(span, at, 2), EndRhs::Zero),
                 EndCondition::Clamped { start, end } => {
                     let given = if at_start { start } else { end };
-                    let rhs = given.clone().map_or(EndRhs::Estimated, EndRhs::Given);
+                    let rhs = given.clone().map_or(EndRhs::Zero, EndRhs::Given);
                     (first, deriv(span, at, 1), rhs)
                 }
+                EndCondition::Bessel => (first, deriv(span, at, 1), EndRhs::Estimated),
                 EndCondition::OuterPoints { offset } => {
                     if !(offset.is_finite() && *offset > 0.0) {
                         return Err(Error::InvalidOption {

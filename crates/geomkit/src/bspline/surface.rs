@@ -490,7 +490,8 @@ pub fn interpolate_surface_flat(
             if start.is_some() || end.is_some() {
                 return Err(Error::InvalidOption {
                     option: "surface end condition",
-                    reason: "a surface needs a tangent per boundary point; use clamped with estimated tangents",
+                    reason: "a surface needs a tangent per boundary point; use clamped (zero \
+                             slope) or bessel (estimated tangents)",
                 });
             }
         }
