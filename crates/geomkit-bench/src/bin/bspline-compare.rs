@@ -53,8 +53,9 @@ use std::time::Instant;
 
 use geomkit::bspline::{
     interpolate_curve_at, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
-    interpolate_heights_at, parameters, BsplineCurve, BsplineSurface, CurveInterpolation,
-    CurveInterpolator, EndCondition, InterpolationOptions, Parametrization, TileOptions,
+    interpolate_heights_at, make_interp_spline, parameters, BsplineCurve, BsplineSurface,
+    CurveInterpolation, CurveInterpolator, EndCondition, InterpolationOptions, Parametrization,
+    SplineOptions, TileOptions,
 };
 use geomkit::geom::{BatchOptions, Curve};
 use geomkit_bench::{height_grid, helix_points, linspace, random_params};
@@ -76,6 +77,9 @@ struct Case {
     cols: usize,
     #[serde(default)]
     check: usize,
+    /// Degree of `spline_build` (default 3).
+    #[serde(default)]
+    degree: Option<usize>,
     #[serde(default)]
     kinds: Vec<EvalKind>,
     #[serde(default)]
@@ -391,6 +395,34 @@ fn curve_report(curve: &BsplineCurve, parameters: &[f64], points: &[f64], check:
     })
 }
 
+/// `spline_build`: [`make_interp_spline`] of degree k (SciPy's form, not-a-knot) through
+/// the helix points at their chord-length parameters (SciPy's `make_interp_spline(x, y, k)`).
+/// Reports the build time, its peak memory, and the residual at all N points.
+fn spline_build(case: &Case, timing: Timing) -> Value {
+    let (n, k) = (case.n, case.degree.unwrap_or(3));
+    let points = helix_points(n, case.seed);
+    let x = parameters(&points, 3, Parametrization::ChordLength, false).expect("distinct points");
+    let options = SplineOptions::new(k);
+    warm_pool();
+    let build = || make_interp_spline(&x, &points, 3, &options);
+    let bytes = |r: &geomkit::Result<BsplineCurve>| {
+        r.as_ref()
+            .map_or(0, |c| 8 * (c.knots().len() + c.control_flat().len()) as u64)
+    };
+    let (first, first_s, memory) = measured_first_call(build, bytes);
+    let curve = match first {
+        Ok(c) => c,
+        Err(e) => return json!({"ok": false, "error": e.to_string()}),
+    };
+    let (times, inner) = time_more(&mut || build().expect("same input"), first_s, timing);
+    let times = summarize(first_s, times, inner);
+    let mut at = vec![0.0; n * 3];
+    curve.eval_many_par(&x, &mut at).expect("finite parameters");
+    let residual = max_diff(&at, &points) / max_abs(&points);
+    json!({"ok": true, "n": n, "degree": k, "time": times.json(n), "memory": memory,
+           "residual_rel": residual})
+}
+
 fn curve_build(case: &Case, timing: Timing) -> Value {
     if case.variant == "into" {
         return curve_solve_into(case, timing);
@@ -652,6 +684,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut result = match case.op.as_str() {
         "curve_build" => curve_build(&case, timing),
+        "spline_build" => spline_build(&case, timing),
         "curve_eval" => curve_eval(&case, timing),
         "surface" => surface(&case, timing),
         other => json!({"ok": false, "error": format!("unknown op {other:?}")}),
