@@ -209,7 +209,7 @@ pub fn make_interp_spline(
             t.push(x[0]);
             t.extend_from_slice(x);
             t.push(x[n - 1]);
-            return BsplineCurve::from_flat(1, t, dim, y.to_vec());
+            return trusted(1, t, dim, y.to_vec());
         }
         None if periodic => periodic_knots(x, k),
         None if free => not_a_knot_knots(x, k),
@@ -230,7 +230,15 @@ pub fn make_interp_spline(
                 .into(),
         });
     }
-    BsplineCurve::from_flat(k, t, dim, c)
+    trusted(k, t, dim, c)
+}
+
+/// The curve of coefficients checked finite here: only its knots are checked (their span
+/// must fit f64), not the coefficients again (a pass over 10^7 points costs as much as the
+/// degree-1 interpolation itself).
+fn trusted(k: usize, t: Vec<f64>, dim: usize, c: Vec<f64>) -> Result<BsplineCurve> {
+    crate::points::check_knots(&t, k, c.len() / dim)?;
+    Ok(BsplineCurve::from_trusted(k, t, dim, c))
 }
 
 /// The not-a-knot knots of degree k for the points x (module docs; SciPy's `_not_a_knot`).
