@@ -865,7 +865,7 @@ fn surface(args: SurfaceArgs) -> Result<()> {
             bail!("--x0 and --y0 must be finite");
         }
         if matches!(end_u, EndArg::Periodic | EndArg::Repeat) {
-            bail!("heights over a grid take natural, clamped, not-a-knot or outer ends");
+            bail!("heights over a grid take natural, clamped, bessel, not-a-knot or outer ends");
         }
     }
 

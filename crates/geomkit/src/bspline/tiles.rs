@@ -95,7 +95,7 @@ impl CurveTiler {
         if matches!(options.end, EndCondition::Periodic | EndCondition::Repeat) {
             return Err(Error::InvalidOption {
                 option: "tiled end condition",
-                reason: "tiles take natural, clamped, not-a-knot or outer-points ends",
+                reason: "tiles take natural, clamped, bessel, not-a-knot or outer-points ends",
             });
         }
         if n < 2 {
@@ -223,7 +223,7 @@ pub fn interpolate_surface_tiled(
         if matches!(end, EndCondition::Periodic | EndCondition::Repeat) {
             return Err(Error::InvalidOption {
                 option: "tiled end condition",
-                reason: "tiles take natural, clamped, not-a-knot or outer-points ends",
+                reason: "tiles take natural, clamped, bessel, not-a-knot or outer-points ends",
             });
         }
     }
