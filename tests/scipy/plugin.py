@@ -1,15 +1,17 @@
-"""pytest plugin: SciPy's test_bsplines.py with make_interp_spline answered by geomkit.
+"""pytest plugin: SciPy's own tests with make_interp_spline and RectBivariateSpline answered
+by geomkit (tests/scipy/swap.py).
 
-    python -m pytest -p plugin --pyargs scipy.interpolate.tests.test_bsplines   # run.sh
+    python -m pytest -p plugin --pyargs scipy.interpolate.tests.test_bsplines \
+        scipy.interpolate.tests.test_fitpack2                          # run.sh does this
 
-1. Swap: the test module imports make_interp_spline by name; its module attribute becomes
-   swap.make_interp_spline, and so does every parametrized argument that is SciPy's function
-   (TestBatch passes it as `make_spline`).
-2. Selection: the tests that call make_interp_spline, found in their source: the test
-   function, its class's setup_method, a method of its class it calls as `self.NAME(` (and
-   TestBatch's parameter). The others are deselected (GEOMKIT_SCIPY_SELECT=all keeps them
-   and reports any of them that calls the swap: a check of this selection). A selected test
-   that never calls the swap is an error of the run.
+1. Swap: the test modules import the two by name; their module attributes become swap's,
+   and so does every parametrized argument that is SciPy's function (test_bsplines.py's
+   TestBatch passes make_interp_spline as `make_spline`).
+2. Selection: the tests that call one of them, found in their source: the test function,
+   its class's setup_method, a method of its class it calls as `self.NAME(` (and TestBatch's
+   parameter). The others are deselected (GEOMKIT_SCIPY_SELECT=all keeps them and reports
+   any of them that calls a swapped function: a check of this selection). A selected test
+   that never calls one is an error of the run.
 3. Expectations: expected.txt lists the selected tests that do not pass, each with its kind
    ("gap": in scope of issue 22, to be fixed; "n/a": a feature outside geomkit's CLI) and
    reason. They are marked xfail(strict=True): one that starts to pass fails the run (take it
@@ -27,13 +29,17 @@ import scipy.interpolate
 import swap
 
 HERE = Path(__file__).resolve().parent
-ORIGINAL = scipy.interpolate.make_interp_spline
-NAME = "make_interp_spline"
+# name in the test modules -> (SciPy's, geomkit's)
+SWAPS = {
+    "make_interp_spline": (scipy.interpolate.make_interp_spline, swap.make_interp_spline),
+    "RectBivariateSpline": (scipy.interpolate.RectBivariateSpline, swap.RectBivariateSpline),
+}
+ORIGINALS = {id(orig): ours for orig, ours in SWAPS.values()}
 
 
 def _load_expected():
-    """expected.txt: `ID KIND REASON...` per line (# comments); ID as pytest prints it
-    after the module (Class::test[params])."""
+    """expected.txt: `ID KIND REASON...` per line (# comments); ID as pytest prints it from
+    the module's file name on (test_bsplines.py::Class::test[params])."""
     expected = {}
     for number, line in enumerate((HERE / "expected.txt").read_text().splitlines(), 1):
         line = line.split("#", 1)[0].strip()
@@ -60,27 +66,25 @@ def _source(obj):
 
 
 def _calls_it(item):
-    """Whether the item's test calls make_interp_spline (statically, from its source)."""
+    """Whether the item's test calls a swapped function (statically, from its source)."""
     callspec = getattr(item, "callspec", None)
-    if callspec and any(v is ORIGINAL for v in callspec.params.values()):
+    if callspec and any(id(v) in ORIGINALS for v in callspec.params.values()):
         return True
+    module = getattr(item, "module", None)
+    names = [n for n, pair in SWAPS.items() if getattr(module, n, None) in pair]
     text = _source(item.function)
-    if NAME in text:
-        return True
     cls = getattr(item, "cls", None)
-    if cls is None:
-        return False
-    for setup in ("setup_method", "setup_class", "setup"):
-        if NAME in _source(getattr(cls, setup, None)):
-            return True
-    for method in set(re.findall(r"self\.(\w+)\(", text)):
-        if NAME in _source(getattr(cls, method, None)):
-            return True
-    return False
+    sources = [text]
+    if cls is not None:
+        sources += [_source(getattr(cls, m, None)) for m in ("setup_method", "setup_class")]
+        sources += [_source(getattr(cls, m, None)) for m in set(re.findall(r"self\.(\w+)\(", text))]
+    return any(re.search(rf"\b{n}\b", src) for n in names for src in sources)
 
 
-def _short_id(item):
-    return item.nodeid.split("::", 1)[1] if "::" in item.nodeid else item.nodeid
+def _short_id(nodeid):
+    """test_bsplines.py::Class::test[params], whatever the path pytest prints."""
+    path, _, rest = nodeid.partition("::")
+    return f"{Path(path).name}::{rest}" if rest else nodeid
 
 
 class Suite:
@@ -100,9 +104,10 @@ class Suite:
         keep, drop = [], []
         for item in items:
             module = getattr(item, "module", None)
-            if module is not None and getattr(module, NAME, None) is ORIGINAL:
-                setattr(module, NAME, swap.make_interp_spline)
-            short = _short_id(item)
+            for name, (orig, ours) in SWAPS.items():
+                if module is not None and getattr(module, name, None) is orig:
+                    setattr(module, name, ours)
+            short = _short_id(item.nodeid)
             if _calls_it(item):
                 self.selected[short] = item
                 keep.append(item)
@@ -120,8 +125,8 @@ class Suite:
     @pytest.hookimpl(tryfirst=True)
     def pytest_pyfunc_call(self, pyfuncitem):
         for name, value in pyfuncitem.funcargs.items():
-            if value is ORIGINAL:
-                pyfuncitem.funcargs[name] = swap.make_interp_spline
+            if id(value) in ORIGINALS:
+                pyfuncitem.funcargs[name] = ORIGINALS[id(value)]
 
     @pytest.hookimpl(wrapper=True)
     def pytest_runtest_protocol(self, item, nextitem):
@@ -129,10 +134,10 @@ class Suite:
         try:
             return (yield)
         finally:
-            self.invoked[_short_id(item)] = swap.invocations - before
+            self.invoked[_short_id(item.nodeid)] = swap.invocations - before
 
     def pytest_runtest_logreport(self, report):
-        short = report.nodeid.split("::", 1)[1] if "::" in report.nodeid else report.nodeid
+        short = _short_id(report.nodeid)
         if report.failed:
             strict_xpass = str(report.longrepr).startswith("[XPASS(strict)]")
             self.outcomes[short] = "xpassed" if strict_xpass else "failed"
@@ -151,11 +156,11 @@ class Suite:
             out.append(f"expected.txt names {short}, which is not a selected test")
         for short in sorted(self.selected):
             if self.outcomes.get(short) not in (None, "skipped") and not self.invoked.get(short):
-                out.append(f"{short} is selected but never called make_interp_spline")
+                out.append(f"{short} is selected but never calls a swapped function")
         if self.keep_all:
             for short, count in sorted(self.invoked.items()):
                 if count and short not in self.selected:
-                    out.append(f"{short} calls make_interp_spline but is not selected")
+                    out.append(f"{short} calls a swapped function but is not selected")
         return out
 
     def pytest_sessionfinish(self, session, exitstatus):
@@ -164,7 +169,24 @@ class Suite:
 
     def pytest_terminal_summary(self, terminalreporter, exitstatus, config):
         tr = terminalreporter
+        tr.section("geomkit: SciPy's own tests through the CLI")
         ran = {s: self.outcomes[s] for s in self.selected if s in self.outcomes}
+        for module, what in (("test_bsplines.py", "make_interp_spline"),
+                             ("test_fitpack2.py", "RectBivariateSpline")):
+            mine = {s: o for s, o in ran.items() if s.startswith(module + "::")}
+            if mine:
+                self._summary(tr, f"{module}: {len(mine)} tests call {what}", mine)
+        for p in self.problems():
+            tr.write_line(f"  SELECTION: {p}")
+        codes = {}
+        for _, code, _ in swap.calls:
+            codes[code] = codes.get(code, 0) + 1
+        tr.write_line(
+            f"{len(swap.calls)} geomkit runs (exit status: "
+            + ", ".join(f"{c}: {n}" for c, n in sorted(codes.items())) + ")"
+        )
+
+    def _summary(self, tr, title, ran):
         listed = {s: self.expected[s] for s in self.expected if s in ran}
         passed = sorted(s for s, o in ran.items() if o == "passed" and s not in listed)
         gaps = sorted(s for s, (k, _) in listed.items() if k == "gap" and ran[s] == "xfailed")
@@ -175,16 +197,14 @@ class Suite:
             s for s, o in ran.items()
             if o == "xpassed" or (o == "failed" and s not in listed)
         )
-        tr.section("geomkit: SciPy's test_bsplines.py through the CLI")
         tr.write_line(
-            f"{len(ran)} tests call make_interp_spline: {len(passed)} pass, "
-            f"{len(gaps)} fail on a gap of issue 22 (expected), {len(na)} do not apply, "
-            f"{len(own_xfail)} xfail in SciPy itself, {len(skipped)} skipped, "
-            f"{len(unexpected)} unexpected"
+            f"{title}: {len(passed)} pass, {len(gaps)} fail on a gap of issue 22 (expected), "
+            f"{len(na)} do not apply, {len(own_xfail)} xfail in SciPy itself, "
+            f"{len(skipped)} skipped, {len(unexpected)} unexpected"
         )
-        for title, ids in (("gap (issue 22)", gaps), ("does not apply", na)):
+        for kind, ids in (("gap (issue 22)", gaps), ("does not apply", na)):
             for s in ids:
-                tr.write_line(f"  {title}: {s}: {listed[s][1]}")
+                tr.write_line(f"  {kind}: {s}: {listed[s][1]}")
         for s in own_xfail:
             tr.write_line(f"  xfail in SciPy: {s}")
         for s in skipped:
@@ -194,15 +214,6 @@ class Suite:
                 tr.write_line(f"  UNEXPECTED PASS: {s}: take it off tests/scipy/expected.txt")
             else:
                 tr.write_line(f"  UNEXPECTED FAILURE: {s}: {self.failures.get(s, '?')}")
-        for p in self.problems():
-            tr.write_line(f"  SELECTION: {p}")
-        codes = {}
-        for _, code, _ in swap.calls:
-            codes[code] = codes.get(code, 0) + 1
-        tr.write_line(
-            f"{len(swap.calls)} geomkit runs (exit status: "
-            + ", ".join(f"{c}: {n}" for c, n in sorted(codes.items())) + ")"
-        )
 
 
 def _why(report):

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# SciPy's own interpolation tests against geomkit (issue 22, acceptance): the test_bsplines.py
-# of the installed SciPy wheel, with make_interp_spline answered by `geomkit interpolate
-# curve --form scipy` (tests/scipy/swap.py, swapped in by the pytest plugin tests/scipy/plugin.py).
+# SciPy's own interpolation tests against geomkit (issue 22, acceptance): test_bsplines.py and
+# test_fitpack2.py of the installed SciPy wheel, with make_interp_spline answered by `geomkit
+# interpolate curve --form scipy` and RectBivariateSpline (s=0) by `geomkit interpolate
+# surface --heights` (tests/scipy/swap.py, swapped in by the pytest plugin tests/scipy/plugin.py).
 #
 #   bash tests/scipy/run.sh            # from anywhere; .ci/test calls it after the Rust tests
 #
@@ -9,14 +10,15 @@
 #    missing, bench/requirements.txt (the pinned SciPy and NumPy) installed whenever that
 #    file changes; then tests/scipy/requirements.txt (the pinned pytest) unless present.
 # 2. The release CLI (cargo build --release -p geomkit-cli), unless GEOMKIT_BIN names one.
-# 3. pytest over scipy.interpolate.tests.test_bsplines: the tests that call
-#    make_interp_spline run (the others are deselected), each through the CLI. Those listed
+# 3. pytest over scipy.interpolate.tests.test_bsplines and .test_fitpack2: the tests that call
+#    make_interp_spline or RectBivariateSpline run (the others are deselected), each through
+#    the CLI (SciPy's BSpline and bispev evaluate the knots and coefficients). Those listed
 #    in tests/scipy/expected.txt (gaps of issue 22, and tests that do not apply, with their
 #    reasons) must fail; every other one must pass. A summary ends the output.
 #
 # Environment: PYTHON (default python3) creates the venv; GEOMKIT_BIN (default
-# target/release/geomkit); GEOMKIT_SCIPY_SELECT=all runs the whole module and checks that no
-# deselected test calls make_interp_spline. Extra arguments go to pytest (e.g. -k periodic,
+# target/release/geomkit); GEOMKIT_SCIPY_SELECT=all runs the whole modules and checks that no
+# deselected test calls a swapped function. Extra arguments go to pytest (e.g. -k periodic,
 # --tb=long).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -50,22 +52,25 @@ if [ "$found" != "$wanted" ]; then
         die "pip install -r tests/scipy/requirements.txt failed"
 fi
 
-# --- 2. the CLI -----------------------------------------------------------------------------
+# --- 2. the CLI ---------------------------------------------------------------------------
 if [ -z "${GEOMKIT_BIN:-}" ]; then
     cargo build --release --quiet -p geomkit-cli || die "cargo build --release -p geomkit-cli failed"
     export GEOMKIT_BIN=$root/target/release/geomkit
 fi
 [ -x "$GEOMKIT_BIN" ] || die "no geomkit binary at $GEOMKIT_BIN"
-say "$("$venv/bin/python" -c 'import scipy, numpy, pytest; print(f"scipy {scipy.__version__}, numpy {numpy.__version__}, pytest {pytest.__version__}")'), $GEOMKIT_BIN"
+versions=$("$venv/bin/python" -c 'import numpy, pytest, scipy
+print(f"scipy {scipy.__version__}, numpy {numpy.__version__}, pytest {pytest.__version__}")')
+say "$versions, $GEOMKIT_BIN"
 
-# --- 3. SciPy's tests -------------------------------------------------------------------------
+# --- 3. SciPy's tests ---------------------------------------------------------------------
 tests=$SECONDS
 status=0
 # NumPy only (no other array API backend); no cache directory in the work tree.
 env -u SCIPY_ARRAY_API PYTHONPATH="$here${PYTHONPATH:+:$PYTHONPATH}" \
     "$venv/bin/python" -m pytest -q -p no:cacheprovider -p plugin \
     -W ignore::pytest.PytestUnknownMarkWarning --tb=short -rN \
-    --pyargs scipy.interpolate.tests.test_bsplines "$@" || status=$?
+    --pyargs scipy.interpolate.tests.test_bsplines scipy.interpolate.tests.test_fitpack2 "$@" ||
+    status=$?
 [ "$status" -eq 0 ] ||
-    die "SciPy's test_bsplines.py through geomkit (above: UNEXPECTED or SELECTION lines)"
+    die "SciPy's tests through geomkit (above: UNEXPECTED or SELECTION lines)"
 say "ok ($((SECONDS - tests)) s of tests, $((SECONDS - start)) s in all)"

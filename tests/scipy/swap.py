@@ -39,6 +39,7 @@ from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import BSpline
+from scipy.interpolate import RectBivariateSpline as _RectBivariateSpline
 
 ROOT = Path(__file__).resolve().parents[2]
 GEOMKIT = os.environ.get("GEOMKIT_BIN") or str(ROOT / "target" / "release" / "geomkit")
@@ -173,3 +174,61 @@ def make_interp_spline(x, y, k=3, t=None, bc_type=None, axis=0, check_finite=Tru
     return BSpline.construct_fast(
         t, c, k, extrapolate="periodic" if periodic else True, axis=axis
     )
+
+
+class RectBivariateSpline(_RectBivariateSpline):
+    """scipy.interpolate.RectBivariateSpline (s=0, the interpolating spline) through
+    `geomkit interpolate surface Z.npy --heights --x0 X0 --dx DX --y0 Y0 --dy DY -o OUT.json`.
+
+    The CLI takes heights over a regular grid only and bicubics only, in the paper's extended
+    form (three knots beyond each end: the same surface on the grid); SciPy's evaluation
+    (`__call__`, `ev`, `partial_derivative`, `integral`) runs on those knots and coefficients.
+    What the CLI cannot be given is refused with NotImplementedError: x or y not equally
+    spaced (no given parameters for surfaces), x, y whose sizes differ from z's (the CLI
+    gets z alone), kx or ky other than 3, s other than 0 (smoothing: out of scope), a bbox
+    other than the data's.
+    """
+
+    def __init__(self, x, y, z, bbox=[None] * 4, kx=3, ky=3, s=0, maxit=20):
+        global invocations
+        invocations += 1
+        x, y, bbox = np.ravel(x), np.ravel(y), np.ravel(bbox)
+        z = np.asarray(z)
+        if kx != 3 or ky != 3:
+            raise NotImplementedError(f"kx={kx}, ky={ky}: the CLI's surfaces are bicubic")
+        if s is None or s != 0:
+            raise NotImplementedError(f"s={s}: smoothing is out of scope (issue 22)")
+        if bbox.shape != (4,) or (any(b is not None for b in bbox.tolist())
+                                  and bbox.tolist() != [x[0], x[-1], y[0], y[-1]]):
+            raise NotImplementedError(f"bbox {bbox.tolist()}: not a CLI option")
+        if z.ndim != 2 or z.shape != (x.size, y.size):
+            raise NotImplementedError(
+                f"x, y of {x.size}, {y.size} values, z of shape {z.shape}: the CLI takes "
+                "z alone (no x, y to check it against)")
+        grid = []
+        for name, v in (("x", x), ("y", y)):
+            v = _as_float(v, name)
+            step = (v[-1] - v[0]) / (v.size - 1) if v.size > 1 else 1.0
+            if v.size < 2 or not np.allclose(v, v[0] + step * np.arange(v.size),
+                                             rtol=0, atol=1e-13 * max(1.0, abs(v).max())):
+                raise NotImplementedError(
+                    f"{name} not equally spaced: the CLI's surfaces take heights on a "
+                    "regular grid (no given parameters)")
+            grid.append((v[0], step))
+        (x0, dx), (y0, dy) = grid
+        with tempfile.TemporaryDirectory(prefix="geomkit-swap-") as tmp:
+            tmp = Path(tmp)
+            np.save(tmp / "z.npy", _as_float(z, "z"))
+            _run(["interpolate", "surface", str(tmp / "z.npy"), "--heights",
+                  f"--x0={float(x0)!r}", f"--dx={float(dx)!r}",
+                  f"--y0={float(y0)!r}", f"--dy={float(dy)!r}",
+                  "-o", str(tmp / "out.json")])
+            model = json.loads((tmp / "out.json").read_text())
+        tx = np.asarray(model["knots_u"], dtype=np.float64)
+        ty = np.asarray(model["knots_v"], dtype=np.float64)
+        c = np.asarray(model["net"], dtype=np.float64)
+        if c.ndim == 3:
+            c = c[..., 0]
+        self.fp = 0.0
+        self.tck = tx, ty, np.ascontiguousarray(c).ravel()
+        self.degrees = 3, 3
