@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# SciPy's own interpolation tests against geomkit (issue 22, acceptance): test_bsplines.py and
+# test_fitpack2.py of the installed SciPy wheel, with make_interp_spline answered by `geomkit
+# interpolate curve --form scipy` and RectBivariateSpline (s=0) by `geomkit interpolate
+# surface --heights` (tests/scipy/swap.py, swapped in by the pytest plugin tests/scipy/plugin.py).
+#
+#   bash tests/scipy/run.sh            # from anywhere; .ci/test calls it after the Rust tests
+#
+# 1. The venv bench/.venv (git-ignored), as bench/make_reference.sh makes it: created when
+#    missing, bench/requirements.txt (the pinned SciPy and NumPy) installed whenever that
+#    file changes; then tests/scipy/requirements.txt (the pinned pytest) unless present.
+# 2. The release CLI (cargo build --release -p geomkit-cli), unless GEOMKIT_BIN names one.
+# 3. pytest over scipy.interpolate.tests.test_bsplines and .test_fitpack2: the tests that call
+#    make_interp_spline or RectBivariateSpline run (the others are deselected), each through
+#    the CLI (SciPy's BSpline and bispev evaluate the knots and coefficients). Those listed
+#    in tests/scipy/expected.txt (gaps of issue 22, and tests that do not apply, with their
+#    reasons) must fail; every other one must pass. A summary ends the output.
+#
+# Environment: PYTHON (default python3) creates the venv; GEOMKIT_BIN (default
+# target/release/geomkit); GEOMKIT_SCIPY_SELECT=all runs the whole modules and checks that no
+# deselected test calls a swapped function. Extra arguments go to pytest (e.g. -k periodic,
+# --tb=long).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+root=$PWD
+here=$root/tests/scipy
+
+tag=scipy
+# shellcheck source=../lib.sh
+source "$root/tests/lib.sh"
+start=$SECONDS
+
+# --- 1. the venv (bench/make_reference.sh's logic) ----------------------------------------
+venv=$root/bench/.venv
+if [ ! -x "$venv/bin/python" ]; then
+    say "creating $venv"
+    "${PYTHON:-python3}" -m venv "$venv" || die "python3 -m venv failed (apt-get install python3-venv?)"
+fi
+stamp=$venv/.requirements.installed
+if ! cmp -s "$root/bench/requirements.txt" "$stamp"; then
+    say "installing bench/requirements.txt into $venv"
+    "$venv/bin/python" -m pip install --disable-pip-version-check -q -r "$root/bench/requirements.txt" ||
+        die "pip install -r bench/requirements.txt failed"
+    cp "$root/bench/requirements.txt" "$stamp"
+fi
+wanted=$(grep -E '^[A-Za-z0-9_.-]+==' "$here/requirements.txt" | sort | tr '\n' ' ')
+found=$("$venv/bin/python" -c 'import pytest; print("pytest==" + pytest.__version__)' 2>/dev/null |
+    sort | tr '\n' ' ' || true)
+if [ "$found" != "$wanted" ]; then
+    say "installing tests/scipy/requirements.txt into $venv"
+    "$venv/bin/python" -m pip install --disable-pip-version-check -q -r "$here/requirements.txt" ||
+        die "pip install -r tests/scipy/requirements.txt failed"
+fi
+
+# --- 2. the CLI ---------------------------------------------------------------------------
+if [ -z "${GEOMKIT_BIN:-}" ]; then
+    cargo build --release --quiet -p geomkit-cli || die "cargo build --release -p geomkit-cli failed"
+    export GEOMKIT_BIN=$root/target/release/geomkit
+fi
+[ -x "$GEOMKIT_BIN" ] || die "no geomkit binary at $GEOMKIT_BIN"
+versions=$("$venv/bin/python" -c 'import numpy, pytest, scipy
+print(f"scipy {scipy.__version__}, numpy {numpy.__version__}, pytest {pytest.__version__}")')
+say "$versions, $GEOMKIT_BIN"
+
+# --- 3. SciPy's tests ---------------------------------------------------------------------
+tests=$SECONDS
+status=0
+# NumPy only (no other array API backend); no cache directory in the work tree.
+env -u SCIPY_ARRAY_API PYTHONPATH="$here${PYTHONPATH:+:$PYTHONPATH}" \
+    "$venv/bin/python" -m pytest -q -p no:cacheprovider -p plugin \
+    -W ignore::pytest.PytestUnknownMarkWarning --tb=short -rN \
+    --pyargs scipy.interpolate.tests.test_bsplines scipy.interpolate.tests.test_fitpack2 "$@" ||
+    status=$?
+[ "$status" -eq 0 ] ||
+    die "SciPy's tests through geomkit (above: UNEXPECTED or SELECTION lines)"
+say "ok ($((SECONDS - tests)) s of tests, $((SECONDS - start)) s in all)"
