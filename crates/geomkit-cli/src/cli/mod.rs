@@ -313,34 +313,55 @@ pub enum FormArg {
 
 /// The condition at one end of a curve (`--left`, `--right`).
 #[derive(Debug, Clone, PartialEq)]
-pub struct EndSpecArg(pub geomkit::bspline::EndSpec);
+pub struct EndSpecArg {
+    /// The condition.
+    pub spec: geomkit::bspline::EndSpec,
+    /// The first negative derivative order given, if any: refused where the end's x is
+    /// known, in SciPy's words ("Bad boundary conditions at X").
+    pub negative_order: Option<i64>,
+}
 
 /// Parses `not-a-knot`, `natural`, `clamped`, `bessel` or `ORDER:VALUE[;ORDER:VALUE...]`.
 pub fn parse_end_spec(s: &str) -> Result<EndSpecArg, String> {
     use geomkit::bspline::EndSpec;
     let t = s.trim();
-    Ok(EndSpecArg(match t {
-        "not-a-knot" | "none" => EndSpec::NotAKnot,
-        "natural" => EndSpec::natural(),
-        "clamped" => EndSpec::clamped(),
-        "bessel" => EndSpec::Bessel,
-        _ => EndSpec::Derivatives(
-            t.split([';', '+'])
-                .map(|d| {
-                    let (order, value) = d.split_once(':').ok_or_else(|| {
-                        format!(
-                            "'{d}' is not an end condition: expected not-a-knot, natural,                              clamped, bessel or ORDER:VALUE (e.g. 1:0.5,2 or 2:0)"
-                        )
-                    })?;
-                    let order = order
-                        .trim()
-                        .parse::<usize>()
-                        .map_err(|_| format!("'{order}' is not a derivative order (0, 1, 2, ...)"))?;
-                    Ok((order, parse_vector(value)?.0))
-                })
-                .collect::<Result<_, String>>()?,
-        ),
-    }))
+    let named = |spec| EndSpecArg {
+        spec,
+        negative_order: None,
+    };
+    Ok(match t {
+        "not-a-knot" | "none" => named(EndSpec::NotAKnot),
+        "natural" => named(EndSpec::natural()),
+        "clamped" => named(EndSpec::clamped()),
+        "bessel" => named(EndSpec::Bessel),
+        _ => {
+            let mut negative_order = None;
+            let mut list = Vec::new();
+            for d in t.split([';', '+']) {
+                let (order, value) = d.split_once(':').ok_or_else(|| {
+                    format!(
+                        "'{d}' is not an end condition: expected not-a-knot, natural, clamped, \
+                         bessel or ORDER:VALUE (e.g. 1:0.5,2 or 2:0)"
+                    )
+                })?;
+                let order = order
+                    .trim()
+                    .parse::<i64>()
+                    .map_err(|_| format!("'{order}' is not a derivative order (0, 1, 2, ...)"))?;
+                let value = parse_vector(value)?.0;
+                match usize::try_from(order) {
+                    Ok(o) => list.push((o, value)),
+                    Err(_) => {
+                        negative_order.get_or_insert(order);
+                    }
+                }
+            }
+            EndSpecArg {
+                spec: EndSpec::Derivatives(list),
+                negative_order,
+            }
+        }
+    })
 }
 
 /// How parameters are assigned to the reference points.
@@ -581,17 +602,12 @@ mod tests {
         assert_eq!(parse_vector("1,-2.5"), Ok(Vector(vec![1.0, -2.5])));
         assert!(parse_vector("1,nan").is_err());
         use geomkit::bspline::EndSpec;
+        assert_eq!(parse_end_spec("natural").unwrap().spec, EndSpec::natural());
         assert_eq!(
-            parse_end_spec("natural"),
-            Ok(EndSpecArg(EndSpec::natural()))
+            parse_end_spec("1:0.5,-2;2:0").unwrap().spec,
+            EndSpec::Derivatives(vec![(1, vec![0.5, -2.0]), (2, vec![0.0])])
         );
-        assert_eq!(
-            parse_end_spec("1:0.5,-2;2:0"),
-            Ok(EndSpecArg(EndSpec::Derivatives(vec![
-                (1, vec![0.5, -2.0]),
-                (2, vec![0.0])
-            ])))
-        );
+        assert_eq!(parse_end_spec("1:0;-6:0").unwrap().negative_order, Some(-6));
         assert!(parse_end_spec("1=0").unwrap_err().contains("ORDER:VALUE"));
         assert!(parse_end_spec("x:0")
             .unwrap_err()

@@ -310,7 +310,8 @@ fn read_params(path: &Path, progress: &Progress) -> Result<Table> {
     let (_, cols) = params.as_records()?;
     if cols != 1 {
         bail!(
-            "{}: expected one parameter per line, found {cols} columns",
+            "{}: Expect x to be a 1D strictly increasing sequence: found {cols} columns; give \
+             one parameter per line",
             params.name()
         );
     }
@@ -430,11 +431,11 @@ fn curve_scipy(
             left: args
                 .left
                 .clone()
-                .map_or_else(|| base(&args.start_tangent), |a| a.0),
+                .map_or_else(|| base(&args.start_tangent), |a| a.spec),
             right: args
                 .right
                 .clone()
-                .map_or_else(|| base(&args.end_tangent), |a| a.0),
+                .map_or_else(|| base(&args.end_tangent), |a| a.spec),
         }
     };
     progress.busy("solving");
@@ -446,25 +447,6 @@ fn curve_scipy(
         Some(path) => {
             let params = read_params(path, progress)?;
             let name = format!("{} with parameters from {}", table.name(), params.name());
-            let want = if periodic && !closed { n + 1 } else { n };
-            if params.data.len() != want {
-                let fix = match (periodic, closed) {
-                    (false, _) => "give one per point".to_string(),
-                    (true, true) => format!(
-                        "the last point repeats the first (within 1e-5), so give one per \
-                         point ({n})"
-                    ),
-                    (true, false) => format!(
-                        "periodic: give one per point and one more closing the curve ({}), or \
-                         end the points with the first point again",
-                        n + 1
-                    ),
-                };
-                bail!(
-                    "{name}: {} parameters for {n} points: {fix}",
-                    params.data.len()
-                );
-            }
             (params.data, name)
         }
         None => {
@@ -473,7 +455,21 @@ fn curve_scipy(
             (x, table.name())
         }
     };
-    let y: std::borrow::Cow<[f64]> = if x.len() == n + 1 {
+    // Negative derivative orders, refused in SciPy's words now that the ends' x are known.
+    for (arg, at, side) in [
+        (&args.left, x.first(), "left"),
+        (&args.right, x.last(), "right"),
+    ] {
+        if let (Some(order), Some(at)) = (arg.as_ref().and_then(|a| a.negative_order), at) {
+            bail!(
+                "{source}: Bad boundary conditions at {at} ({side} end): derivative order \
+                 {order} is below 0; give orders 0..={degree}"
+            );
+        }
+    }
+    // N + 1 parameters of periodic data that do not close themselves: the last closes the
+    // curve at the first point. Any other count is the library's to refuse ("Shapes of x").
+    let y: std::borrow::Cow<[f64]> = if periodic && !closed && x.len() == n + 1 {
         let mut y = data.clone();
         y.extend_from_slice(&data[..dim]);
         y.into()

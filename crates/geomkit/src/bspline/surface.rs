@@ -714,7 +714,8 @@ pub fn interpolate_heights(
     if *end == EndCondition::Periodic || *end == EndCondition::Repeat {
         return Err(Error::InvalidOption {
             option: "height end condition",
-            reason: "heights over a grid take natural, clamped, bessel, not-a-knot or outer-points ends",
+            reason:
+                "heights over a grid take natural, clamped, bessel, not-a-knot or outer-points ends",
         });
     }
     let opts = SurfaceInterpolationOptions::default()
@@ -748,7 +749,8 @@ pub fn interpolate_heights_at(
     if *end == EndCondition::Periodic || *end == EndCondition::Repeat {
         return Err(Error::InvalidOption {
             option: "height end condition",
-            reason: "heights over a grid take natural, clamped, bessel, not-a-knot or outer-points ends",
+            reason:
+                "heights over a grid take natural, clamped, bessel, not-a-knot or outer-points ends",
         });
     }
     validate_points("heights", 1, z)?;
