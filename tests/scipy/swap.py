@@ -24,7 +24,7 @@ Any other ending is a GeomkitCrash (a RuntimeError: the test fails, visibly).
 
 Not expressible through the CLI, so refused here with NotImplementedError (not a
 ValueError: a test expecting ValueError fails and is classified, it does not pass by
-accident): given knots `t`, complex values. `check_finite=False` is accepted and ignored
+accident): complex values. `check_finite=False` is accepted and ignored
 (the CLI always refuses non-finite input).
 
 Environment: GEOMKIT_BIN (default: target/release/geomkit of this repository).
@@ -142,8 +142,6 @@ def make_interp_spline(x, y, k=3, t=None, bc_type=None, axis=0, check_finite=Tru
             raise ValueError(f"Unknown boundary condition: {bc_type}") from e
 
     k = operator.index(k)
-    if t is not None:
-        raise NotImplementedError("given knots t: not a CLI option yet (issue 22)")
 
     x = _as_float(x, "x")
     y = _as_float(y, "y")
@@ -158,6 +156,9 @@ def make_interp_spline(x, y, k=3, t=None, bc_type=None, axis=0, check_finite=Tru
         np.save(tmp / "y.npy", ys)
         args = ["interpolate", "curve", str(tmp / "y.npy"), "--params", str(tmp / "x.npy"),
                 "--degree", str(k), "--form", "scipy"]
+        if t is not None:
+            np.save(tmp / "t.npy", _as_float(t, "t"))
+            args += ["--knots", str(tmp / "t.npy")]
         if periodic:
             args += ["--end", "periodic"]
         elif deriv_l is not None or deriv_r is not None:

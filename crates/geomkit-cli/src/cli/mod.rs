@@ -460,6 +460,10 @@ pub struct CurveArgs {
     /// Condition at the last point, overriding --end there (SciPy's bc_type[1]); as --left.
     #[arg(long, value_name = "COND", value_parser = parse_end_spec, allow_hyphen_values = true)]
     pub right: Option<EndSpecArg>,
+    /// Knots (SciPy's t) instead of the default placement: a CSV or .npy with one
+    /// non-decreasing value per line, at least N + K + 1 of them (the scipy form).
+    #[arg(long, value_name = "FILE", conflicts_with = "tile")]
+    pub knots: Option<PathBuf>,
     /// Representation: extended (the paper's: three knots beyond each end, N+2 control
     /// points; cubics) or scipy (SciPy's make_interp_spline: end knots k+1-fold, N control
     /// points for not-a-knot) [default: extended for cubics with one --end, else scipy].

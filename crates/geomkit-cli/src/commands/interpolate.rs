@@ -211,12 +211,12 @@ fn curve(args: CurveArgs) -> Result<()> {
         bail!("--samples must be from 2 to {MAX_CURVE_SAMPLES} (got {samples})");
     }
     let degree = args.degree.unwrap_or(3);
-    let per_end = args.left.is_some() || args.right.is_some();
+    let per_end = args.left.is_some() || args.right.is_some() || args.knots.is_some();
     let scipy = match args.form {
         Some(FormArg::Scipy) => true,
         Some(FormArg::Extended) if degree != 3 || per_end => bail!(
             "--form extended is the paper's cubic with one --end: drop --degree {degree}, \
-             --left and --right, or use --form scipy"
+             --left, --right and --knots, or use --form scipy"
         ),
         Some(FormArg::Extended) => false,
         None => degree != 3 || per_end,
@@ -476,8 +476,19 @@ fn curve_scipy(
     } else {
         data.as_slice().into()
     };
-    let curve = make_interp_spline(&x, &y, dim, &SplineOptions::new(degree).with_ends(ends))
-        .with_context(|| source.clone())?;
+    let mut options = SplineOptions::new(degree).with_ends(ends);
+    if let Some(path) = &args.knots {
+        let knots = Table::read(path, progress)?;
+        let (_, cols) = knots.as_records()?;
+        if cols != 1 {
+            bail!(
+                "{}: expected one knot per line, found {cols} columns",
+                knots.name()
+            );
+        }
+        options = options.with_knots(knots.data);
+    }
+    let curve = make_interp_spline(&x, &y, dim, &options).with_context(|| source.clone())?;
     let about = format!(
         "degree {degree}, SciPy's form, end {end_text}, {} parameters",
         param_name(param)

@@ -6,6 +6,26 @@ use crate::{case, Case};
 const POINTS: &str = "x,y\n0,0\n1,2\n2,1\n3,3\n";
 
 pub const CASES: &[Case] = &[
+    case(
+        &[
+            ("p.csv", POINTS),
+            ("t.csv", "0\n0\n0\n0\n2\n1\n3\n3\n3\n3\n"),
+        ],
+        &[
+            "interpolate",
+            "curve",
+            "p.csv",
+            "--knots",
+            "t.csv",
+            "-o",
+            "c.json",
+        ],
+        &[
+            "p.csv",
+            "Expect t to be a 1-D sorted",
+            "knot 5 = 1 < knot 4 = 2",
+        ],
+    ),
     // Any degree, SciPy's form and per-end conditions (issue 22).
     case(
         &[("p.csv", POINTS)],
