@@ -94,7 +94,7 @@ def as_json_end(end):
     return [[o, v] for o, v in end]
 
 
-def exact_coefficients(x, y, k, t, ends):
+def exact_coefficients(x, y, k, t, ends, rational=False):
     """The exact solution of the interpolation system of an open spline (x, y, t and the
     end values read exactly from their floats), rounded to f64: the reference that says
     how far SciPy's own coefficients are from the true ones (systems with all conditions at
@@ -123,7 +123,7 @@ def exact_coefficients(x, y, k, t, ends):
             out -= Fraction(p) / (t[j + p + 1] - t[j + 1]) * basis(j + 1, p - 1, u, nu - 1)
         return out
 
-    dim = y.shape[1]
+    dim = len(y[0])
     xs = [Fraction(v) for v in x]
 
     def conds(end):
@@ -150,7 +150,10 @@ def exact_coefficients(x, y, k, t, ends):
             if r != col and rows[r][col] != 0:
                 f = rows[r][col] / rows[col][col]
                 rows[r] = [a - f * b for a, b in zip(rows[r], rows[col])]
-    return np.array([[float(rows[i][n + d] / rows[i][i]) for d in range(dim)] for i in range(n)])
+    exact = [[rows[i][n + d] / rows[i][i] for d in range(dim)] for i in range(n)]
+    if rational:
+        return exact
+    return np.array([[float(v) for v in r] for r in exact])
 
 
 def eval_points(x):
@@ -255,6 +258,40 @@ def few_case(name, set_name, k, ends, spl, ts, npts):
     }
 
 
+def surface_cases():
+    """RectBivariateSpline(x, y, z, kx, ky, s=0): FITPACK's knots and coefficients, values at
+    scattered points, on an uneven grid."""
+    from scipy.interpolate import RectBivariateSpline
+    rng = random.Random(SEED + 7)
+    x = sorted(rng.uniform(0.0, 4.0) for _ in range(7))
+    x = [0.0] + x + [4.0]
+    y = sorted(rng.uniform(-1.0, 1.0) for _ in range(6))
+    y = [-1.0] + y + [1.0]
+    z = [[math.sin(1.3 * a) * math.cos(2.0 * b) + 0.2 * rng.uniform(-1, 1) for b in y] for a in x]
+    pts = [(rng.uniform(0.0, 4.0), rng.uniform(-1.0, 1.0)) for _ in range(12)]
+    out = []
+    for kx, ky in [(1, 1), (2, 3), (3, 3), (4, 2), (5, 5), (3, 1), (5, 4)]:
+        spl = RectBivariateSpline(np.array(x), np.array(y), np.array(z), kx=kx, ky=ky, s=0)
+        tx, ty = spl.get_knots()
+        # The exact coefficients (both directions solved in rationals, rounded once):
+        # FITPACK's are 1e-10 off for degree 5.
+        c1 = exact_coefficients(x, z, kx, tx, ["not-a-knot"] * 2, rational=True)
+        c1t = [list(col) for col in zip(*c1)]
+        exact = np.array(exact_coefficients(y, c1t, ky, ty, ["not-a-knot"] * 2)).T
+        err = float(np.abs(spl.get_coeffs().reshape(exact.shape) - exact).max()
+                    / np.abs(np.array(z)).max())
+        out.append({
+            "c_exact": [float(v) for v in exact.ravel()],
+            "scipy_error": err,
+            "kx": kx, "ky": ky,
+            "tx": [float(v) for v in tx], "ty": [float(v) for v in ty],
+            "c": [float(v) for v in spl.get_coeffs()],
+            "at": [list(p) for p in pts],
+            "values": [float(spl.ev(a, b)) for a, b in pts],
+        })
+    return {"x": x, "y": y, "z": z, "cases": out}
+
+
 def main():
     data = {
         "about": "SciPy's make_interp_spline(x, y, k, bc_type) for k = 1..7: knots t, "
@@ -264,6 +301,7 @@ def main():
                      "scipy": scipy.__version__},
     }
     data["sets"], data["cases"] = cases()
+    data["surfaces"] = surface_cases()
     OUT.write_text(json.dumps(data, separators=(",", ":")) + "\n")
     print(f"wrote {OUT} ({len(data['cases'])} cases, {OUT.stat().st_size // 1024} KiB)")
 

@@ -179,15 +179,12 @@ def make_interp_spline(x, y, k=3, t=None, bc_type=None, axis=0, check_finite=Tru
 
 class RectBivariateSpline(_RectBivariateSpline):
     """scipy.interpolate.RectBivariateSpline (s=0, the interpolating spline) through
-    `geomkit interpolate surface Z.npy --heights --x0 X0 --dx DX --y0 Y0 --dy DY -o OUT.json`.
-
-    The CLI takes heights over a regular grid only and bicubics only, in the paper's extended
-    form (three knots beyond each end: the same surface on the grid); SciPy's evaluation
-    (`__call__`, `ev`, `partial_derivative`, `integral`) runs on those knots and coefficients.
-    What the CLI cannot be given is refused with NotImplementedError: x or y not equally
-    spaced (no given parameters for surfaces), x, y whose sizes differ from z's (the CLI
-    gets z alone), kx or ky other than 3, s other than 0 (smoothing: out of scope), a bbox
-    other than the data's.
+    `geomkit interpolate surface Z.npy --heights --x X.npy --y Y.npy --degree KX,KY --form
+    scipy -o OUT.json`: FITPACK's knots and coefficients; SciPy's evaluation (`__call__`,
+    `ev`, `partial_derivative`, `integral`) runs on them. What the CLI cannot be given is
+    refused with NotImplementedError: s other than 0 (smoothing: out of scope) and a bbox
+    other than the data's. SciPy's own argument checks that precede the fit (bbox shape, s
+    sign) are SciPy's, and kept here in its words.
     """
 
     def __init__(self, x, y, z, bbox=[None] * 4, kx=3, ky=3, s=0, maxit=20):
@@ -195,34 +192,24 @@ class RectBivariateSpline(_RectBivariateSpline):
         invocations += 1
         x, y, bbox = np.ravel(x), np.ravel(y), np.ravel(bbox)
         z = np.asarray(z)
-        if kx != 3 or ky != 3:
-            raise NotImplementedError(f"kx={kx}, ky={ky}: the CLI's surfaces are bicubic")
+        if bbox.shape != (4,):
+            raise ValueError(f"bbox shape should be (4,), got {bbox.shape}")
+        if s is not None and s < 0.0:
+            raise ValueError("s should be s >= 0.0")
         if s is None or s != 0:
             raise NotImplementedError(f"s={s}: smoothing is out of scope (issue 22)")
-        if bbox.shape != (4,) or (any(b is not None for b in bbox.tolist())
-                                  and bbox.tolist() != [x[0], x[-1], y[0], y[-1]]):
+        if any(b is not None for b in bbox.tolist()) and bbox.tolist() != [x[0], x[-1], y[0], y[-1]]:
             raise NotImplementedError(f"bbox {bbox.tolist()}: not a CLI option")
-        if z.ndim != 2 or z.shape != (x.size, y.size):
-            raise NotImplementedError(
-                f"x, y of {x.size}, {y.size} values, z of shape {z.shape}: the CLI takes "
-                "z alone (no x, y to check it against)")
-        grid = []
-        for name, v in (("x", x), ("y", y)):
-            v = _as_float(v, name)
-            step = (v[-1] - v[0]) / (v.size - 1) if v.size > 1 else 1.0
-            if v.size < 2 or not np.allclose(v, v[0] + step * np.arange(v.size),
-                                             rtol=0, atol=1e-13 * max(1.0, abs(v).max())):
-                raise NotImplementedError(
-                    f"{name} not equally spaced: the CLI's surfaces take heights on a "
-                    "regular grid (no given parameters)")
-            grid.append((v[0], step))
-        (x0, dx), (y0, dy) = grid
+        if z.ndim != 2:
+            raise ValueError(f"z must be a 2-D array, got shape {z.shape}")
         with tempfile.TemporaryDirectory(prefix="geomkit-swap-") as tmp:
             tmp = Path(tmp)
             np.save(tmp / "z.npy", _as_float(z, "z"))
+            np.save(tmp / "x.npy", _as_float(x, "x"))
+            np.save(tmp / "y.npy", _as_float(y, "y"))
             _run(["interpolate", "surface", str(tmp / "z.npy"), "--heights",
-                  f"--x0={float(x0)!r}", f"--dx={float(dx)!r}",
-                  f"--y0={float(y0)!r}", f"--dy={float(dy)!r}",
+                  "--x", str(tmp / "x.npy"), "--y", str(tmp / "y.npy"),
+                  "--degree", f"{int(kx)},{int(ky)}", "--form", "scipy",
                   "-o", str(tmp / "out.json")])
             model = json.loads((tmp / "out.json").read_text())
         tx = np.asarray(model["knots_u"], dtype=np.float64)
@@ -232,4 +219,4 @@ class RectBivariateSpline(_RectBivariateSpline):
             c = c[..., 0]
         self.fp = 0.0
         self.tck = tx, ty, np.ascontiguousarray(c).ravel()
-        self.degrees = 3, 3
+        self.degrees = int(kx), int(ky)

@@ -534,6 +534,22 @@ pub struct SurfaceArgs {
         allow_negative_numbers = true
     )]
     pub y0: Option<f64>,
+    /// With --heights: the x of the rows (CSV or .npy, one strictly increasing value per
+    /// line) instead of --x0/--dx: any rectilinear grid (SciPy's RectBivariateSpline(x, y, z)).
+    #[arg(long, value_name = "FILE", requires = "heights", conflicts_with_all = ["x0", "dx"])]
+    pub x: Option<PathBuf>,
+    /// With --heights: the y of the columns instead of --y0/--dy.
+    #[arg(long, value_name = "FILE", requires = "heights", conflicts_with_all = ["y0", "dy"])]
+    pub y: Option<PathBuf>,
+    /// With --heights: degrees K (both directions) or KX,KY, 1 to 7, in SciPy's form
+    /// (RectBivariateSpline(kx, ky, s=0): FITPACK's knots, not-a-knot ends) [default: 3].
+    #[arg(long, value_name = "K[,L]", value_parser = parse_degrees, requires = "heights")]
+    pub degree: Option<Degrees>,
+    /// Representation: extended (the paper's bicubic, three knots beyond each end) or scipy
+    /// (RectBivariateSpline's knots and coefficients; heights) [default: extended for the
+    /// bicubic, scipy with --degree].
+    #[arg(long, value_enum)]
+    pub form: Option<FormArg>,
     /// End condition in both directions (--end-u / --end-v override one).
     #[arg(long, value_enum, default_value = "not-a-knot")]
     pub end: EndArg,

@@ -7,7 +7,7 @@
 //! temporary files that are renamed into place only when everything succeeded.
 
 use crate::cli::{
-    CurveArgs, EndArg, FormArg, InterpolateCommand, ParamArg, Samples, SurfaceArgs, Vector,
+    CurveArgs, Degrees, EndArg, FormArg, InterpolateCommand, ParamArg, Samples, SurfaceArgs, Vector,
 };
 use crate::cli::{MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::model::{knots_sibling, write_bspline_curve_json, write_bspline_surface_json};
@@ -20,9 +20,10 @@ use anyhow::{anyhow, bail, Context, Result};
 use clap::ValueEnum;
 use geomkit::bspline::{
     interpolate_curve_at, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
-    interpolate_surface_flat, make_interp_spline, parameters, BsplineCurve, BsplineSurface,
-    CurveTiler, EndCondition, EndSpec, InterpolationOptions, Parametrization, SplineEnds,
-    SplineOptions, SurfaceInterpolationOptions, TileOptions, TileSolution, MAX_SPLINE_DEGREE,
+    interpolate_heights_at, interpolate_surface_flat, make_interp_spline, make_interp_surface,
+    parameters, BsplineCurve, BsplineSurface, CurveTiler, EndCondition, EndSpec,
+    InterpolationOptions, Parametrization, SplineEnds, SplineOptions, SurfaceInterpolationOptions,
+    TileOptions, TileSolution, MAX_SPLINE_DEGREE,
 };
 use geomkit_plot::figures::{
     bspline_curve_figure, heightmap_svg, linspace, surface_svg, Layer, REFERENCE,
@@ -876,18 +877,80 @@ fn surface(args: SurfaceArgs) -> Result<()> {
         }
     }
 
+    // SciPy's form (RectBivariateSpline, any degrees): heights, not-a-knot ends only.
+    let degrees = match args.degree {
+        None => (3, 3),
+        Some(Degrees::One(k)) => (k, k),
+        Some(Degrees::Two(k, l)) => (k, l),
+    };
+    let scipy = match args.form {
+        Some(FormArg::Scipy) => true,
+        Some(FormArg::Extended) if degrees != (3, 3) => {
+            bail!("--form extended is the paper's bicubic: drop --degree, or use --form scipy")
+        }
+        Some(FormArg::Extended) => false,
+        None => args.degree.is_some(),
+    };
+    if scipy {
+        if !args.heights {
+            bail!(
+                "--form scipy and --degree take heights (--heights): SciPy's RectBivariateSpline"
+            );
+        }
+        for k in [degrees.0, degrees.1] {
+            if !(1..=MAX_SPLINE_DEGREE).contains(&k) {
+                bail!("--degree must be from 1 to {MAX_SPLINE_DEGREE} (got {k})");
+            }
+        }
+        if end_u != EndArg::NotAKnot || end_v != EndArg::NotAKnot {
+            bail!(
+                "--form scipy surfaces have not-a-knot ends (RectBivariateSpline's); drop \
+                 --end {ends_text}"
+            );
+        }
+    }
     let progress = Progress::start();
     let grid = read_grid(&args, &progress)?;
     progress.busy("solving");
     let (rows, cols) = (grid.rows, grid.cols);
     let explain = |e: geomkit::Error| explain_fit(e, &grid.table, rows, Fit::Surface, &ends_text);
     let fit = if args.heights {
-        let surface = interpolate_heights(&grid.table.data, rows, cols, origin, spacing, &cond_u)
-            .map_err(explain)?;
+        let coords = |file: &Option<std::path::PathBuf>, n: usize, o: f64, h: f64| match file {
+            Some(path) => read_params(path, &progress).map(|t| Some(t.data)),
+            None if scipy => Ok(Some((0..n).map(|i| o + i as f64 * h).collect())),
+            None => Ok(None),
+        };
+        let xs = coords(&args.x, rows, origin.0, spacing.0)?;
+        let ys = coords(&args.y, cols, origin.1, spacing.1)?;
+        let data = &grid.table.data;
+        let surface = match (&xs, &ys) {
+            (Some(xs), Some(ys)) if scipy => {
+                make_interp_surface(xs, ys, data, (rows, cols), degrees)
+                    .with_context(|| grid.table.name())?
+            }
+            (None, None) => {
+                interpolate_heights(data, rows, cols, origin, spacing, &cond_u).map_err(explain)?
+            }
+            _ => {
+                let regular = |n: usize, o: f64, h: f64| (0..n).map(|i| o + i as f64 * h).collect();
+                let xs = xs
+                    .clone()
+                    .unwrap_or_else(|| regular(rows, origin.0, spacing.0));
+                let ys = ys
+                    .clone()
+                    .unwrap_or_else(|| regular(cols, origin.1, spacing.1));
+                interpolate_heights_at(data, &xs, &ys, &cond_u)
+                    .with_context(|| grid.table.name())?
+            }
+        };
+        let (params_u, params_v) = (
+            xs.unwrap_or_else(|| (0..rows).map(|i| origin.0 + i as f64 * spacing.0).collect()),
+            ys.unwrap_or_else(|| (0..cols).map(|j| origin.1 + j as f64 * spacing.1).collect()),
+        );
         SurfaceFit {
             surface,
-            params_u: (0..rows).map(|i| origin.0 + i as f64 * spacing.0).collect(),
-            params_v: (0..cols).map(|j| origin.1 + j as f64 * spacing.1).collect(),
+            params_u,
+            params_v,
             heights: true,
         }
     } else {

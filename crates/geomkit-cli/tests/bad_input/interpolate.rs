@@ -6,6 +6,93 @@ use crate::{case, Case};
 const POINTS: &str = "x,y\n0,0\n1,2\n2,1\n3,3\n";
 
 pub const CASES: &[Case] = &[
+    // Surfaces of any degree in SciPy's form (RectBivariateSpline).
+    case(
+        &[
+            ("z.csv", "1,2,3\n2,3,1\n0,1,2\n3,3,1\n"),
+            ("x.csv", "0\n2\n1\n3\n"),
+        ],
+        &[
+            "interpolate",
+            "surface",
+            "z.csv",
+            "--heights",
+            "--x",
+            "x.csv",
+            "--degree",
+            "2",
+            "-o",
+            "s.json",
+        ],
+        &["z.csv", "x must be strictly increasing", "x[2] = 1"],
+    ),
+    case(
+        &[
+            ("z.csv", "1,2,3\n2,3,1\n0,1,2\n3,3,1\n"),
+            ("y.csv", "0\n1\n2\n3\n"),
+        ],
+        &[
+            "interpolate",
+            "surface",
+            "z.csv",
+            "--heights",
+            "--y",
+            "y.csv",
+            "--degree",
+            "2",
+            "-o",
+            "s.json",
+        ],
+        &[
+            "z.csv",
+            "y dimension of z must have same number of elements as y",
+            "4 × 3",
+        ],
+    ),
+    case(
+        &[("z.csv", "1,2,3\n2,3,1\n0,1,2\n3,3,1\n")],
+        &[
+            "interpolate",
+            "surface",
+            "z.csv",
+            "--heights",
+            "--degree",
+            "3,4",
+            "-o",
+            "s.json",
+        ],
+        &["z.csv", "3 values of y are too few for degree 4"],
+    ),
+    case(
+        &[("z.csv", "1,2,3\n2,3,1\n0,1,2\n3,3,1\n")],
+        &[
+            "interpolate",
+            "surface",
+            "z.csv",
+            "--heights",
+            "--degree",
+            "9",
+            "-o",
+            "s.json",
+        ],
+        &["--degree", "1 to 7", "9"],
+    ),
+    case(
+        &[("z.csv", "1,2,3\n2,3,1\n0,1,2\n3,3,1\n")],
+        &[
+            "interpolate",
+            "surface",
+            "z.csv",
+            "--heights",
+            "--degree",
+            "2",
+            "--end",
+            "natural",
+            "-o",
+            "s.json",
+        ],
+        &["not-a-knot", "--end natural"],
+    ),
     case(
         &[
             ("p.csv", POINTS),

@@ -34,8 +34,8 @@ pub use interpolate::{
 pub use piecewise::PiecewiseCurve;
 pub use sample::FdReport;
 pub use spline::{
-    augmented_knots, make_interp_spline, not_a_knot_knots, periodic_knots, EndSpec, SplineEnds,
-    SplineOptions, MAX_SPLINE_DEGREE,
+    augmented_knots, make_interp_spline, make_interp_surface, not_a_knot_knots, periodic_knots,
+    EndSpec, SplineEnds, SplineOptions, MAX_SPLINE_DEGREE,
 };
 pub use surface::{
     interpolate_heights, interpolate_heights_at, interpolate_surface, interpolate_surface_flat,

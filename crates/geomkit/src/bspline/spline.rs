@@ -241,6 +241,97 @@ fn trusted(k: usize, t: Vec<f64>, dim: usize, c: Vec<f64>) -> Result<BsplineCurv
     Ok(BsplineCurve::from_trusted(k, t, dim, c))
 }
 
+/// The interpolating tensor-product spline of degrees (kx, ky) through heights z over the
+/// grid x × y (`z` a row-major `rows × cols` matrix, `z[i * cols + j]` at (x_i, y_j)): SciPy's
+/// `RectBivariateSpline(x, y, z, kx=kx, ky=ky, s=0)`, whose FITPACK knots for s = 0 are the
+/// not-a-knot knots of [`not_a_knot_knots`] in each direction; the coefficients solve the
+/// two directions one after the other ([`make_interp_spline`] of x through the rows of z
+/// as ny-dimensional points, then of y through the result's transpose), so C = A_x^-1 Z
+/// A_y^-T exactly as the interpolation conditions ask. Errors in SciPy's words: "x must be
+/// strictly increasing" (also y), "x dimension of z must have same number of elements as
+/// x" (rows != len(x); also y and cols), non-finite values, fewer than k + 1 points in a
+/// direction, and a z of other than rows × cols values ([`Error::BufferSize`]).
+///
+/// ```
+/// use geomkit::bspline::make_interp_surface;
+/// let (x, y) = ([0.0, 1.0, 2.0, 3.5], [0.0, 0.5, 1.0, 2.0, 3.0]);
+/// let z: Vec<f64> = x.iter().flat_map(|a| y.iter().map(move |b| a * a - b)).collect();
+/// let s = make_interp_surface(&x, &y, &z, (4, 5), (3, 2)).unwrap();
+/// assert_eq!(s.degrees(), (3, 2));
+/// assert!((s.eval(3.5, 2.0)[0] - (3.5 * 3.5 - 2.0)).abs() < 1e-13);
+/// ```
+pub fn make_interp_surface(
+    x: &[f64],
+    y: &[f64],
+    z: &[f64],
+    (rows, cols): (usize, usize),
+    (kx, ky): (usize, usize),
+) -> Result<super::BsplineSurface> {
+    for (name, v) in [("x", x), ("y", y)] {
+        if let Some(index) = crate::points::first_non_finite(v) {
+            return Err(Error::NonFinite { what: name, index });
+        }
+        if let Some(i) = (1..v.len()).find(|&i| v[i] <= v[i - 1]) {
+            return Err(interp(format!(
+                "{name} must be strictly increasing: {name}[{i}] = {} after {name}[{}] = {}",
+                v[i],
+                i - 1,
+                v[i - 1]
+            )));
+        }
+    }
+    let (nx, ny) = (x.len(), y.len());
+    if z.len() != rows * cols {
+        return Err(Error::BufferSize {
+            expected: rows * cols,
+            got: z.len(),
+        });
+    }
+    for (name, n, got) in [("x", nx, rows), ("y", ny, cols)] {
+        if got != n {
+            return Err(interp(format!(
+                "{name} dimension of z must have same number of elements as {name}: z is \
+                 {rows} × {cols}, {name} has {n}"
+            )));
+        }
+    }
+    for (name, n, k) in [("x", nx, kx), ("y", ny, ky)] {
+        if n <= k {
+            return Err(interp(format!(
+                "{n} values of {name} are too few for degree {k}: give at least {}, or lower \
+                 the degree",
+                k + 1
+            )));
+        }
+    }
+    // Along x: the rows of z as points of ny coordinates; along y: the transpose of that.
+    let sx = make_interp_spline(x, z, ny, &SplineOptions::new(kx))?;
+    let (cx, ncx) = (sx.control_flat(), sx.n_control());
+    let mut t = vec![0.0; cx.len()];
+    for i in 0..ncx {
+        for j in 0..ny {
+            t[j * ncx + i] = cx[i * ny + j];
+        }
+    }
+    let sy = make_interp_spline(y, &t, ncx, &SplineOptions::new(ky))?;
+    let (cy, ncy) = (sy.control_flat(), sy.n_control());
+    let mut net = vec![0.0; cy.len()];
+    for j in 0..ncy {
+        for i in 0..ncx {
+            net[i * ncy + j] = cy[j * ncx + i];
+        }
+    }
+    super::BsplineSurface::from_flat(
+        (kx, ky),
+        sx.knots().to_vec(),
+        sy.knots().to_vec(),
+        ncx,
+        ncy,
+        1,
+        net,
+    )
+}
+
 /// The not-a-knot knots of degree k for the points x (module docs; SciPy's `_not_a_knot`).
 /// For n < k + 1 points the inner part is empty (the knots then need end conditions).
 pub fn not_a_knot_knots(x: &[f64], k: usize) -> Vec<f64> {
