@@ -14,7 +14,8 @@
 //!   t_(k+1) it is k, from t_(n-1) on it is n-1 (so x = t_n takes the last interval, and at
 //!   an interior knot the interval on its right: derivatives that jump there take their
 //!   right-hand value). The basis derivatives come from de Boor's recursion as SciPy's
-//!   `_deBoor_D` computes them, operation for operation. ν > k gives 0.
+//!   `_deBoor_D` computes them, operation for operation. ν > k gives 0 (ν = k+1 NaN where
+//!   x is NaN or, without extrapolation, outside; higher orders 0 even there, as SciPy).
 //! - **Derivative curve** ([`BsplineCurve::derivative_nu`]), once per order:
 //!   c'_j = (c_(j+1) - c_j)·k / (t_(j+k+1) - t_(j+1)), j < n-1, on the knots t_1..t_(n+k-1),
 //!   degree k-1 (SciPy's `splder`).
@@ -134,8 +135,9 @@ impl<'a> Tck<'a> {
     #[inline]
     fn eval_into(&self, x: f64, nu: usize, mode: Extrapolate, hint: &mut usize, out: &mut [f64]) {
         let k = self.k;
-        if nu > k {
-            // SciPy: zero for every x, NaN and outside the base interval included.
+        if nu > k + 1 {
+            // SciPy: zero for every x, NaN and outside the base interval included (order
+            // k + 1 runs its recursion: 0 where x has an interval, NaN where it has none).
             out.fill(0.0);
             return;
         }
@@ -151,8 +153,9 @@ impl<'a> Tck<'a> {
             return;
         };
         *hint = l;
-        if self.t[l] == self.t[l + 1] {
-            // An empty end interval (an end knot repeated more than k + 1 times): every
+        if nu > k || self.t[l] == self.t[l + 1] {
+            // Order k + 1 (the polynomial pieces' derivative of order k + 1 vanishes), or
+            // an empty end interval (an end knot repeated more than k + 1 times): every
             // basis function there is 0 (SciPy's values too; its derivatives of order k
             // there read stale scratch memory).
             out.fill(0.0);
@@ -347,7 +350,9 @@ impl BsplineCurve {
     /// one); `nu` above the degree gives 0; outside \[t_k, t_n\] see [`Extrapolate`].
     ///
     /// NaN and infinite parameters are not errors (as in SciPy): NaN gives NaN, ±∞ what the
-    /// arithmetic gives (NaN or ±∞), except that `nu` above the degree gives 0 everywhere.
+    /// arithmetic gives (NaN or ±∞), except that `nu` >= k + 2 gives 0 everywhere, NaN and
+    /// outside the base interval included (SciPy's shortcut; `nu` = k + 1 still gives NaN
+    /// there).
     /// Where an end knot is repeated more than k+1 times the interval at that end is empty
     /// and the value there 0 (as SciPy's; geomkit's [`crate::geom::Curve::eval`] takes the
     /// nearest non-empty interval instead). Large batches run in parallel, in chunks of
@@ -909,8 +914,12 @@ mod tests {
                 assert!((a - b).abs() < 1e-7 * b.abs().max(1.0), "nu {nu}: {out:?}");
             }
         }
+        // Order k + 1: 0, NaN outside without extrapolation; k + 2: 0 everywhere.
         c.eval_nu_many(&x, 4, Extrapolate::Nan, &mut out).unwrap();
-        assert_eq!(out, [0.0; 6]);
+        assert!(out[0].is_nan() && out[1..5] == [0.0; 4] && out[5].is_nan());
+        c.eval_nu_many(&[f64::NAN, -1.0], 5, Extrapolate::Nan, &mut out[..2])
+            .unwrap();
+        assert_eq!(out[..2], [0.0; 2]);
         c.eval_nu_many(&[f64::NAN, -1.0, 3.0], 0, Extrapolate::Nan, &mut out[..3])
             .unwrap();
         assert!(out[0].is_nan() && out[1].is_nan() && out[2] == 2.0);
