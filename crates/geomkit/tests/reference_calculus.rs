@@ -51,7 +51,10 @@ fn int(v: &Value) -> usize {
 
 /// Numbers, null as NaN.
 fn nums(v: &Value) -> Vec<f64> {
-    arr(v).iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect()
+    arr(v)
+        .iter()
+        .map(|x| x.as_f64().unwrap_or(f64::NAN))
+        .collect()
 }
 
 /// The largest finite magnitude (1 if none is above 0: blocks of zeros compare absolutely).
@@ -79,7 +82,10 @@ fn check(what: &str, got: &[f64], want: &[f64]) -> f64 {
             continue;
         }
         let rel = (g - w).abs() / s;
-        assert!(rel <= TOLERANCE, "{what} [{i}]: {g} vs SciPy {w} (relative {rel:.1e})");
+        assert!(
+            rel <= TOLERANCE,
+            "{what} [{i}]: {g} vs SciPy {w} (relative {rel:.1e})"
+        );
         worst = worst.max(rel);
     }
     worst
@@ -96,7 +102,8 @@ fn name(case: &Value) -> &str {
 
 fn eval(c: &BsplineCurve, x: &[f64], nu: usize, mode: Extrapolate) -> Vec<f64> {
     let mut out = vec![0.0; x.len() * c.dim()];
-    c.eval_nu_many(x, nu, mode, &mut out).expect("matching buffer");
+    c.eval_nu_many(x, nu, mode, &mut out)
+        .expect("matching buffer");
     out
 }
 
@@ -137,7 +144,11 @@ fn derivative_and_antiderivative_curves_match_scipy() {
                 (Ok(got), None) => {
                     assert_eq!(got.degree(), c.degree() - nu, "{n} derivative {nu}");
                     assert_eq!(got.knots(), nums(&d["t"]), "{n} derivative {nu}: knots");
-                    check(&format!("{n} derivative {nu}"), got.control_flat(), &nums(&d["c"]));
+                    check(
+                        &format!("{n} derivative {nu}"),
+                        got.control_flat(),
+                        &nums(&d["c"]),
+                    );
                 }
                 (Err(e), Some(msg)) => {
                     let expected = if msg.starts_with("Order of derivative") {
@@ -155,7 +166,11 @@ fn derivative_and_antiderivative_curves_match_scipy() {
             let got = c.antiderivative(nu).expect("degree within the cap");
             assert_eq!(got.degree(), c.degree() + nu);
             assert_eq!(got.knots(), nums(&a["t"]), "{n} antiderivative {nu}: knots");
-            check(&format!("{n} antiderivative {nu}"), got.control_flat(), &nums(&a["c"]));
+            check(
+                &format!("{n} antiderivative {nu}"),
+                got.control_flat(),
+                &nums(&a["c"]),
+            );
         }
     }
 }
@@ -214,7 +229,10 @@ fn knot_insertion_matches_scipy() {
                     check(&what, got.control_flat(), &nums(&ins["c"]));
                 }
                 (Err(e), Some(_)) => {
-                    assert!(matches!(e, Error::KnotInsertion { .. }), "{n} insert {x}: {e}")
+                    assert!(
+                        matches!(e, Error::KnotInsertion { .. }),
+                        "{n} insert {x}: {e}"
+                    )
                 }
                 (got, want) => panic!("{n} insert {x} x{m}: {got:?}, SciPy {want:?}"),
             }
@@ -260,7 +278,9 @@ fn rect_bivariate_spline_semantics_match_scipy() {
         let (kx, ky) = s.degrees();
         let mut out = [0.0];
         for (dx, dy) in [(kx, 0), (0, ky)] {
-            let e = s.eval_partial_many(&[0.5], &[0.5], dx, dy, &mut out).unwrap_err();
+            let e = s
+                .eval_partial_many(&[0.5], &[0.5], dx, dy, &mut out)
+                .unwrap_err();
             assert!(matches!(e, Error::DerivativeOrder { .. }), "{n}: {e}");
         }
     }

@@ -228,7 +228,10 @@ impl<'a> Tck<'a> {
                 let a = ts + py_mod(a - ts, period);
                 let b = a + rest;
                 let mut add = |p: f64, q: f64| {
-                    for (s, v) in integral.iter_mut().zip(f.difference(p, q, Extrapolate::Nan)) {
+                    for (s, v) in integral
+                        .iter_mut()
+                        .zip(f.difference(p, q, Extrapolate::Nan))
+                    {
                         *s += v;
                     }
                 };
@@ -435,7 +438,10 @@ impl BsplineCurve {
             }
             if next.iter().any(|v| !v.is_finite()) {
                 return Err(Error::ResultOverflow {
-                    what: format!("the coefficients of the derivative curve of order {}", step + 1),
+                    what: format!(
+                        "the coefficients of the derivative curve of order {}",
+                        step + 1
+                    ),
                 });
             }
             t = t[1..t.len() - 1].to_vec();
@@ -708,7 +714,9 @@ impl BsplineSurface {
         out: &mut [f64],
     ) -> Result<()> {
         for (axis, v) in [("x", x), ("y", y)] {
-            if let Some(i) = v.windows(2).position(|w| !(w[1] >= w[0])) {
+            // NaN among two or more coordinates fails too (SciPy: np.diff(x) >= 0).
+            let ordered = |w: &[f64]| w[1].partial_cmp(&w[0]).is_some_and(|o| o.is_ge());
+            if let Some(i) = v.windows(2).position(|w| !ordered(w)) {
                 return Err(Error::InvalidParameter {
                     index: i + 1,
                     reason: if axis == "x" {
@@ -794,14 +802,7 @@ impl BsplineSurface {
     }
 
     /// Checks FITPACK's derivative orders and the output length for `points` points.
-    fn check_partial(
-        &self,
-        nx: usize,
-        ny: usize,
-        dx: usize,
-        dy: usize,
-        out: &[f64],
-    ) -> Result<()> {
+    fn check_partial(&self, nx: usize, ny: usize, dx: usize, dy: usize, out: &[f64]) -> Result<()> {
         let (p, q) = self.degrees();
         if (dx, dy) != (0, 0) {
             if dx >= p {
@@ -909,7 +910,8 @@ mod tests {
         ];
         let mut out = [0.0; 6];
         for (nu, w) in want.iter().enumerate() {
-            c.eval_nu_many(&x, nu, Extrapolate::Extend, &mut out).unwrap();
+            c.eval_nu_many(&x, nu, Extrapolate::Extend, &mut out)
+                .unwrap();
             for (a, b) in out.iter().zip(w) {
                 assert!((a - b).abs() < 1e-7 * b.abs().max(1.0), "nu {nu}: {out:?}");
             }
@@ -932,16 +934,33 @@ mod tests {
         assert_eq!(d.knots(), &[0., 0., 0., 1., 2.5, 3., 3., 3.]);
         assert_eq!(d.control_flat(), &[3., -3.6, 4., -3.75, 9.]);
         let f = c.antiderivative(1).unwrap();
-        assert_eq!(f.knots(), &[0., 0., 0., 0., 0., 1., 2.5, 3., 3., 3., 3., 3.]);
+        assert_eq!(
+            f.knots(),
+            &[0., 0., 0., 0., 0., 1., 2.5, 3., 3., 3., 3., 3.]
+        );
         assert_eq!(f.control_flat(), &[0., 0.25, 1.5, 0.75, 3., 3.25, 3.5]);
         let z = c.derivative_nu(3).unwrap();
-        assert_eq!((z.degree(), z.control_flat()), (0, &[19.28, -9.22, 117.5][..]));
+        assert_eq!(
+            (z.degree(), z.control_flat()),
+            (0, &[19.28, -9.22, 117.5][..])
+        );
         // An interior knot of multiplicity 3 in a cubic: once, not twice.
         let t = vec![0., 0., 0., 0., 1., 1., 1., 2., 2., 2., 2.];
         let r = BsplineCurve::from_flat(3, t, 1, (0..7).map(f64::from).collect()).unwrap();
         assert_eq!(r.derivative_nu(1).unwrap().control_flat(), &[3.0; 6]);
         let e = r.derivative_nu(2).unwrap_err();
-        assert!(matches!(e, Error::NotDifferentiable { order: 2, index: 4, multiplicity: 3, .. }), "{e}");
+        assert!(
+            matches!(
+                e,
+                Error::NotDifferentiable {
+                    order: 2,
+                    index: 4,
+                    multiplicity: 3,
+                    ..
+                }
+            ),
+            "{e}"
+        );
     }
 
     #[test]
@@ -958,7 +977,10 @@ mod tests {
             (-1.0, 1.0, Extrapolate::Extend, -2.4),
         ] {
             let got = c.integrate(a, b, ext)[0];
-            assert!((got - want).abs() < 1e-12 * want.abs().max(1.0), "{a} {b} {ext:?}: {got}");
+            assert!(
+                (got - want).abs() < 1e-12 * want.abs().max(1.0),
+                "{a} {b} {ext:?}: {got}"
+            );
         }
         assert!(c.integrate(f64::NAN, 1.0, Extrapolate::Nan)[0].is_nan());
         let all = c.integrate(f64::NEG_INFINITY, f64::INFINITY, Extrapolate::Nan)[0];
@@ -969,17 +991,53 @@ mod tests {
     fn insertion_matches_scipy() {
         let c = scipy_cubic();
         let i = c.insert_knot(1.0, 2).unwrap();
-        assert_eq!(i.knots(), &[0., 0., 0., 0., 1., 1., 1., 2.5, 3., 3., 3., 3.]);
+        assert_eq!(
+            i.knots(),
+            &[0., 0., 0., 0., 1., 1., 1., 2.5, 3., 3., 3., 3.]
+        );
         let want = [1., 2., 0.8, 0.61333333, 0.33333333, 3., 0.5, 2.];
         for (a, b) in i.control_flat().iter().zip(want) {
             assert!((a - b).abs() < 1e-8);
         }
         let e = c.insert_knot(3.1, 1).unwrap_err();
-        assert_eq!(e.to_string(), "cannot insert a knot at 3.1: outside the base interval [t_k, t_n]");
+        assert_eq!(
+            e.to_string(),
+            "cannot insert a knot at 3.1: outside the base interval [t_k, t_n]"
+        );
         assert!(c.insert_knot(f64::NAN, 1).is_err());
         assert!(c.insert_knot(1.0, 0).is_err());
         let end = c.insert_knot(3.0, 1).unwrap();
         assert_eq!(end.control_flat(), &[1., 2., -1., 3., 0.5, 2., 2.]);
+    }
+
+    #[test]
+    fn grid_coordinates_as_scipy_checks_them() {
+        // z = x·y on [0, 1]².
+        let k = vec![0., 0., 1., 1.];
+        let s =
+            BsplineSurface::from_flat((1, 1), k.clone(), k, 2, 2, 1, vec![0., 0., 0., 1.]).unwrap();
+        let mut z = [0.0; 2];
+        // Equal neighbours pass SciPy's diff >= 0; decreasing ones and NaN among two do not.
+        s.eval_partial_grid(&[0.5, 0.5], &[0.5], 0, 0, &mut z)
+            .unwrap();
+        assert_eq!(z, [0.25, 0.25]);
+        for x in [[0.6, 0.5], [0.5, f64::NAN]] {
+            let e = s.eval_partial_grid(&x, &[0.5], 0, 0, &mut z).unwrap_err();
+            assert!(matches!(e, Error::InvalidParameter { index: 1, .. }), "{e}");
+        }
+        // One NaN coordinate alone gives NaN, as in ev; outside, the values at the border.
+        s.eval_partial_grid(&[f64::NAN], &[0.5, 3.0], 0, 0, &mut z)
+            .unwrap();
+        assert!(z[0].is_nan() && z[1].is_nan());
+        s.eval_partial_many(&[-1.0, 2.0], &[0.5, 3.0], 0, 0, &mut z)
+            .unwrap();
+        assert_eq!(z, [0.0, 1.0]);
+        assert!(s
+            .eval_partial_many(&[0.5], &[0.5], 1, 0, &mut z[..1])
+            .is_err());
+        assert!(s.eval_partial_many(&[0.5], &[], 0, 0, &mut z[..1]).is_err());
+        assert!(s.integral(f64::NAN, 1.0, 0.0, 1.0)[0].is_nan());
+        assert_eq!(s.integral(1.0, 0.0, 0.0, 1.0), vec![-0.25]);
     }
 
     #[test]
