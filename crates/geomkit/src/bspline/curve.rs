@@ -705,6 +705,60 @@ mod tests {
         }
     }
 
+    /// Degree 0 (piecewise constant) and degrees 8..=15 (the larger basis scratch) through
+    /// every evaluation path: single points, batches (the piecewise form for degree 0 on
+    /// large batches), uniform samples, derivatives.
+    #[test]
+    fn degree_zero_and_high_degrees_evaluate_everywhere() {
+        use crate::geom::BatchOptions;
+        let knots: Vec<f64> = (0..=6)
+            .map(|i| f64::from(i) * 0.5 + 0.01 * f64::from(i * i))
+            .collect();
+        let c =
+            BsplineCurve::from_flat(0, knots.clone(), 1, vec![1., -2., 3., 0.5, 4., 7.]).unwrap();
+        assert_eq!(c.eval(knots[2]), vec![3.0]); // right-continuous at a knot
+        assert_eq!(c.eval(knots[6]), vec![7.0]);
+        let ts: Vec<f64> = (0..1 << 17)
+            .map(|i| knots[6] * f64::from(i) / f64::from(1 << 17))
+            .collect();
+        let mut batch = vec![0.0; ts.len()];
+        c.eval_batch(&ts, &mut batch, &BatchOptions::default())
+            .unwrap();
+        for (t, b) in ts.iter().zip(&batch).step_by(101) {
+            assert_eq!(c.eval(*t)[0], *b, "t = {t}");
+        }
+        let samples = c.sample_uniform(50);
+        assert_eq!((samples[0], samples[49]), (1.0, 7.0));
+        let mut d = [1.0];
+        c.derivative_into(1.3, 1, &mut d).unwrap();
+        assert_eq!(d, [0.0]);
+        assert!(c.derivative().is_err());
+
+        // Degree 12 on uniform knots: the derivative curves agree with the basis derivatives.
+        let knots: Vec<f64> = (0..40).map(f64::from).collect();
+        let control: Vec<f64> = (0..27).map(|i| f64::from((i * 7) % 11) - 5.0).collect();
+        let c = BsplineCurve::from_flat(12, knots, 1, control).unwrap();
+        let mut dc = c.clone();
+        for order in 1..=12 {
+            dc = dc.derivative().unwrap();
+            for t in [12.0, 12.5, 20.25, 26.9, 27.0] {
+                let mut a = [0.0];
+                c.derivative_into(t, order, &mut a).unwrap();
+                let b = dc.eval(t)[0];
+                assert!(
+                    (a[0] - b).abs() <= 1e-9 * b.abs().max(1.0),
+                    "order {order} at {t}: {a:?} {b}"
+                );
+            }
+        }
+        assert_eq!(dc.degree(), 0);
+        let mut out = vec![0.0; 3];
+        c.eval_batch(&[12.0, 20.0, 27.0], &mut out, &BatchOptions::default())
+            .unwrap();
+        assert_eq!(out[1], c.eval(20.0)[0]);
+        assert!(BsplineCurve::from_flat(16, vec![0.0; 34], 1, vec![0.0; 17]).is_err());
+    }
+
     #[test]
     fn rejects_bad_knots() {
         let pts = vec![vec![0.0]; 4];
