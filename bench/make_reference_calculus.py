@@ -47,37 +47,23 @@ import numpy as np
 import scipy
 from scipy.interpolate import BSpline, RectBivariateSpline, make_interp_spline
 
+from make_reference import dump
+
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 COMMAND = "bash bench/make_reference.sh"
 SEED = 20220622
 
 
-def dump(obj, indent=0) -> str:
-    """JSON with f64 as repr (NaN as null), one key per line, number lists on one line."""
-    pad = " " * indent
+def nulls(obj):
+    """The data with NaN as None (make_reference.dump writes null; it refuses NaN)."""
     if isinstance(obj, dict):
-        items = [f'{pad} "{k}": {dump(v, indent + 1)}' for k, v in obj.items()]
-        return "{\n" + ",\n".join(items) + "\n" + pad + "}" if items else "{}"
+        return {k: nulls(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        if all(not isinstance(v, (list, tuple, dict)) for v in obj):
-            return "[" + ",".join(dump(v) for v in obj) + "]"
-        items = [pad + " " + dump(v, indent + 1) for v in obj]
-        return "[\n" + ",\n".join(items) + "\n" + pad + "]"
-    if isinstance(obj, bool):
-        return "true" if obj else "false"
-    if isinstance(obj, (float, np.floating)):
-        x = float(obj)
-        if math.isnan(x):
-            return "null"
-        if not math.isfinite(x):
-            raise ValueError("infinite number in reference data")
-        return repr(x)
-    if isinstance(obj, (int, np.integer)):
-        return str(int(obj))
-    if isinstance(obj, str):
-        return '"' + obj.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    raise TypeError(type(obj))
+        return [nulls(v) for v in obj]
+    if isinstance(obj, (float, np.floating)) and math.isnan(obj):
+        return None
+    return obj
 
 
 def flat(a):
@@ -294,7 +280,7 @@ def main():
         "surfaces": surface_cases(),
     }
     out = Path(args.out_dir) / "bspline_calculus_scipy.json"
-    out.write_text(dump(data) + "\n")
+    out.write_text(dump(nulls(data)) + "\n")
     print(f"wrote {out} ({out.stat().st_size} bytes)")
 
 

@@ -100,6 +100,13 @@ fn name(case: &Value) -> &str {
     case["name"].as_str().expect("a name")
 }
 
+/// Every curve case with its spline and name.
+fn curves(data: &Value) -> impl Iterator<Item = (&Value, BsplineCurve, &str)> {
+    arr(&data["curves"])
+        .iter()
+        .map(|case| (case, curve_of(case), name(case)))
+}
+
 fn eval(c: &BsplineCurve, x: &[f64], nu: usize, mode: Extrapolate) -> Vec<f64> {
     let mut out = vec![0.0; x.len() * c.dim()];
     c.eval_nu_many(x, nu, mode, &mut out)
@@ -111,10 +118,8 @@ fn eval(c: &BsplineCurve, x: &[f64], nu: usize, mode: Extrapolate) -> Vec<f64> {
 fn evaluation_matches_scipy_in_every_mode() {
     let data = data();
     let mut worst = 0.0f64;
-    for case in arr(&data["curves"]) {
-        let c = curve_of(case);
+    for (case, c, n) in curves(&data) {
         let x = nums(&case["x"]);
-        let n = name(case);
         let extend = arr(&case["extend"]);
         assert_eq!(extend.len(), c.degree() + 2, "{n}: orders 0..=k+1");
         for (nu, want) in extend.iter().enumerate() {
@@ -135,9 +140,7 @@ fn evaluation_matches_scipy_in_every_mode() {
 #[test]
 fn derivative_and_antiderivative_curves_match_scipy() {
     let data = data();
-    for case in arr(&data["curves"]) {
-        let c = curve_of(case);
-        let n = name(case);
+    for (case, c, n) in curves(&data) {
         for d in arr(&case["derivatives"]) {
             let nu = int(&d["nu"]);
             match (c.derivative_nu(nu), d["error"].as_str()) {
@@ -178,9 +181,7 @@ fn derivative_and_antiderivative_curves_match_scipy() {
 #[test]
 fn integrals_match_scipy() {
     let data = data();
-    for case in arr(&data["curves"]) {
-        let c = curve_of(case);
-        let n = name(case);
+    for (case, c, n) in curves(&data) {
         let ranges = arr(&case["integrals"]);
         for (key, mode) in [
             ("extend", Extrapolate::Extend),
@@ -211,9 +212,7 @@ fn integrals_match_scipy() {
 #[test]
 fn knot_insertion_matches_scipy() {
     let data = data();
-    for case in arr(&data["curves"]) {
-        let c = curve_of(case);
-        let n = name(case);
+    for (case, c, n) in curves(&data) {
         let periodic = case["periodic_spline"].as_bool().unwrap();
         for ins in arr(&case["insert_knot"]) {
             let (x, m) = (ins["x"].as_f64().unwrap(), int(&ins["m"]));
