@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Reference data for geomkit's integration tests, computed by other libraries: the `bezier`
 # package and exact fractions (Bézier), SciPy (interpolating cubic B-splines, and the
-# barycentric interpolation of the point equations: make_reference_pointcalc.py).
+# barycentric interpolation of the point equations: make_reference_pointcalc.py; the B-spline
+# calculus of issue 22: make_reference_calculus.py).
 #
 #   bash bench/make_reference.sh            # writes crates/geomkit/tests/data/*.json
 #
@@ -29,4 +30,5 @@ fi
 
 "$venv/bin/python" "$here/make_reference.py" "$@"
 "$venv/bin/python" "$here/make_reference_spline.py"
+"$venv/bin/python" "$here/make_reference_calculus.py"
 exec "$venv/bin/python" "$here/make_reference_pointcalc.py"

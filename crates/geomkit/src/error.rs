@@ -414,6 +414,44 @@ pub enum Error {
         /// Why, and what the type can give instead.
         reason: &'static str,
     },
+    /// A derivative order a B-spline operation does not take: above the degree for a
+    /// derivative curve (SciPy's `BSpline.derivative`), or not below the degree in a
+    /// direction for FITPACK's surface derivatives (SciPy's `RectBivariateSpline`).
+    #[error("derivative order {order} of a B-spline of degree {degree}: {reason}")]
+    DerivativeOrder {
+        /// The order asked for.
+        order: usize,
+        /// The degree (in the direction concerned).
+        degree: usize,
+        /// Which rule, and what gives the other orders.
+        reason: &'static str,
+    },
+    /// A B-spline whose knots make a derivative curve of the order asked jump by a Dirac
+    /// delta (SciPy's `splder` refuses these too: "not differentiable n times").
+    #[error(
+        "the B-spline is not differentiable {order} times: knot {index} is repeated \
+         {multiplicity} times, where a derivative of order {order} allows at most \
+         degree + 1 - order = {allowed}",
+        allowed = degree + 1 - order
+    )]
+    NotDifferentiable {
+        /// The derivative order asked for.
+        order: usize,
+        /// The degree of the B-spline.
+        degree: usize,
+        /// Index of the first of the coinciding knots.
+        index: usize,
+        /// How many knots coincide there.
+        multiplicity: usize,
+    },
+    /// A knot that cannot be inserted into a B-spline (SciPy's `BSpline.insert_knot`).
+    #[error("cannot insert a knot at {x}: {reason}")]
+    KnotInsertion {
+        /// The knot asked for.
+        x: f64,
+        /// Why.
+        reason: &'static str,
+    },
     /// Adaptive meshing reached its work cap (triangles, points or grid lines) before the
     /// requested tolerance: `reached` is the largest deviation measured at the cap.
     #[error(

@@ -74,12 +74,29 @@ pub(crate) fn basis_funs(knots: &[f64], span: usize, t: f64, degree: usize, out:
     }
 }
 
-/// [`basis_funs`] for any degree (the book's loops).
+/// [`basis_funs`] for any degree (the book's loops), with scratch for degrees up to 7 or,
+/// above, up to [`BsplineCurve::MAX_DEGREE`].
 #[inline]
 fn basis_funs_any(knots: &[f64], span: usize, t: f64, degree: usize, out: &mut [f64]) {
-    let mut left = [0.0f64; 8];
-    let mut right = [0.0f64; 8];
-    debug_assert!(degree < 8);
+    if degree < 8 {
+        basis_funs_sized::<8>(knots, span, t, degree, out)
+    } else {
+        basis_funs_sized::<{ BsplineCurve::MAX_DEGREE + 1 }>(knots, span, t, degree, out)
+    }
+}
+
+/// [`basis_funs_any`] with scratch arrays of N > degree numbers.
+#[inline]
+fn basis_funs_sized<const N: usize>(
+    knots: &[f64],
+    span: usize,
+    t: f64,
+    degree: usize,
+    out: &mut [f64],
+) {
+    let mut left = [0.0f64; N];
+    let mut right = [0.0f64; N];
+    debug_assert!(degree < N);
     out[0] = 1.0;
     for j in 1..=degree {
         left[j] = t - knots[span + 1 - j];
@@ -176,12 +193,23 @@ pub(crate) fn basis_funs_derivs(
     degree: usize,
     nd: usize,
 ) -> [[f64; 8]; 8] {
+    basis_funs_derivs_sized::<8>(knots, span, t, degree, nd)
+}
+
+/// [`basis_funs_derivs`] in N×N arrays, for degrees p < N.
+pub(crate) fn basis_funs_derivs_sized<const N: usize>(
+    knots: &[f64],
+    span: usize,
+    t: f64,
+    degree: usize,
+    nd: usize,
+) -> [[f64; N]; N] {
     let p = degree;
-    debug_assert!(p < 8);
+    debug_assert!(p < N);
     let nd = nd.min(p);
-    let mut ndu = [[0.0f64; 8]; 8];
-    let mut left = [0.0f64; 8];
-    let mut right = [0.0f64; 8];
+    let mut ndu = [[0.0f64; N]; N];
+    let mut left = [0.0f64; N];
+    let mut right = [0.0f64; N];
     ndu[0][0] = 1.0;
     for j in 1..=p {
         left[j] = t - knots[span + 1 - j];
@@ -195,11 +223,11 @@ pub(crate) fn basis_funs_derivs(
         }
         ndu[j][j] = saved;
     }
-    let mut ders = [[0.0f64; 8]; 8];
+    let mut ders = [[0.0f64; N]; N];
     for j in 0..=p {
         ders[0][j] = ndu[j][p];
     }
-    let mut a = [[0.0f64; 8]; 2];
+    let mut a = [[0.0f64; N]; 2];
     for r in 0..=p {
         let (mut s1, mut s2) = (0usize, 1usize);
         a[0][0] = 1.0;
@@ -288,8 +316,15 @@ pub(crate) fn detect_uniform_step(knots: &[f64]) -> Option<f64> {
 }
 
 impl BsplineCurve {
-    /// A curve of `degree` (1..=7) from its knots (non-decreasing, finite, n_c + degree + 1
-    /// of them, with a non-empty domain) and control points (all of one dimension, finite).
+    /// The highest degree a curve may have. Degree 0 (piecewise constant: SciPy's `k = 0`,
+    /// and what [`BsplineCurve::derivative_nu`] gives for the degree-th derivative) is the
+    /// lowest; [`BsplineCurve::antiderivative`] raises the degree by one per order, up to
+    /// this cap.
+    pub const MAX_DEGREE: usize = 15;
+
+    /// A curve of `degree` (0..=[`BsplineCurve::MAX_DEGREE`]) from its knots
+    /// (non-decreasing, finite, n_c + degree + 1 of them, with a non-empty domain) and
+    /// control points (all of one dimension, finite).
     pub fn new(degree: usize, knots: Vec<f64>, control: Vec<Vec<f64>>) -> Result<Self> {
         let (dim, flat) = flatten_points("control points", &control)?;
         Self::from_flat(degree, knots, dim, flat)
@@ -302,10 +337,10 @@ impl BsplineCurve {
         dim: usize,
         control: Vec<f64>,
     ) -> Result<Self> {
-        if degree == 0 || degree > 7 {
+        if degree > Self::MAX_DEGREE {
             return Err(Error::InvalidOption {
                 option: "degree",
-                reason: "B-spline degree must be between 1 and 7",
+                reason: "B-spline curve degree must be between 0 and 15",
             });
         }
         validate_points("control points", dim, &control)?;
@@ -406,14 +441,17 @@ impl BsplineCurve {
         }
     }
 
-    /// The derivative curve (degree p-1). Errors for degree 1 (the derivative is piecewise
-    /// constant: use [`BsplineCurve::eval_derivative`]).
+    /// The derivative curve (degree p-1; piecewise constant for degree 1). Coefficients over
+    /// a knot repeated p+1 times (where the curve jumps) are 0, so the derivative curve
+    /// leaves out the jump; [`BsplineCurve::derivative_nu`] refuses such knots as SciPy
+    /// does. Errors for degree 0 (the derivative is zero between jumps: use
+    /// [`BsplineCurve::eval_derivative`]).
     pub fn derivative(&self) -> Result<BsplineCurve> {
         let p = self.degree;
-        if p < 2 {
+        if p == 0 {
             return Err(Error::InvalidOption {
                 option: "degree",
-                reason: "the derivative of a degree-1 B-spline is not a B-spline of degree >= 1",
+                reason: "the derivative of a degree-0 B-spline is not a B-spline",
             });
         }
         let d = self.dim;
@@ -441,7 +479,24 @@ impl BsplineCurve {
             return;
         }
         let s = self.span(t);
-        let ders = basis_funs_derivs(&self.knots, s, t, p, k);
+        if p < 8 {
+            self.combine_derivs(s, k, &basis_funs_derivs(&self.knots, s, t, p, k), out);
+        } else {
+            let ders = basis_funs_derivs_sized::<{ Self::MAX_DEGREE + 1 }>(&self.knots, s, t, p, k);
+            self.combine_derivs(s, k, &ders, out);
+        }
+    }
+
+    /// Adds Σ_r ders\[k\]\[r\] c_(s-p+r) to `out`.
+    #[inline]
+    fn combine_derivs<const N: usize>(
+        &self,
+        s: usize,
+        k: usize,
+        ders: &[[f64; N]; N],
+        out: &mut [f64],
+    ) {
+        let p = self.degree;
         for r in 0..=p {
             let w = ders[k][r];
             let row = &self.control[(s - p + r) * self.dim..(s - p + r + 1) * self.dim];
@@ -456,8 +511,18 @@ impl BsplineCurve {
     /// Evaluates the polynomial piece of span `s` at t (also outside the span).
     #[inline]
     pub(crate) fn eval_span_into(&self, s: usize, t: f64, out: &mut [f64]) {
+        if self.degree < 8 {
+            self.eval_span_sized::<8>(s, t, out)
+        } else {
+            self.eval_span_sized::<{ Self::MAX_DEGREE + 1 }>(s, t, out)
+        }
+    }
+
+    /// [`BsplineCurve::eval_span_into`] with a basis array of N > p numbers.
+    #[inline]
+    fn eval_span_sized<const N: usize>(&self, s: usize, t: f64, out: &mut [f64]) {
         let p = self.degree;
-        let mut basis = [0.0f64; 8];
+        let mut basis = [0.0f64; N];
         match self.uniform_step {
             Some(h) if p == 3 => uniform_cubic_basis((t - self.knots[s]) * (1.0 / h), &mut basis),
             _ => basis_funs(&self.knots, s, t, p, &mut basis[..=p]),
@@ -638,6 +703,60 @@ mod tests {
                 assert!((a[k] - b[k]).abs() < 1e-15, "{t}: {a:?} {b:?}");
             }
         }
+    }
+
+    /// Degree 0 (piecewise constant) and degrees 8..=15 (the larger basis scratch) through
+    /// every evaluation path: single points, batches (the piecewise form for degree 0 on
+    /// large batches), uniform samples, derivatives.
+    #[test]
+    fn degree_zero_and_high_degrees_evaluate_everywhere() {
+        use crate::geom::BatchOptions;
+        let knots: Vec<f64> = (0..=6)
+            .map(|i| f64::from(i) * 0.5 + 0.01 * f64::from(i * i))
+            .collect();
+        let c =
+            BsplineCurve::from_flat(0, knots.clone(), 1, vec![1., -2., 3., 0.5, 4., 7.]).unwrap();
+        assert_eq!(c.eval(knots[2]), vec![3.0]); // right-continuous at a knot
+        assert_eq!(c.eval(knots[6]), vec![7.0]);
+        let ts: Vec<f64> = (0..1 << 17)
+            .map(|i| knots[6] * f64::from(i) / f64::from(1 << 17))
+            .collect();
+        let mut batch = vec![0.0; ts.len()];
+        c.eval_batch(&ts, &mut batch, &BatchOptions::default())
+            .unwrap();
+        for (t, b) in ts.iter().zip(&batch).step_by(101) {
+            assert_eq!(c.eval(*t)[0], *b, "t = {t}");
+        }
+        let samples = c.sample_uniform(50);
+        assert_eq!((samples[0], samples[49]), (1.0, 7.0));
+        let mut d = [1.0];
+        c.derivative_into(1.3, 1, &mut d).unwrap();
+        assert_eq!(d, [0.0]);
+        assert!(c.derivative().is_err());
+
+        // Degree 12 on uniform knots: the derivative curves agree with the basis derivatives.
+        let knots: Vec<f64> = (0..40).map(f64::from).collect();
+        let control: Vec<f64> = (0..27).map(|i| f64::from((i * 7) % 11) - 5.0).collect();
+        let c = BsplineCurve::from_flat(12, knots, 1, control).unwrap();
+        let mut dc = c.clone();
+        for order in 1..=12 {
+            dc = dc.derivative().unwrap();
+            for t in [12.0, 12.5, 20.25, 26.9, 27.0] {
+                let mut a = [0.0];
+                c.derivative_into(t, order, &mut a).unwrap();
+                let b = dc.eval(t)[0];
+                assert!(
+                    (a[0] - b).abs() <= 1e-9 * b.abs().max(1.0),
+                    "order {order} at {t}: {a:?} {b}"
+                );
+            }
+        }
+        assert_eq!(dc.degree(), 0);
+        let mut out = vec![0.0; 3];
+        c.eval_batch(&[12.0, 20.0, 27.0], &mut out, &BatchOptions::default())
+            .unwrap();
+        assert_eq!(out[1], c.eval(20.0)[0]);
+        assert!(BsplineCurve::from_flat(16, vec![0.0; 34], 1, vec![0.0; 17]).is_err());
     }
 
     #[test]

@@ -10,11 +10,15 @@
 //!   evaluation of large batches at arbitrary parameters.
 //! - [`BsplineSurface`], [`interpolate_surface`], [`interpolate_heights`]: bicubic surfaces
 //!   through M×N grids, separable solves (rows, then columns) in parallel.
+//! - [`Extrapolate`] and the calculus of [`BsplineCurve`] and [`BsplineSurface`] with
+//!   SciPy's semantics (`BSpline`, `RectBivariateSpline`): derivatives of any order,
+//!   derivative and antiderivative curves, integrals, knot insertion.
 //! - [`interpolate_curve_tiled`], [`CurveTiler`]: tiles with halos, equal to the global solve
 //!   within rounding, parallel and streamable; [`paper_fragments_averaged`]: the paper's
 //!   averaged fragments, for comparison.
 
 mod banded;
+mod calculus;
 mod curve;
 mod interpolate;
 mod locate;
@@ -25,6 +29,7 @@ mod surface;
 mod tiles;
 mod tridiag;
 
+pub use calculus::Extrapolate;
 pub use curve::BsplineCurve;
 pub use interpolate::{
     interpolate_curve, interpolate_curve_at, interpolate_curve_flat, paper_dense_inner_points,
