@@ -395,20 +395,26 @@ fn bezier_surface(f: BezierSurfaceFile) -> Result<BezierModel> {
         .map_err(|e| Error::geometry("net", e))
 }
 
-/// A B-spline degree (1..=7) at `path`.
+/// A B-spline surface degree (1..=7) at `path`.
 fn degree(p: usize, path: &str) -> Result<usize> {
-    if (1..=7).contains(&p) {
+    degree_in(p, path, 1, 7)
+}
+
+/// A degree from `lo` to `hi` at `path`.
+fn degree_in(p: usize, path: &str, lo: usize, hi: usize) -> Result<usize> {
+    if (lo..=hi).contains(&p) {
         Ok(p)
     } else {
         Err(Error::model(
             path,
-            format!("must be an integer from 1 to 7, found {p}"),
+            format!("must be an integer from {lo} to {hi}, found {p}"),
         ))
     }
 }
 
 fn bspline_curve(f: BsplineCurveFile) -> Result<BsplineCurveModel> {
-    let p = degree(f.degree, "degree")?;
+    // Curves: step functions (degree 0, SciPy's k = 0) to antiderivatives of degree 15.
+    let p = degree_in(f.degree, "degree", 0, BsplineCurve::MAX_DEGREE)?;
     if f.control_points.is_empty() {
         return Err(Error::model("control_points", "is empty"));
     }

@@ -255,8 +255,16 @@ fn errors_name_the_problem_as_scipy_does() {
     );
     let e = fails(&x6, &y6, SplineOptions::new(8));
     assert!(e.contains("degree 8 is not supported"), "{e}");
-    let e = fails(&x6, &y6, SplineOptions::new(0));
-    assert!(e.contains("degree 0 is not supported"), "{e}");
+    let e = fails(
+        &x6,
+        &y6,
+        SplineOptions::new(0).with_ends(SplineEnds::both(EndSpec::natural())),
+    );
+    assert!(e.contains("Too much info for k=0"), "{e}");
+    // Degree 0 is SciPy's step function: y_i on [x_i, x_(i+1)).
+    let steps = make_interp_spline(&x6, &y6, 1, &SplineOptions::new(0)).unwrap();
+    assert_eq!(steps.knots(), &[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 5.0]);
+    assert_eq!(steps.eval(2.5)[0], 2.0);
     // Given knots: unsorted, too few, not covering x, not suiting x.
     let t = |v: &[f64]| SplineOptions::new(3).with_knots(v.to_vec());
     let e = fails(&x6, &y6, t(&[0., 0., 0., 0., 3., 2., 5., 5., 5., 5.]));

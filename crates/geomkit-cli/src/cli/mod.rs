@@ -448,7 +448,7 @@ pub struct CurveArgs {
     /// With --end clamped: the derivative dc/dt at the end ("x,y"); default: zero.
     #[arg(long, value_name = "X,Y,..", value_parser = parse_vector, allow_hyphen_values = true)]
     pub end_tangent: Option<Vector>,
-    /// Degree k, 1 to 7 (SciPy's make_interp_spline k) [default: 3].
+    /// Degree k, 0 (steps) to 7 (SciPy's make_interp_spline k) [default: 3].
     #[arg(long, value_name = "K")]
     pub degree: Option<usize>,
     /// Condition at the first point, overriding --end there (SciPy's bc_type[0]): not-a-knot

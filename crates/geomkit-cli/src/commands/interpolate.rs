@@ -243,7 +243,7 @@ fn curve(args: CurveArgs) -> Result<()> {
         CurveOutput::Samples(format) => {
             progress.busy("sampling");
             let mut points = vec![0.0; samples * dim];
-            if curve.degree() <= 3 {
+            if (1..=3).contains(&curve.degree()) {
                 curve
                     .sample_uniform_fd(samples, &mut points)
                     .context("forward-differenced sampling")?;
@@ -386,8 +386,8 @@ fn curve_scipy(
     degree: usize,
     progress: &Progress,
 ) -> Result<(CurveFit, Table, String)> {
-    if !(1..=MAX_SPLINE_DEGREE).contains(&degree) {
-        bail!("--degree must be from 1 to {MAX_SPLINE_DEGREE} (got {degree})");
+    if degree > MAX_SPLINE_DEGREE {
+        bail!("--degree must be from 0 to {MAX_SPLINE_DEGREE} (got {degree})");
     }
     if args.tile.is_some() {
         bail!(

@@ -125,7 +125,7 @@ pub const CASES: &[Case] = &[
             "-o",
             "c.json",
         ],
-        &["--degree", "1 to 7", "9"],
+        &["--degree", "0 to 7", "9"],
     ),
     case(
         &[("p.csv", POINTS)],
@@ -135,10 +135,12 @@ pub const CASES: &[Case] = &[
             "p.csv",
             "--degree",
             "0",
+            "--left",
+            "natural",
             "-o",
             "c.json",
         ],
-        &["--degree", "0"],
+        &["Too much info for k=0", "bc_type"],
     ),
     case(
         &[("p.csv", POINTS)],

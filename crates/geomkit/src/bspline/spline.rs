@@ -22,8 +22,8 @@
 //!   coefficients repeating them. Solved as a cyclic band (corner blocks by the Woodbury
 //!   formula, as SciPy) or, for few points, densely.
 //!
-//! Differences from SciPy, on purpose: degree 0 is not offered (a step function: use the
-//! data), and "bessel" is an extra end condition (the first derivative of the parabola
+//! Degree 0 is SciPy's step function (c = y, knots x and x_(n-1) once more). A difference
+//! from SciPy, on purpose: "bessel" is an extra end condition (the first derivative of the parabola
 //! through the three points nearest the end), which geomkit's cubic interpolation offers too.
 //! Smoothing (s > 0) and complex values are out of scope.
 //!
@@ -120,7 +120,7 @@ impl SplineEnds {
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub struct SplineOptions {
-    /// Degree k (1..=7; default 3).
+    /// Degree k (0..=7; default 3).
     pub degree: usize,
     /// End conditions (default: not-a-knot).
     pub ends: SplineEnds,
@@ -165,7 +165,7 @@ impl SplineOptions {
 ///
 /// Errors ([`Error::Interpolation`] unless said): y of the wrong length for x ("Shapes of
 /// x"), non-finite x or y ([`Error::NonFinite`]), fewer than 2 points, repeated or
-/// decreasing x, a degree outside 1..=7, knots that are not sorted, too few, or do not
+/// decreasing x, a degree above 7, knots or end conditions with degree 0, knots that are not sorted, too few, or do not
 /// cover x, end conditions of the wrong number for the knots ("The number of derivatives at
 /// boundaries does not match"), derivative orders above k, values of the wrong dimension,
 /// periodic ends whose first and last y differ or with given knots, and a singular system
@@ -183,9 +183,9 @@ pub fn make_interp_spline(
     if periodic {
         check_closed(y, dim)?;
     }
-    if k == 0 || k > MAX_SPLINE_DEGREE {
+    if k > MAX_SPLINE_DEGREE {
         return Err(interp(format!(
-            "degree {k} is not supported: give a degree from 1 to {MAX_SPLINE_DEGREE}"
+            "degree {k} is not supported: give a degree from 0 to {MAX_SPLINE_DEGREE}"
         )));
     }
     let (left, right) = match &options.ends {
@@ -193,6 +193,19 @@ pub fn make_interp_spline(
         SplineEnds::Periodic => (&EndSpec::NotAKnot, &EndSpec::NotAKnot),
     };
     let free = *left == EndSpec::NotAKnot && *right == EndSpec::NotAKnot;
+    // SciPy's step function: c = y on the knots x + [x_(n-1)], y_i on [x_i, x_(i+1)).
+    if k == 0 {
+        if options.knots.is_some() || !free {
+            return Err(interp(
+                "Too much info for k=0: t and bc_type can only be None (a step function \
+                 through the points has no end conditions or knots to give)"
+                    .into(),
+            ));
+        }
+        let mut t = x.to_vec();
+        t.push(x[n - 1]);
+        return trusted(0, t, dim, y.to_vec());
+    }
     let t = match &options.knots {
         Some(_) if periodic => {
             return Err(interp(
