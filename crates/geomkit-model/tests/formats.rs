@@ -511,8 +511,8 @@ fn bad_files_are_refused_with_clear_messages() {
             "invalid JSON: trailing characters",
         ),
         (
-            r#"{"type":"bspline_curve","degree":0,"knots":[],"control_points":[[0]]}"#,
-            "\"degree\" must be an integer from 1 to 7, found 0",
+            r#"{"type":"bspline_curve","degree":16,"knots":[],"control_points":[[0]]}"#,
+            "\"degree\" must be an integer from 0 to 15, found 16",
         ),
         (
             r#"{"type":"bspline_curve","degree":1,"knots":[0,1,2],"control_points":[[0],[1]]}"#,
