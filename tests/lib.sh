@@ -1,4 +1,4 @@
-# Shared helpers of the test scripts (tests/e2e/run.sh, tests/printers/run.sh); sourced.
+# Shared helpers of the test scripts (tests/e2e, tests/printers, tests/scipy run.sh); sourced.
 # The sourcing script sets `tag` (the prefix of its messages) first.
 
 say() { printf '%s: %s\n' "$tag" "$*" >&2; }
@@ -35,5 +35,22 @@ apt_install() {
 need_node() {
     if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
         apt_install nodejs npm
+    fi
+}
+
+# A Python venv at $1 (created with ${PYTHON:-python3} when missing) with the pinned
+# requirements file $2 installed, again whenever the file changes (the copy kept as the
+# stamp file $3).
+venv_with() {
+    local venv=$1 requirements=$2 stamp=$3
+    if [ ! -x "$venv/bin/python" ]; then
+        say "creating the venv $venv"
+        "${PYTHON:-python3}" -m venv "$venv" || die "python3 -m venv failed (apt-get install python3-venv?)"
+    fi
+    if ! cmp -s "$requirements" "$stamp"; then
+        say "pip install -r $requirements"
+        "$venv/bin/python" -m pip install --disable-pip-version-check -q -r "$requirements" ||
+            die "pip install -r $requirements failed"
+        cp "$requirements" "$stamp"
     fi
 }

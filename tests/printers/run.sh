@@ -45,17 +45,7 @@ wanted=$(grep -E '^[a-z]+==' "$here/requirements.txt" | sort | tr '\n' ' ')
 found=$("$python" -c 'import sympy, mpmath; print(" ".join(sorted(["mpmath==" + mpmath.__version__, "sympy==" + sympy.__version__])) + " ")' 2>/dev/null || true)
 if [ "$found" != "$wanted" ]; then
     venv=$here/.venv
-    if [ ! -x "$venv/bin/python" ]; then
-        say "python venv $venv"
-        "$python" -m venv "$venv" || die "python3 -m venv failed (apt-get install python3-venv?)"
-    fi
-    stamp=$venv/.requirements.installed
-    if ! cmp -s "$here/requirements.txt" "$stamp"; then
-        say "pip install -r tests/printers/requirements.txt"
-        "$venv/bin/python" -m pip install --disable-pip-version-check -q -r "$here/requirements.txt" ||
-            die "pip install failed"
-        cp "$here/requirements.txt" "$stamp"
-    fi
+    venv_with "$venv" "$here/requirements.txt" "$venv/.requirements.installed"
     python=$venv/bin/python
 fi
 say "node $(node --version), katex $pinned, $("$python" -c 'import sympy; print("sympy", sympy.__version__)')"

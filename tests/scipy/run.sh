@@ -32,25 +32,8 @@ start=$SECONDS
 
 # --- 1. the venv (bench/make_reference.sh's logic) ----------------------------------------
 venv=$root/bench/.venv
-if [ ! -x "$venv/bin/python" ]; then
-    say "creating $venv"
-    "${PYTHON:-python3}" -m venv "$venv" || die "python3 -m venv failed (apt-get install python3-venv?)"
-fi
-stamp=$venv/.requirements.installed
-if ! cmp -s "$root/bench/requirements.txt" "$stamp"; then
-    say "installing bench/requirements.txt into $venv"
-    "$venv/bin/python" -m pip install --disable-pip-version-check -q -r "$root/bench/requirements.txt" ||
-        die "pip install -r bench/requirements.txt failed"
-    cp "$root/bench/requirements.txt" "$stamp"
-fi
-wanted=$(grep -E '^[A-Za-z0-9_.-]+==' "$here/requirements.txt" | sort | tr '\n' ' ')
-found=$("$venv/bin/python" -c 'import pytest; print("pytest==" + pytest.__version__)' 2>/dev/null |
-    sort | tr '\n' ' ' || true)
-if [ "$found" != "$wanted" ]; then
-    say "installing tests/scipy/requirements.txt into $venv"
-    "$venv/bin/python" -m pip install --disable-pip-version-check -q -r "$here/requirements.txt" ||
-        die "pip install -r tests/scipy/requirements.txt failed"
-fi
+venv_with "$venv" "$root/bench/requirements.txt" "$venv/.requirements.installed"
+venv_with "$venv" "$here/requirements.txt" "$venv/.scipy-tests-requirements.installed"
 
 # --- 2. the CLI ---------------------------------------------------------------------------
 if [ -z "${GEOMKIT_BIN:-}" ]; then
