@@ -20,10 +20,10 @@ use anyhow::{anyhow, bail, Context, Result};
 use clap::ValueEnum;
 use geomkit::bspline::{
     interpolate_curve_at, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
-    interpolate_heights_at, interpolate_surface_flat, make_interp_spline, make_interp_surface,
-    parameters, BsplineCurve, BsplineSurface, CurveTiler, EndCondition, EndSpec,
-    InterpolationOptions, Parametrization, SplineEnds, SplineOptions, SurfaceInterpolationOptions,
-    TileOptions, TileSolution, MAX_SPLINE_DEGREE,
+    interpolate_heights_at, interpolate_surface_flat, last_repeats_first, make_interp_spline,
+    make_interp_surface, parameters, BsplineCurve, BsplineSurface, CurveTiler, EndCondition,
+    EndSpec, InterpolationOptions, Parametrization, SplineEnds, SplineOptions,
+    SurfaceInterpolationOptions, TileOptions, TileSolution, MAX_SPLINE_DEGREE,
 };
 use geomkit_plot::figures::{
     bspline_curve_figure, heightmap_svg, linspace, surface_svg, Layer, REFERENCE,
@@ -443,7 +443,7 @@ fn curve_scipy(
     // Periodic data end with the first point again (SciPy's y[-1] == y[0]); added here when
     // the points do not close themselves (to within SciPy's allclose).
     let data = &table.data;
-    let closed = n >= 2 && allclose(&data[..dim], &data[(n - 1) * dim..]);
+    let closed = last_repeats_first(data, dim);
     let (x, source) = match &args.params {
         Some(path) => {
             let params = read_params(path, progress)?;
@@ -490,20 +490,16 @@ fn curve_scipy(
         options = options.with_knots(knots.data);
     }
     let curve = make_interp_spline(&x, &y, dim, &options).with_context(|| source.clone())?;
-    let about = format!(
-        "degree {degree}, SciPy's form, end {end_text}, {} parameters",
-        param_name(param)
-    );
+    let about = match &args.params {
+        Some(_) => format!("degree {degree}, SciPy's form, end {end_text}, given parameters"),
+        None => format!(
+            "degree {degree}, SciPy's form, end {end_text}, {} parameters",
+            param_name(param)
+        ),
+    };
     let mut x = x;
     x.truncate(n);
     Ok(((curve, x), table, about))
-}
-
-/// SciPy's `allclose(a, b, atol=1e-15)` (rtol 1e-5): its test of periodic data.
-fn allclose(a: &[f64], b: &[f64]) -> bool {
-    a.iter()
-        .zip(b)
-        .all(|(a, b)| (a - b).abs() <= 1e-15 + 1e-5 * b.abs())
 }
 
 fn file_name(path: &Path) -> String {

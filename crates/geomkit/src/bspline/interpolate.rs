@@ -280,8 +280,20 @@ pub fn interpolate_curve_at(
     solver.interpolate(points, dim, false)
 }
 
-/// Whether the last point repeats the first, within SciPy's `allclose` (1e-5 relative,
-/// 1e-15 absolute): periodic data may close themselves so.
+/// Whether the last of the row-major points repeats the first, within SciPy's `allclose`
+/// (1e-5 relative, 1e-15 absolute): periodic data may close themselves so (SciPy's test of
+/// periodic `make_interp_spline` data). False for fewer than two points.
+///
+/// ```
+/// use geomkit::bspline::last_repeats_first;
+/// assert!(last_repeats_first(&[1.0, 2.0, 5.0, 6.0, 1.0, 2.000001], 2));
+/// assert!(!last_repeats_first(&[1.0, 2.0, 5.0, 6.0, 1.0, 2.1], 2));
+/// ```
+pub fn last_repeats_first(points: &[f64], dim: usize) -> bool {
+    let n = points.len() / dim.max(1);
+    n >= 2 && closes(points, dim)
+}
+
 fn closes(points: &[f64], dim: usize) -> bool {
     let n = points.len() / dim;
     points[..dim]

@@ -460,15 +460,11 @@ fn check_data(x: &[f64], y: &[f64], dim: usize) -> Result<()> {
 
 /// SciPy's check of periodic data: `allclose(y[0], y[-1], atol=1e-15)` (rtol 1e-5).
 fn check_closed(y: &[f64], dim: usize) -> Result<()> {
-    let n = y.len() / dim;
-    let (first, last) = (&y[..dim], &y[(n - 1) * dim..]);
-    let close = first
-        .iter()
-        .zip(last)
-        .all(|(a, b)| (a - b).abs() <= 1e-15 + 1e-5 * b.abs());
-    if close {
+    if super::last_repeats_first(y, dim) {
         return Ok(());
     }
+    let n = y.len() / dim;
+    let (first, last) = (&y[..dim], &y[(n - 1) * dim..]);
     Err(interp(format!(
         "First and last points does not match while periodic case expected: y[0] = {first:?}, \
          y[{}] = {last:?}; end the data with the first point again (to within 1e-5 relative)",
