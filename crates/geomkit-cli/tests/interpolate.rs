@@ -996,5 +996,64 @@ fn scipy_form_matches_scipy() {
             .map(|l| l.parse().unwrap())
             .collect();
         assert_eq!(knots, floats(&case["t"]), "{name}: knots file");
+        // `eval --nu` against SciPy's BSpline(x, nu) between the data points.
+        fs::write(d.join("fit.json"), ok(d, &argv[..argv.len() - 3])).unwrap();
+        let at = floats(&set["deriv_t"]);
+        write(d, "at.csv", &rows(&at, 1));
+        let orders = case["deriv_orders"].as_array().unwrap();
+        for (o, want) in orders.iter().zip(case["derivs"].as_array().unwrap()) {
+            let nu = o.to_string();
+            let text = ok(d, &["eval", "fit.json", "--at", "at.csv", "--nu", &nu]);
+            let got: Vec<f64> = text
+                .lines()
+                .skip(1)
+                .flat_map(|l| {
+                    l.split(',')
+                        .skip(1)
+                        .map(|v| v.parse::<f64>().unwrap())
+                        .collect::<Vec<_>>()
+                })
+                .collect();
+            let want = floats(want);
+            let own = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            assert!(max_abs_diff(&got, &want) <= 1e-9 * own, "{name}: nu {nu}");
+        }
+        if periodic {
+            // One period on, the same values (SciPy's extrapolate='periodic').
+            let period = x[x.len() - 1] - x[0];
+            let shifted: Vec<f64> = at.iter().map(|t| t + 2.0 * period).collect();
+            write(d, "far.csv", &rows(&shifted, 1));
+            let near = ok(d, &["eval", "fit.json", "--at", "at.csv", "--nu", "1"]);
+            let far = ok(
+                d,
+                &[
+                    "eval",
+                    "fit.json",
+                    "--at",
+                    "far.csv",
+                    "--nu",
+                    "1",
+                    "--extrapolate",
+                    "periodic",
+                ],
+            );
+            let vals = |t: &str| -> Vec<f64> {
+                t.lines()
+                    .skip(1)
+                    .flat_map(|l| {
+                        l.split(',')
+                            .skip(1)
+                            .map(|v| v.parse::<f64>().unwrap())
+                            .collect::<Vec<_>>()
+                    })
+                    .collect()
+            };
+            assert!(
+                max_abs_diff(&vals(&near), &vals(&far)) <= 1e-9,
+                "{name}: periodic"
+            );
+            let err = fails(d, &["eval", "fit.json", "--at", "far.csv"], None);
+            assert!(err.contains("outside the domain"), "{err}");
+        }
     }
 }

@@ -302,6 +302,17 @@ pub enum EndArg {
     Outer,
 }
 
+/// What `eval --extrapolate` does beyond a B-spline curve's domain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ExtrapolateArg {
+    /// Parameters beyond the domain are an error.
+    None,
+    /// The end polynomials continued (SciPy's extrapolate=True).
+    Extend,
+    /// Wrapped into the domain (SciPy's extrapolate='periodic').
+    Periodic,
+}
+
 /// The representation of an interpolating curve (`--form`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum FormArg {
@@ -588,6 +599,15 @@ pub struct ModelEvalArgs {
     /// surfaces.
     #[arg(long, value_name = "PARAMS")]
     pub at: Option<PathBuf>,
+    /// B-spline curves: the derivative of order NU instead of the point (SciPy's
+    /// BSpline(t, nu); zero above the degree) [default: 0].
+    #[arg(long, value_name = "NU")]
+    pub nu: Option<usize>,
+    /// B-spline curves: parameters beyond the domain: none (refused, the default), extend
+    /// (the end polynomials continued: SciPy's extrapolate=True) or periodic (wrapped into
+    /// the domain: extrapolate='periodic').
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub extrapolate: Option<ExtrapolateArg>,
     /// Output: .csv (default: stdout) or .npy; one row per point, the parameter(s) then the
     /// coordinates (t,x,y,... or u,v,x,y,z,...).
     #[arg(short, long, value_name = "OUT")]

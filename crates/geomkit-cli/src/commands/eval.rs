@@ -3,7 +3,7 @@
 //! models and samples) evaluated on uniform samples of its parameter domain or at parameters
 //! read from a file. One output row per point: the parameter(s), then the coordinates.
 
-use crate::cli::{ModelEvalArgs, Samples};
+use crate::cli::{ExtrapolateArg, ModelEvalArgs, Samples};
 use crate::cli::{MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::model::{read_any_model, AnyModel, BezierModel};
 use crate::output::coordinate_names;
@@ -11,6 +11,7 @@ use crate::output::{Destination, RowSink, TableFormat};
 use crate::progress::Progress;
 use crate::table::{extension, Table};
 use anyhow::{bail, Context, Result};
+use geomkit::bspline::{BsplineCurve, Extrapolate};
 use geomkit::compose::SurfaceKind;
 use geomkit::geom::{BatchOptions, Curve, Surface};
 use geomkit_model::PointcalcModel;
@@ -120,6 +121,12 @@ pub fn run(args: ModelEvalArgs) -> Result<()> {
     let target = target(&model).with_context(|| name.clone())?;
     let progress = Progress::start();
     let dest = Destination::from_option(args.output.as_deref());
+    if args.nu.is_some() || args.extrapolate.is_some() {
+        let AnyModel::BsplineCurve(m) = &model else {
+            bail!("{name}: --nu and --extrapolate apply to B-spline curves");
+        };
+        return write_bspline_nu(&dest, format, &m.curve, &args, &name, &progress);
+    }
     match (target, args.samples, args.at.as_deref()) {
         (Target::Curve { .. }, Some(Samples(_, Some(_))), _) => {
             bail!("{name} is a curve: give --samples K (KxL is for surfaces)")
@@ -321,6 +328,68 @@ fn check_domain(table: &Table, col: usize, (a, b): (f64, f64), name: &str) -> Re
         }
     }
     Ok(())
+}
+
+/// `--nu` / `--extrapolate` on a B-spline curve ([`BsplineCurve::eval_nu_many`], SciPy's
+/// semantics): columns t and the derivative's coordinates (dNx, dNy, ... for nu = N > 0).
+fn write_bspline_nu(
+    dest: &Destination,
+    format: TableFormat,
+    curve: &BsplineCurve,
+    args: &ModelEvalArgs,
+    name: &str,
+    progress: &Progress,
+) -> Result<()> {
+    let nu = args.nu.unwrap_or(0);
+    let mode = args.extrapolate.unwrap_or(ExtrapolateArg::None);
+    let ts = match (args.samples, args.at.as_deref()) {
+        (Some(Samples(k, None)), _) => {
+            if !(2..=MAX_CURVE_SAMPLES).contains(&k) {
+                bail!("--samples must be from 2 to {MAX_CURVE_SAMPLES} (got {k})");
+            }
+            let (a, b) = curve.domain();
+            linspace(a, b, k)
+        }
+        (Some(_), _) => bail!("{name} is a curve: give --samples K (KxL is for surfaces)"),
+        (None, Some(at)) => {
+            let params = read_params(at, 1, "a curve takes one column (t)", progress)?;
+            if mode == ExtrapolateArg::None {
+                check_domain(&params, 0, curve.domain(), "t")?;
+            }
+            params.data
+        }
+        (None, None) => bail!("give --samples or --at"),
+    };
+    let extrapolate = match mode {
+        ExtrapolateArg::Periodic => Extrapolate::Periodic,
+        _ => Extrapolate::Extend,
+    };
+    let d = curve.dim();
+    let mut values = vec![0.0; ts.len() * d];
+    curve.eval_nu_many(&ts, nu, extrapolate, &mut values)?;
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        bail!(
+            "{name}: the derivative of order {nu} at t = {} is not a finite number (it              overflows f64)",
+            ts[i / d]
+        );
+    }
+    let coords: Vec<String> = coordinate_names(d)
+        .into_iter()
+        .map(|c| if nu == 0 { c } else { format!("d{nu}{c}") })
+        .collect();
+    let mut header = vec!["t".to_string()];
+    header.extend(coords);
+    progress.busy("writing");
+    dest.write_with(|w| {
+        let mut sink = RowSink::start(w, format, &[ts.len(), d + 1], &header)?;
+        let mut rows = Vec::with_capacity(ts.len() * (d + 1));
+        for (t, p) in ts.iter().zip(values.chunks_exact(d)) {
+            rows.push(*t);
+            rows.extend_from_slice(p);
+        }
+        sink.push(w, &rows)?;
+        sink.finish()
+    })
 }
 
 fn write_curve(

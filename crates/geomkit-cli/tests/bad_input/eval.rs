@@ -12,7 +12,25 @@ const NEWER: &str = "{\"type\": \"bezier_curve\", \"version\": 99, \"points\": [
 const UNKNOWN_FIELD: &str =
     "{\"type\": \"bezier_curve\", \"points\": [[0,0],[1,1]], \"colour\": 3}";
 
+const LINE: &str = "{\"type\": \"bspline_curve\", \"degree\": 1, \"knots\": [0,0,1,2,2], \"control_points\": [[0,0],[1,1],[2,0]]}";
+
 pub const CASES: &[Case] = &[
+    // --nu and --extrapolate (issue 22).
+    case(
+        &[("c.json", CUBIC)],
+        &["eval", "c.json", "--samples", "5", "--nu", "1"],
+        &["c.json", "--nu", "B-spline curves"],
+    ),
+    case(
+        &[("b.json", LINE), ("t.csv", "0.5\n3\n")],
+        &["eval", "b.json", "--at", "t.csv", "--nu", "1"],
+        &["t.csv", "t = 3", "outside the domain"],
+    ),
+    case(
+        &[("b.json", LINE)],
+        &["eval", "b.json", "--samples", "5", "--extrapolate", "sideways"],
+        &["--extrapolate", "sideways"],
+    ),
     case(
         &[("b.json", WIDE_KNOTS)],
         &["eval", "b.json", "--samples", "5"],
