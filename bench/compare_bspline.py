@@ -59,6 +59,7 @@ FULL = dict(
     scattered=1_000_000,       # scattered surface points, geomkit
     scipy_scattered=200_000,   # RectBivariateSpline.ev: fewer points
     check=4096,
+    spline_n=[1_000_000, 10_000_000], spline_k=[1, 2, 5],  # any degree (issue 22)
     samples=15, min_batch=0.02, max_seconds=4.0,
 )
 QUICK = dict(
@@ -66,6 +67,7 @@ QUICK = dict(
     eval_n=10_000, eval_uniform=1_000_000, eval_random=100_000, scipy_unsorted=20_000,
     surfaces=[256, 512], scattered=100_000, scipy_scattered=20_000,
     check=1024,
+    spline_n=[100_000], spline_k=[1, 2, 5],
     samples=3, min_batch=0.005, max_seconds=0.5,
 )
 
@@ -296,6 +298,17 @@ def worker(case):
         out["check_scattered"] = spl.ev(np.array(chk["u"]), np.array(chk["v"])).tolist()
         cg = case["check_grid"]
         out["check_grid"] = spl(np.array(cg["u"]), np.array(cg["v"])).tolist()
+    elif op == "spline_build":
+        # Any degree (issue 22): the helix at its chord-length parameters, not-a-knot.
+        n, k = case["n"], case["degree"]
+        pts = helix_points(n, SEED_CURVE)
+        x = chord_params(pts)
+        spl, first, mem = measured_first_call(
+            lambda: make_interp_spline(x, pts, k=k), lambda s: int(s.t.nbytes + s.c.nbytes))
+        _, t = time_call(lambda: make_interp_spline(x, pts, k=k), first=first, **knobs)
+        t.update(items=n, items_per_s=n / t["median_s"])
+        scale = float(np.abs(pts).max())
+        out.update(time=t, memory=mem, residual_rel=float(np.abs(spl(x) - pts).max()) / scale)
     else:
         out.update(ok=False, error=f"unknown op {op}")
     return out
@@ -342,7 +355,16 @@ def measure(cfg, rust_bin, log):
                  max_seconds=cfg["max_seconds"])
     py_knobs = dict(samples=cfg["samples"], min_batch=cfg["min_batch"],
                     max_seconds=cfg["max_seconds"])
-    res = dict(curve_build=[], curve_eval=[], surface=[])
+    res = dict(curve_build=[], curve_eval=[], surface=[], spline_build=[])
+    # --- any degree (issue 22)
+    for n in cfg["spline_n"]:
+        for k in cfg["spline_k"]:
+            gk = run_rust(rust_bin, dict(op="spline_build", variant="", n=n, degree=k,
+                                         seed=SEED_CURVE, **knobs), log,
+                          f"spline build k={k} N={n:.0e}")
+            sp = run_scipy(dict(op="spline_build", n=n, degree=k, **py_knobs), log,
+                           f"make_interp_spline k={k} N={n:.0e}")
+            res["spline_build"].append(dict(n=n, k=k, geomkit=gk, scipy=sp))
     # --- curve builds
     for n in cfg["curve_n"]:
         gk = {}
@@ -529,6 +551,10 @@ def med(r):
 
 def rate(r):
     return r["time"]["items_per_s"] if r and "time" in r else None
+
+
+def fmt_ratio(x):
+    return "—" if x is None else f"{x:.2f}"
 
 
 def temp_ratio(mem):
@@ -873,6 +899,24 @@ def markdown(res, meta, cfg):
             + ISSUE_SCIPY["rbs_build"] + ", grid " + ISSUE_SCIPY["rbs_grid"] + ", scattered "
             + ISSUE_SCIPY["rbs_ev"] + ".", "",
             "| goal | measured | target | met |", "|---|---|---|---|"] + goals_rows + [""]
+    # ------------------------------------------------------------ any degree (issue 22)
+    if res.get("spline_build"):
+        lines += ["", "## Any degree (`make_interp_spline`, issue 22)", "",
+                  "3-D helix at its chord-length parameters, not-a-knot ends; geomkit "
+                  "`make_interp_spline` (SciPy's form), SciPy `make_interp_spline(x, y, k)`. "
+                  "Goal: ≥ 10× SciPy for k = 1, 2, 5, temporary memory ≤ 0.25× the output.", "",
+                  "| N | k | geomkit | SciPy | speed-up | temporary / output (geomkit) | "
+                  "residual (geomkit) |", "|---|---|---:|---:|---:|---:|---:|"]
+        for row in res["spline_build"]:
+            g, p = row["geomkit"], row["scipy"]
+            if not (g.get("ok") and p.get("ok")):
+                lines.append(f"| {fmt_n(row['n'])} | {row['k']} | failed | | | | |")
+                continue
+            gm, pm = med(g), med(p)
+            lines.append(f"| {fmt_n(row['n'])} | {row['k']} | {fmt_time(gm)} | {fmt_time(pm)} | "
+                         f"{pm / gm:.1f}× | {fmt_ratio(temp_ratio(g.get('memory')))} | "
+                         f"{fmt_err(g.get('residual_rel'))} |")
+        lines.append("")
     # Insert the goals after the method section.
     at = lines.index("## Curve interpolation (3-D, not-a-knot)")
     lines[at:at] = head

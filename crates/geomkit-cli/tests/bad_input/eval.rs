@@ -28,7 +28,14 @@ pub const CASES: &[Case] = &[
     ),
     case(
         &[("b.json", LINE)],
-        &["eval", "b.json", "--samples", "5", "--extrapolate", "sideways"],
+        &[
+            "eval",
+            "b.json",
+            "--samples",
+            "5",
+            "--extrapolate",
+            "sideways",
+        ],
         &["--extrapolate", "sideways"],
     ),
     case(
