@@ -1,11 +1,15 @@
-//! Method 2: interpolating cubic B-spline curves and surfaces through reference points,
-//! spec/bspline-interpolation.md (Hoang Thai Ho).
+//! Method 2: interpolating B-spline curves and surfaces through reference points,
+//! spec/bspline-interpolation.md (Hoang Thai Ho): the paper's cubics, and any degree in
+//! SciPy's representation.
 //!
 //! - [`BsplineCurve`]: B-splines of any degree on any knots; uniform knots evaluate by the
 //!   paper's matrix form (1) with the span found by one multiplication.
 //! - [`interpolate_curve`]: the paper's method (repeated end points) and natural, clamped,
 //!   not-a-knot and periodic end conditions; uniform, chord-length and centripetal
 //!   parameters; banded O(N) solves.
+//! - [`make_interp_spline`], [`make_interp_surface`]: any degree 0..=7 with SciPy's knots,
+//!   end conditions per end and coefficients (`make_interp_spline`, `RectBivariateSpline`
+//!   with s = 0), refined where SciPy loses digits.
 //! - [`PiecewiseCurve`]: a curve of degree <= 3 as one cubic polynomial per span, for fast
 //!   evaluation of large batches at arbitrary parameters.
 //! - [`BsplineSurface`], [`interpolate_surface`], [`interpolate_heights`]: bicubic surfaces

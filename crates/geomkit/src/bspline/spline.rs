@@ -1,4 +1,4 @@
-//! Interpolating B-splines of any degree k = 1..=7 through data (x_i, y_i), in SciPy's
+//! Interpolating B-splines of any degree k = 0..=7 through data (x_i, y_i), in SciPy's
 //! representation (spec/bspline-interpolation.md §6; issue 22): the knots t and
 //! coefficients c of `scipy.interpolate.make_interp_spline(x, y, k, t, bc_type)`, with its
 //! knot placement, its end conditions (a list of derivative conditions at each end, the
@@ -10,7 +10,12 @@
 //! sub- and k super-diagonals: each row holds the k + 1 B-splines that are nonzero at its
 //! point), solved by LU with partial pivoting in O(n k^2), as SciPy's LAPACK `gbsv`. The
 //! derivative rows are formed in units of the end interval (SciPy's rows exactly when it is
-//! near 1; on data spaced 1e-50 apart SciPy's entries ~ 1/h^k overflow).
+//! near 1; on data spaced 1e-50 apart SciPy's entries ~ 1/h^k overflow). Small systems, and
+//! those whose coefficients come out far above the data (conditions all at one end: badly
+//! conditioned), are refined by iterative refinement with residuals in doubled precision;
+//! where that does not converge the system is refused, not answered without digits. Large
+//! systems are solved in overlapping windows in parallel, checked at the seams
+//! ([`make_interp_spline`]'s notes; `solve_tiled`).
 //!
 //! Knots (none given):
 //! - no end conditions: not-a-knot, t = [x_0]*(k+1) + x[(k+1)/2 .. n-(k+1)/2] +
@@ -165,11 +170,12 @@ impl SplineOptions {
 ///
 /// Errors ([`Error::Interpolation`] unless said): y of the wrong length for x ("Shapes of
 /// x"), non-finite x or y ([`Error::NonFinite`]), fewer than 2 points, repeated or
-/// decreasing x, a degree above 7, knots or end conditions with degree 0, knots that are not sorted, too few, or do not
-/// cover x, end conditions of the wrong number for the knots ("The number of derivatives at
+/// decreasing x, a degree above 7, knots or end conditions with degree 0, knots that are
+/// not sorted, too few, or do not cover x, end conditions of the wrong number for the knots ("The number of derivatives at
 /// boundaries does not match"), derivative orders above k, values of the wrong dimension,
-/// periodic ends whose first and last y differ or with given knots, and a singular system
-/// (knots that do not suit x: the Schoenberg–Whitney condition).
+/// periodic ends whose first and last y differ or with given knots, a singular system
+/// (knots that do not suit x: the Schoenberg–Whitney condition), and one too
+/// ill-conditioned for f64 (iterative refinement does not converge).
 pub fn make_interp_spline(
     x: &[f64],
     y: &[f64],
