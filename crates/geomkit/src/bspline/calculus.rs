@@ -398,7 +398,7 @@ impl BsplineCurve {
 
     /// The derivative curve of order `nu` (degree k - nu; `nu` = 0 gives the curve), with
     /// SciPy's knots and coefficients (`BSpline.derivative(nu)`, FITPACK's `splder`; see the
-    /// [module docs](self) for the formula). Its values are the curve's derivatives of
+    /// notes of `bspline/calculus.rs` for the formula). Its values are the curve's derivatives of
     /// order `nu` ([`BsplineCurve::eval_nu_many`]) wherever those exist.
     ///
     /// Errors: `nu` above the degree ([`Error::DerivativeOrder`]); knots that coincide k+1-s
@@ -504,7 +504,7 @@ impl BsplineCurve {
     }
 
     /// The curve with the knot x inserted `m` times (Boehm's algorithm; formula in the
-    /// [module docs](self)), as SciPy's `BSpline.insert_knot(x, m)`: the same curve on more
+    /// notes of `bspline/calculus.rs`), as SciPy's `BSpline.insert_knot(x, m)`: the same curve on more
     /// knots, n + m coefficients. At x = t_n the knot goes before the end knots (SciPy's
     /// choice; the end interval of the result is then empty, where
     /// [`BsplineCurve::eval_nu_many`] gives 0 at t_n, as SciPy does).
