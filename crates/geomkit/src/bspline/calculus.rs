@@ -453,8 +453,8 @@ impl BsplineCurve {
 
     /// The antiderivative curve of order `nu` (degree k + nu, one knot more at each end per
     /// order, zero at t_0 as a B-spline sum), with SciPy's knots and coefficients
-    /// (`BSpline.antiderivative(nu)`, FITPACK's `splantider`; formula in the [module
-    /// docs](self)). Its derivative of order `nu` is the curve on the base interval and,
+    /// (`BSpline.antiderivative(nu)`, FITPACK's `splantider`; formula in the notes
+    /// of `bspline/calculus.rs`). Its derivative of order `nu` is the curve on the base interval and,
     /// extended, beyond it; SciPy's antiderivative of a periodic spline drops the periodic
     /// extrapolation (evaluate it with [`Extrapolate::Nan`] to match).
     ///
