@@ -755,31 +755,30 @@ impl<'a> OpenSystem<'a> {
     fn window(&self, r0: usize, r1: usize) -> Result<(BandMatrix, Vec<f64>)> {
         let (k, dim) = (self.k, self.dim);
         let m = r1 - r0;
-        let mut rows: Vec<(usize, [f64; 8])> = Vec::with_capacity(m);
+        // Each row's entries and the columns lo..=hi of its nonzero ones inside the window.
+        let mut rows: Vec<(usize, usize, usize, [f64; 8])> = Vec::with_capacity(m);
         let mut rhs = vec![0.0; m * dim];
-        let mut l = None;
+        let (mut l, mut kl, mut ku) = (None, 0, 0);
         for r in r0..r1 {
-            let (first, entries) =
-                self.row(r, &mut l, &mut rhs[(r - r0) * dim..(r - r0 + 1) * dim])?;
-            rows.push((first, entries));
-        }
-        // The narrowest band holding the nonzero entries inside the window.
-        let (mut kl, mut ku) = (0, 0);
-        let nonzero = |r: usize, (first, e): (usize, [f64; 8])| {
-            (0..=k)
-                .filter(move |&j| e[j] != 0.0 && first + j >= r0 && first + j < r1)
-                .map(move |j| (r, first + j, e[j]))
-        };
-        for (r, row) in (r0..r1).zip(&rows) {
-            for (_, c, _) in nonzero(r, *row) {
-                kl = kl.max(r.saturating_sub(c));
-                ku = ku.max(c.saturating_sub(r));
+            let (first, e) = self.row(r, &mut l, &mut rhs[(r - r0) * dim..(r - r0 + 1) * dim])?;
+            let (mut lo, mut hi) = (first.max(r0), (first + k).min(r1 - 1));
+            while lo < hi && e[lo - first] == 0.0 {
+                lo += 1;
             }
+            while hi > lo && e[hi - first] == 0.0 {
+                hi -= 1;
+            }
+            // The narrowest band holding the nonzero entries inside the window.
+            if lo <= hi {
+                kl = kl.max(r.saturating_sub(lo));
+                ku = ku.max(hi.saturating_sub(r));
+            }
+            rows.push((first, lo, hi, e));
         }
         let mut a = BandMatrix::zeros(m, kl, ku);
-        for (r, row) in (r0..r1).zip(&rows) {
-            for (_, c, v) in nonzero(r, *row) {
-                a.set(r - r0, c - r0, v);
+        for (r, &(first, lo, hi, e)) in (r0..r1).zip(&rows) {
+            for c in lo..=hi {
+                a.set(r - r0, c - r0, e[c - first]);
             }
         }
         Ok((a, rhs))
