@@ -1000,20 +1000,18 @@ fn scipy_form_matches_scipy() {
         fs::write(d.join("fit.json"), ok(d, &argv[..argv.len() - 3])).unwrap();
         let at = floats(&set["deriv_t"]);
         write(d, "at.csv", &rows(&at, 1));
+        // `eval` rows: t, then the coordinates.
+        let coords = |text: &str| -> Vec<f64> {
+            csv_rows(text)
+                .into_iter()
+                .flat_map(|r| r[1..].to_vec())
+                .collect()
+        };
         let orders = case["deriv_orders"].as_array().unwrap();
         for (o, want) in orders.iter().zip(case["derivs"].as_array().unwrap()) {
             let nu = o.to_string();
             let text = ok(d, &["eval", "fit.json", "--at", "at.csv", "--nu", &nu]);
-            let got: Vec<f64> = text
-                .lines()
-                .skip(1)
-                .flat_map(|l| {
-                    l.split(',')
-                        .skip(1)
-                        .map(|v| v.parse::<f64>().unwrap())
-                        .collect::<Vec<_>>()
-                })
-                .collect();
+            let got = coords(&text);
             let want = floats(want);
             let own = want.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             assert!(max_abs_diff(&got, &want) <= 1e-9 * own, "{name}: nu {nu}");
@@ -1037,19 +1035,8 @@ fn scipy_form_matches_scipy() {
                     "periodic",
                 ],
             );
-            let vals = |t: &str| -> Vec<f64> {
-                t.lines()
-                    .skip(1)
-                    .flat_map(|l| {
-                        l.split(',')
-                            .skip(1)
-                            .map(|v| v.parse::<f64>().unwrap())
-                            .collect::<Vec<_>>()
-                    })
-                    .collect()
-            };
             assert!(
-                max_abs_diff(&vals(&near), &vals(&far)) <= 1e-9,
+                max_abs_diff(&coords(&near), &coords(&far)) <= 1e-9,
                 "{name}: periodic"
             );
             let err = fails(d, &["eval", "fit.json", "--at", "far.csv"], None);

@@ -57,6 +57,17 @@ fn end_name(end: EndArg) -> String {
         .map_or_else(|| format!("{end:?}"), |v| v.get_name().to_string())
 }
 
+/// `--offset` only with `--end outer`, tangents only with `--end clamped`.
+fn check_end_flags(end: EndArg, offset: bool, tangents: bool) -> Result<()> {
+    if offset && end != EndArg::Outer {
+        bail!("--offset applies to --end outer only");
+    }
+    if tangents && end != EndArg::Clamped {
+        bail!("--start-tangent and --end-tangent apply to --end clamped only");
+    }
+    Ok(())
+}
+
 /// The end condition asked for; `offset` only with `outer`, tangents only with `clamped`.
 fn end_condition(
     end: EndArg,
@@ -64,12 +75,11 @@ fn end_condition(
     start_tangent: Option<Vec<f64>>,
     end_tangent: Option<Vec<f64>>,
 ) -> Result<EndCondition> {
-    if offset.is_some() && end != EndArg::Outer {
-        bail!("--offset applies to --end outer only");
-    }
-    if (start_tangent.is_some() || end_tangent.is_some()) && end != EndArg::Clamped {
-        bail!("--start-tangent and --end-tangent apply to --end clamped only");
-    }
+    check_end_flags(
+        end,
+        offset.is_some(),
+        start_tangent.is_some() || end_tangent.is_some(),
+    )?;
     Ok(match end {
         EndArg::Repeat => EndCondition::Repeat,
         EndArg::Natural => EndCondition::Natural,
@@ -402,12 +412,11 @@ fn curve_scipy(
              --degree, --left or --right use not-a-knot, natural, clamped, bessel or periodic"
         );
     }
-    if args.offset.is_some() {
-        bail!("--offset applies to --end outer only");
-    }
-    if (args.start_tangent.is_some() || args.end_tangent.is_some()) && args.end != EndArg::Clamped {
-        bail!("--start-tangent and --end-tangent apply to --end clamped only");
-    }
+    check_end_flags(
+        args.end,
+        args.offset.is_some(),
+        args.start_tangent.is_some() || args.end_tangent.is_some(),
+    )?;
     let periodic = args.end == EndArg::Periodic;
     if periodic && (args.left.is_some() || args.right.is_some()) {
         bail!("--left and --right set the ends of an open curve, not of --end periodic");

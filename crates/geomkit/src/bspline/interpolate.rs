@@ -191,7 +191,7 @@ pub fn interpolate_curve_flat(
     }
     let mut n = points.len() / dim;
     let closed = options.end == EndCondition::Periodic;
-    if closed && n >= 2 && closes(points, dim) {
+    if closed && last_repeats_first(points, dim) {
         n -= 1;
     }
     let points = &points[..n * dim];
@@ -243,7 +243,7 @@ pub fn interpolate_curve_at(
     }
     let mut n = points.len() / dim;
     let closed = *end == EndCondition::Periodic;
-    let repeats_first = closed && n >= 2 && closes(points, dim);
+    let repeats_first = closed && last_repeats_first(points, dim);
     if repeats_first && parameters.len() == n {
         n -= 1;
     }
@@ -291,15 +291,11 @@ pub fn interpolate_curve_at(
 /// ```
 pub fn last_repeats_first(points: &[f64], dim: usize) -> bool {
     let n = points.len() / dim.max(1);
-    n >= 2 && closes(points, dim)
-}
-
-fn closes(points: &[f64], dim: usize) -> bool {
-    let n = points.len() / dim;
-    points[..dim]
-        .iter()
-        .zip(&points[(n - 1) * dim..])
-        .all(|(a, b)| (a - b).abs() <= 1e-15 + 1e-5 * b.abs())
+    n >= 2
+        && points[..dim]
+            .iter()
+            .zip(&points[(n - 1) * dim..])
+            .all(|(a, b)| (a - b).abs() <= 1e-15 + 1e-5 * b.abs())
 }
 
 /// A periodic curve needs two distinct points (SciPy's least).
