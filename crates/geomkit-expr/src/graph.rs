@@ -1207,7 +1207,7 @@ impl Graph {
                 s + c.to_f64()
             }
             Node::Mul(c, fs) => {
-                let (mut num, mut den) = (1.0, 1.0);
+                let (mut num, mut den, mut has_num) = (1.0, 1.0, false);
                 for &(b, e) in fs.iter() {
                     if matches!(self.node(b), Node::Const(z) if z.is_zero()) && e < 0 {
                         return Err(ExprError::DivisionByZero);
@@ -1215,12 +1215,20 @@ impl Graph {
                     let x = child(b);
                     if e > 0 {
                         num *= powi(x, e);
+                        has_num = true;
                     } else {
                         den *= powi(x, -e);
                     }
                 }
-                let r = if den == 1.0 { num } else { num / den };
-                c.to_f64() * r
+                // As the tape and the printed code: c/den without a numerator (not
+                // c·(1/den), which is 0·inf = NaN for c = 0 and a subnormal den).
+                if !has_num {
+                    c.to_f64() / den
+                } else if den == 1.0 {
+                    c.to_f64() * num
+                } else {
+                    c.to_f64() * (num / den)
+                }
             }
             Node::Fun(f, a) => f.apply(child(*a)),
         })

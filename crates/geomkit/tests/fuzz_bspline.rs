@@ -190,3 +190,60 @@ proptest! {
         }
     }
 }
+
+/// Control points at ±f64::MAX: the weighted sums overflow by rounding (weights summing to
+/// a little over 1), the true values lie in the points' range (convex hull), and evaluation
+/// gives them, not infinity; a NaN parameter still gives NaN.
+#[test]
+fn control_points_at_f64_max_evaluate_inside_their_range() {
+    let mut knots = vec![
+        -0.8372233415416261,
+        -1e308,
+        -1e308,
+        1e-300,
+        1e-300,
+        -1e308,
+        -1e308,
+        -1e308,
+        1e-300,
+        1e-300,
+        1e-300,
+        -0.9040547403088014,
+        1e-300,
+    ];
+    knots.sort_by(f64::total_cmp);
+    let c = BsplineCurve::new(5, knots, vec![vec![f64::MAX]; 7]).unwrap();
+    assert_eq!(c.eval(-0.4906756140124737), vec![f64::MAX]);
+    assert!(c.eval(f64::NAN)[0].is_nan());
+    let clamped = |n: usize| {
+        let mut t = vec![0.0; 4];
+        t.extend((1..n - 3).map(|i| i as f64 / (n - 3) as f64));
+        t.extend([1.0; 4]);
+        t
+    };
+    let control: Vec<f64> = (0..36)
+        .flat_map(|i| [f64::MAX, -f64::MAX, if i % 2 == 0 { f64::MAX } else { 1.0 }])
+        .collect();
+    let s = geomkit::bspline::BsplineSurface::from_flat(
+        (3, 3),
+        clamped(6),
+        clamped(6),
+        6,
+        6,
+        3,
+        control,
+    )
+    .unwrap();
+    let near = |a: f64, b: f64| (a - b).abs() <= 16.0 * f64::EPSILON * b.abs();
+    for i in 0..=50 {
+        for j in 0..=50 {
+            let (u, v) = (i as f64 / 50.0, j as f64 / 50.0);
+            let p = s.eval(u, v);
+            assert!(p.iter().all(|x| x.is_finite()), "({u}, {v}): {p:?}");
+            assert!(
+                near(p[0], f64::MAX) && near(p[1], -f64::MAX),
+                "({u}, {v}): {p:?}"
+            );
+        }
+    }
+}

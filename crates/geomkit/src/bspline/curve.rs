@@ -65,7 +65,7 @@ pub(crate) fn domain_spans(knots: &[f64], degree: usize, n_control: usize) -> (u
 
 /// The p+1 nonzero basis functions N_(s-p..=s, p)(t) on span s (NURBS Book A2.2), written to
 /// `out`; `left`/`right` are scratch of length p+1.
-#[inline]
+#[inline(always)]
 pub(crate) fn basis_funs(knots: &[f64], span: usize, t: f64, degree: usize, out: &mut [f64]) {
     if degree == 3 {
         out[..4].copy_from_slice(&basis_funs_cubic(knots, span, t));
@@ -76,7 +76,7 @@ pub(crate) fn basis_funs(knots: &[f64], span: usize, t: f64, degree: usize, out:
 
 /// [`basis_funs`] for any degree (the book's loops), with scratch for degrees up to 7 or,
 /// above, up to [`BsplineCurve::MAX_DEGREE`].
-#[inline]
+#[inline(always)]
 fn basis_funs_any(knots: &[f64], span: usize, t: f64, degree: usize, out: &mut [f64]) {
     if degree < 8 {
         basis_funs_sized::<8>(knots, span, t, degree, out)
@@ -86,7 +86,7 @@ fn basis_funs_any(knots: &[f64], span: usize, t: f64, degree: usize, out: &mut [
 }
 
 /// [`basis_funs_any`] with scratch arrays of N > degree numbers.
-#[inline]
+#[inline(always)]
 fn basis_funs_sized<const N: usize>(
     knots: &[f64],
     span: usize,
@@ -535,6 +535,45 @@ impl BsplineCurve {
                 *o += w * c;
             }
         }
+        if out.iter().any(|o| !o.is_finite()) {
+            let terms = basis[..=p]
+                .iter()
+                .enumerate()
+                .map(|(r, &w)| (w, &self.control[(s - p + r) * d..(s - p + r + 1) * d]));
+            resum_overflowed(terms, out);
+        }
+    }
+}
+
+/// Recomputes the coordinates of `out` = Σ w·P over `terms` that came out infinite or NaN
+/// although every P is finite: control points near ±f64::MAX, where a sum of weights
+/// rounded a little above 1 overflows. Sums at a quarter of the scale (no partial sum
+/// overflows), scales back, and where every weight is non-negative (inside the domain) clamps
+/// to the range of the points, which holds the true value (the convex hull property) — so a
+/// curve through f64::MAX evaluates to f64::MAX, not to infinity. Negative weights
+/// (extrapolation) keep an infinity the true value may well reach; a NaN parameter stays NaN.
+#[cold]
+pub(crate) fn resum_overflowed<'a>(
+    terms: impl Iterator<Item = (f64, &'a [f64])> + Clone,
+    out: &mut [f64],
+) {
+    for (j, o) in out.iter_mut().enumerate() {
+        if o.is_finite() {
+            continue;
+        }
+        let (mut sum, mut lo, mut hi, mut convex) = (0.0, f64::INFINITY, f64::NEG_INFINITY, true);
+        for (w, p) in terms.clone() {
+            sum += w * (0.25 * p[j]);
+            lo = lo.min(p[j]);
+            hi = hi.max(p[j]);
+            convex &= w >= 0.0;
+        }
+        let value = 4.0 * sum;
+        *o = if convex && !value.is_nan() {
+            value.clamp(lo, hi)
+        } else {
+            value
+        };
     }
 }
 

@@ -180,6 +180,15 @@ impl BsplineSurface {
                 }
             }
         }
+        if out.iter().any(|o| !o.is_finite()) {
+            let terms = (0..=p).flat_map(|a| {
+                (0..=q).map(move |b| {
+                    let k = ((su - p + a) * self.n_v + sv - q + b) * d;
+                    (bu[a] * bv[b], &self.control[k..k + d])
+                })
+            });
+            super::curve::resum_overflowed(terms, out);
+        }
     }
 
     /// S(u, v).
