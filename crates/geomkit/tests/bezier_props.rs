@@ -219,7 +219,10 @@ proptest! {
 
     #[test]
     fn approximate_bound_dominates_sampled_error(c in curve_strategy(15), drop in 1usize..6) {
-        prop_assume!(c.degree() > drop);
+        // A drop the degree allows (rejecting the rest exhausts proptest's reject budget
+        // at large PROPTEST_CASES).
+        prop_assume!(c.degree() >= 2);
+        let drop = 1 + (drop - 1) % (c.degree() - 1);
         let r = c.reduce_degree_approx(c.degree() - drop, &ApproxOptions::default()).unwrap();
         let sampled = sampled_distance(&r.curve, &c, 1000);
         prop_assert!(r.linf.upper_bound >= sampled);
