@@ -288,6 +288,17 @@ def surface_cases():
             "c": [float(v) for v in spl.get_coeffs()],
             "at": [list(p) for p in pts],
             "values": [float(spl.ev(a, b)) for a, b in pts],
+            # Partial derivatives (FITPACK allows dx < kx, dy < ky) at the points, and on
+            # the 5 x 4 grid of linspaces of the domain (spl(gx, gy, dx, dy, grid=True)).
+            "partials": [
+                {"dx": dx, "dy": dy,
+                 "values": [float(spl.ev(a, b, dx=dx, dy=dy)) for a, b in pts],
+                 "grid": [float(v) for v in spl(np.linspace(0.0, 4.0, 5),
+                                                np.linspace(-1.0, 1.0, 4),
+                                                dx=dx, dy=dy).ravel()]}
+                for dx, dy in sorted({(1, 0), (0, 1), (1, 1), (kx - 1, ky - 1)})
+                if dx < kx and dy < ky and (dx, dy) != (0, 0)
+            ],
         })
     return {"x": x, "y": y, "z": z, "cases": out}
 

@@ -1044,3 +1044,108 @@ fn scipy_form_matches_scipy() {
         }
     }
 }
+
+/// `eval --nu DU,DV` on surfaces made by `interpolate surface --heights --form scipy` against
+/// SciPy's `RectBivariateSpline(x, y, z, kx, ky, s=0)` (the library's reference data): `ev(x,
+/// y, dx, dy)` at scattered points through `--at`, `__call__(gx, gy, dx, dy)` on the 5 x 4
+/// grid of the domain through `--samples 5x4`, for seven degree pairs from (1, 1) to (5, 5);
+/// orders FITPACK refuses and a curve's single order are refused.
+#[test]
+fn surface_partials_match_rect_bivariate_spline() {
+    let data: Value =
+        serde_json::from_str(include_str!("../../geomkit/tests/data/spline_scipy.json")).unwrap();
+    let s = &data["surfaces"];
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let column = |v: &[f64]| v.iter().map(|x| format!("{x:?}\n")).collect::<String>();
+    write(d, "x.csv", &column(&numbers(&s["x"])));
+    write(d, "y.csv", &column(&numbers(&s["y"])));
+    let z: String = s["z"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| {
+            let r: Vec<String> = numbers(row).iter().map(|x| format!("{x:?}")).collect();
+            r.join(",") + "\n"
+        })
+        .collect();
+    write(d, "z.csv", &z);
+    let mut checked = 0;
+    for case in s["cases"].as_array().unwrap() {
+        let (kx, ky) = (case["kx"].as_u64().unwrap(), case["ky"].as_u64().unwrap());
+        let degrees = format!("{kx},{ky}");
+        let fit = "interpolate surface z.csv --heights --x x.csv --y y.csv --form scipy --degree";
+        let mut argv: Vec<&str> = fit.split(' ').collect();
+        argv.push(&degrees);
+        fs::write(d.join("s.json"), ok(d, &argv)).unwrap();
+        let at: String = case["at"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| {
+                format!(
+                    "{:?},{:?}\n",
+                    p[0].as_f64().unwrap(),
+                    p[1].as_f64().unwrap()
+                )
+            })
+            .collect();
+        write(d, "at.csv", &at);
+        // The last column of each row (z); rows start with u, v.
+        let z_of = |text: &str| -> Vec<f64> { csv_rows(text).iter().map(|r| r[2]).collect() };
+        let values = z_of(&ok(d, &["eval", "s.json", "--at", "at.csv", "--nu", "0,0"]));
+        assert!(
+            max_abs_diff(&values, &numbers(&case["values"])) <= 1e-12,
+            "{degrees}"
+        );
+        for p in case["partials"].as_array().unwrap() {
+            let nu = format!("{},{}", p["dx"], p["dy"]);
+            let want = numbers(&p["values"]);
+            let scale = want.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            let text = ok(d, &["eval", "s.json", "--at", "at.csv", "--nu", &nu]);
+            assert!(
+                text.starts_with(&format!("u,v,d{}_{}x", p["dx"], p["dy"])),
+                "{text}"
+            );
+            let got = z_of(&text);
+            assert!(
+                max_abs_diff(&got, &want) <= 1e-10 * scale,
+                "{degrees} ev {nu}: {got:?} vs {want:?}"
+            );
+            let want = numbers(&p["grid"]);
+            let rows = csv_rows(&ok(d, &["eval", "s.json", "--samples", "5x4", "--nu", &nu]));
+            // Row-major over u (5) then v (4): SciPy's grid=True layout.
+            assert_eq!((rows[4][0], rows[4][1], rows[5][0]), (1.0, -1.0, 1.0));
+            let got: Vec<f64> = rows.iter().map(|r| r[2]).collect();
+            assert!(
+                max_abs_diff(&got, &want) <= 1e-10 * scale,
+                "{degrees} grid {nu}"
+            );
+            checked += 1;
+        }
+        let bad = format!("{kx},0");
+        let err = fails(d, &["eval", "s.json", "--samples", "3", "--nu", &bad], None);
+        assert!(err.contains("below the degree"), "{err}");
+    }
+    assert!(checked >= 20, "{checked} partials checked");
+    let err = fails(d, &["eval", "s.json", "--samples", "3", "--nu", "1"], None);
+    assert!(err.contains("both derivative orders"), "{err}");
+    let err = fails(
+        d,
+        &[
+            "eval",
+            "s.json",
+            "--samples",
+            "3",
+            "--nu",
+            "0,0",
+            "--extrapolate",
+            "extend",
+        ],
+        None,
+    );
+    assert!(
+        err.contains("--extrapolate applies to B-spline curves"),
+        "{err}"
+    );
+}

@@ -433,6 +433,23 @@ pub fn parse_samples(s: &str) -> Result<Samples, String> {
     }
 }
 
+/// Derivative orders of `eval --nu`: `N` (curves) or `DU,DV` (surfaces).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Orders(pub usize, pub Option<usize>);
+
+/// Parses `N` or `DU,DV` derivative orders.
+pub fn parse_orders(s: &str) -> Result<Orders, String> {
+    let parse = |x: &str| {
+        x.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("'{x}' is not a derivative order (0, 1, 2, ...)"))
+    };
+    match s.split_once(',') {
+        None => Ok(Orders(parse(s)?, None)),
+        Some((a, b)) => Ok(Orders(parse(a)?, Some(parse(b)?))),
+    }
+}
+
 /// Arguments of `interpolate curve`.
 #[derive(Debug, Args)]
 pub struct CurveArgs {
@@ -600,9 +617,11 @@ pub struct ModelEvalArgs {
     #[arg(long, value_name = "PARAMS")]
     pub at: Option<PathBuf>,
     /// B-spline curves: the derivative of order NU instead of the point (SciPy's
-    /// BSpline(t, nu); zero above the degree) [default: 0].
-    #[arg(long, value_name = "NU")]
-    pub nu: Option<usize>,
+    /// BSpline(t, nu); zero above the degree). B-spline surfaces: DU,DV, the partial
+    /// derivative d^(DU+DV) S / du^DU dv^DV (RectBivariateSpline's dx, dy: each below the
+    /// degree in its direction) [default: 0].
+    #[arg(long, value_name = "NU|DU,DV", value_parser = parse_orders)]
+    pub nu: Option<Orders>,
     /// B-spline curves: parameters beyond the domain: none (refused, the default), extend
     /// (the end polynomials continued: SciPy's extrapolate=True) or periodic (wrapped into
     /// the domain: extrapolate='periodic').

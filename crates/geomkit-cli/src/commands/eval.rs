@@ -3,7 +3,7 @@
 //! models and samples) evaluated on uniform samples of its parameter domain or at parameters
 //! read from a file. One output row per point: the parameter(s), then the coordinates.
 
-use crate::cli::{ExtrapolateArg, ModelEvalArgs, Samples};
+use crate::cli::{ExtrapolateArg, ModelEvalArgs, Orders, Samples};
 use crate::cli::{MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::model::{read_any_model, AnyModel, BezierModel};
 use crate::output::coordinate_names;
@@ -11,7 +11,7 @@ use crate::output::{Destination, RowSink, TableFormat};
 use crate::progress::Progress;
 use crate::table::{extension, Table};
 use anyhow::{bail, Context, Result};
-use geomkit::bspline::{BsplineCurve, Extrapolate};
+use geomkit::bspline::{BsplineCurve, BsplineSurface, Extrapolate};
 use geomkit::compose::SurfaceKind;
 use geomkit::geom::{BatchOptions, Curve, Surface};
 use geomkit_model::PointcalcModel;
@@ -122,10 +122,26 @@ pub fn run(args: ModelEvalArgs) -> Result<()> {
     let progress = Progress::start();
     let dest = Destination::from_option(args.output.as_deref());
     if args.nu.is_some() || args.extrapolate.is_some() {
-        let AnyModel::BsplineCurve(m) = &model else {
-            bail!("{name}: --nu and --extrapolate apply to B-spline curves");
+        return match (&model, args.nu) {
+            (AnyModel::BsplineCurve(m), None | Some(Orders(_, None))) => {
+                write_bspline_nu(&dest, format, &m.curve, &args, &name, &progress)
+            }
+            (AnyModel::BsplineCurve(_), Some(_)) => {
+                bail!("{name} is a curve: give one derivative order (--nu N)")
+            }
+            (AnyModel::BsplineSurface(m), Some(Orders(du, Some(dv)))) => {
+                if args.extrapolate.is_some() {
+                    bail!(
+                        "{name}: --extrapolate applies to B-spline curves (surfaces are                          evaluated on their domain)"
+                    );
+                }
+                write_bspline_partial(&dest, format, &m.surface, (du, dv), &args, &name)
+            }
+            (AnyModel::BsplineSurface(_), _) => {
+                bail!("{name} is a surface: give both derivative orders (--nu DU,DV)")
+            }
+            _ => bail!("{name}: --nu and --extrapolate apply to B-spline curves and surfaces"),
         };
-        return write_bspline_nu(&dest, format, &m.curve, &args, &name, &progress);
     }
     match (target, args.samples, args.at.as_deref()) {
         (Target::Curve { .. }, Some(Samples(_, Some(_))), _) => {
@@ -340,7 +356,7 @@ fn write_bspline_nu(
     name: &str,
     progress: &Progress,
 ) -> Result<()> {
-    let nu = args.nu.unwrap_or(0);
+    let nu = args.nu.map_or(0, |o| o.0);
     let mode = args.extrapolate.unwrap_or(ExtrapolateArg::None);
     let ts = match (args.samples, args.at.as_deref()) {
         (Some(Samples(k, None)), _) => {
@@ -369,7 +385,8 @@ fn write_bspline_nu(
     curve.eval_nu_many(&ts, nu, extrapolate, &mut values)?;
     if let Some(i) = values.iter().position(|v| !v.is_finite()) {
         bail!(
-            "{name}: the derivative of order {nu} at t = {} is not a finite number (it              overflows f64)",
+            "{name}: the derivative of order {nu} at t = {} is not a finite number (it \
+             overflows f64)",
             ts[i / d]
         );
     }
@@ -386,6 +403,91 @@ fn write_bspline_nu(
         for (t, p) in ts.iter().zip(values.chunks_exact(d)) {
             rows.push(*t);
             rows.extend_from_slice(p);
+        }
+        sink.push(w, &rows)?;
+        sink.finish()
+    })
+}
+
+/// `--nu DU,DV` on a B-spline surface ([`BsplineSurface::eval_partial_grid`] on `--samples`,
+/// [`BsplineSurface::eval_partial_many`] at `--at`: RectBivariateSpline's `__call__` and
+/// `ev`): columns u, v and the partial derivative's coordinates (dDU_DVx, ...; the plain
+/// names for 0,0).
+fn write_bspline_partial(
+    dest: &Destination,
+    format: TableFormat,
+    surface: &BsplineSurface,
+    (du, dv): (usize, usize),
+    args: &ModelEvalArgs,
+    name: &str,
+) -> Result<()> {
+    let (p, q) = surface.degrees();
+    if (du, dv) != (0, 0) && (du >= p || dv >= q) {
+        bail!(
+            "{name}: --nu {du},{dv} is not available on a surface of degrees {p},{q}: each              order must be below the degree in its direction (RectBivariateSpline's rule)"
+        );
+    }
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let uv: Vec<f64> = match (args.samples, args.at.as_deref()) {
+        (Some(Samples(k, l)), _) => {
+            let l = l.unwrap_or(k);
+            if ![k, l].iter().all(|c| (2..=MAX_SURFACE_SAMPLES).contains(c))
+                || k * l > MAX_GRID_POINTS
+            {
+                bail!(
+                    "--samples {k}x{l}: each count from 2 to {MAX_SURFACE_SAMPLES}, at most \
+                     {MAX_GRID_POINTS} points"
+                );
+            }
+            let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, l));
+            us.iter()
+                .flat_map(|&u| vs.iter().flat_map(move |&v| [u, v]))
+                .collect()
+        }
+        (None, Some(at)) => {
+            let progress = Progress::start();
+            let table = read_params(at, 2, "a surface takes two columns (u, v)", &progress)?;
+            check_domain(&table, 0, (u0, u1), "u")?;
+            check_domain(&table, 1, (v0, v1), "v")?;
+            table.data
+        }
+        (None, None) => bail!("give --samples or --at"),
+    };
+    let n = uv.len() / 2;
+    let d = surface.dim();
+    let mut values = vec![0.0; n * d];
+    match args.samples {
+        Some(Samples(k, l)) => {
+            let (us, vs) = (linspace(u0, u1, k), linspace(v0, v1, l.unwrap_or(k)));
+            surface.eval_partial_grid(&us, &vs, du, dv, &mut values)?;
+        }
+        None => {
+            let (us, vs): (Vec<f64>, Vec<f64>) = uv.chunks_exact(2).map(|p| (p[0], p[1])).unzip();
+            surface.eval_partial_many(&us, &vs, du, dv, &mut values)?;
+        }
+    }
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        bail!(
+            "{name}: the partial derivative {du},{dv} at (u, v) = ({}, {}) is not a finite \
+             number (it overflows f64)",
+            uv[2 * (i / d)],
+            uv[2 * (i / d) + 1]
+        );
+    }
+    let mut header = vec!["u".to_string(), "v".to_string()];
+    header.extend(coordinate_names(d).into_iter().map(|c| {
+        if (du, dv) == (0, 0) {
+            c
+        } else {
+            format!("d{du}_{dv}{c}")
+        }
+    }));
+    dest.write_with(|w| {
+        let mut sink = RowSink::start(w, format, &[n, d + 2], &header)?;
+        let mut rows = Vec::with_capacity(n * (d + 2));
+        for (p, x) in uv.chunks_exact(2).zip(values.chunks_exact(d)) {
+            rows.extend_from_slice(p);
+            rows.extend_from_slice(x);
         }
         sink.push(w, &rows)?;
         sink.finish()
