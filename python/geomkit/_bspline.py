@@ -14,6 +14,10 @@ from ._arrays import contiguous, extrapolate_value, index, mode, real_array, rea
 
 __all__ = ["BSpline", "make_interp_spline"]
 
+# insert_knot's limit on m: beyond it the knots would not fit in memory, and the insertions
+# (one at a time, as SciPy's) would take O(m^2) time on the way.
+_MAX_INSERTIONS = 10**6
+
 
 class BSpline:
     """A univariate spline in the B-spline basis, as ``scipy.interpolate.BSpline``.
@@ -78,7 +82,7 @@ class BSpline:
     1.0
     """
 
-    __slots__ = ("_core", "_t", "_c", "k", "extrapolate", "axis", "_trailing", "_pad")
+    __slots__ = ("_core", "_knots", "_coefs", "k", "extrapolate", "axis", "_trailing", "_pad")
 
     def __init__(
         self,
@@ -149,8 +153,8 @@ class BSpline:
         self.extrapolate = extrapolate
         self.axis = axis
         self._trailing = trailing
-        self._t = t
-        self._c = c
+        self._knots = t
+        self._coefs = c
         self._pad = pad
 
     @classmethod
@@ -164,11 +168,11 @@ class BSpline:
     @property
     def t(self) -> NDArray[np.float64]:
         """Knots, shape (n + k + 1,) (a read-only array)."""
-        if self._t is None:
+        if self._knots is None:
             t = np.empty(self._core.n_knots)
             self._core.knots_into(t)
-            self._t = _frozen(t)
-        return self._t
+            self._knots = _frozen(t)
+        return self._knots
 
     @property
     def c(self) -> NDArray[np.float64]:
@@ -176,7 +180,7 @@ class BSpline:
 
         After `derivative` and `antiderivative` they are padded to ``len(t)`` as SciPy
         pads them (zeros, or copies of the last coefficient)."""
-        if self._c is None:
+        if self._coefs is None:
             core = self._core
             c = np.empty((core.n_coefficients, core.dim))
             core.coefficients_into(c)
@@ -185,8 +189,12 @@ class BSpline:
                 c = np.concatenate([c, np.zeros((extra, core.dim))])
             elif self._pad == "last":
                 c = np.concatenate([c, np.repeat(c[-1:], extra, axis=0)])
-            self._c = _frozen(c.reshape((c.shape[0],) + self._trailing))
-        return self._c
+            self._coefs = _frozen(c.reshape((c.shape[0],) + self._trailing))
+        return self._coefs
+
+    # SciPy's private names of the two (some of SciPy's own tests read them).
+    _t = t
+    _c = c
 
     @property
     def tck(self) -> tuple[NDArray[np.float64], NDArray[np.float64], int]:
@@ -336,13 +344,16 @@ class BSpline:
         Raises
         ------
         ValueError
-            `x` outside the base interval or NaN, ``m <= 0``, or a knot repeated so often
-            that the coefficients would divide by zero.
+            `x` outside the base interval or NaN, ``m <= 0`` or above 10**6, or a knot
+            repeated so often that the coefficients would divide by zero.
         """
         x = real_scalar(x, "x")
         m = index(m, "m")
         if m <= 0:
             raise ValueError(f"`m` must be positive, got m = {m}.")
+        if m > _MAX_INSERTIONS:
+            raise ValueError(f"`m` = {m} insertions: at most {_MAX_INSERTIONS} (each one "
+                             "copies the knots and coefficients)")
         core = self._core.insert_knot(x, m, self.extrapolate == "periodic")
         return BSpline._from_core(core, self.extrapolate, self.axis, self._trailing, self._pad)
 
@@ -427,9 +438,6 @@ def _end(cond: Any, at: float, trailing: tuple[int, ...]) -> list[tuple[int, Any
         ) from e
     out = []
     for order, value in pairs:
-        order_arr = np.asarray(order)
-        if order_arr.dtype.kind == "f" and order_arr.ndim == 0 and float(order).is_integer():
-            order = int(order)  # SciPy's np.atleast_1d keeps 1.0 usable as an order
         order = index(order, "a derivative order of bc_type")
         if order < 0:
             raise ValueError(f"Bad boundary conditions at {at}: derivative order {order} is "
@@ -526,6 +534,10 @@ def make_interp_spline(
     k = index(k, "k")
     if k < 0:
         raise ValueError("Expect non-negative k.")
+    if k > _geomkit.MAX_DEGREE:
+        # The library's words; larger integers than Rust's would only overflow on the way.
+        raise ValueError(f"degree {k} is not supported: give a degree from 0 to "
+                         f"{_geomkit.MAX_SPLINE_DEGREE}")
     x = contiguous(x, "x")
     y = real_array(y, "y")
     axis = _normalize_axis(axis, y.ndim)

@@ -74,7 +74,7 @@ class RectBivariateSpline:
     True
     """
 
-    __slots__ = ("_core", "_tck", "degrees", "fp")
+    __slots__ = ("_core", "_tck", "degrees")
 
     def __init__(
         self,
@@ -118,7 +118,6 @@ class RectBivariateSpline:
         self._core = _geomkit.make_interp_surface_heights(x, y, z, kx, ky)
         self._tck = None
         self.degrees = (kx, ky)
-        self.fp = 0.0
 
     @classmethod
     def _from_tck(cls, tck: Any, degrees: Any) -> RectBivariateSpline:
@@ -137,8 +136,12 @@ class RectBivariateSpline:
         self._core = _geomkit.Surface(tx, ty, c.reshape(shape), kx, ky)
         self._tck = None
         self.degrees = (kx, ky)
-        self.fp = 0.0
         return self
+
+    @property
+    def fp(self) -> float:
+        """The residual sum of squares: 0.0 (an interpolant)."""
+        return 0.0
 
     @property
     def tck(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
@@ -182,6 +185,45 @@ class RectBivariateSpline:
         float
         """
         return self.fp
+
+    def partial_derivative(self, dx: int, dy: int) -> RectBivariateSpline:
+        """The spline of the partial derivative of orders `dx`, `dy` (degrees
+        ``(kx - dx, ky - dy)``), as SciPy's ``partial_derivative``.
+
+        Parameters
+        ----------
+        dx, dy : int
+            Orders, 0 <= dx < kx and 0 <= dy < ky.
+
+        Returns
+        -------
+        RectBivariateSpline
+            `self` for orders (0, 0); otherwise a derived spline (its ``fp`` and
+            ``get_residual`` raise AttributeError, as SciPy's ``_DerivedBivariateSpline``):
+            the coefficient rows differentiated as B-spline curves in x, then the columns
+            in y (the library's ``BsplineCurve::derivative_nu``, FITPACK's ``pardtc``).
+
+        Raises
+        ------
+        ValueError
+            Negative orders, or orders not below the degrees.
+        """
+        dx, dy = _order(dx, "dx"), _order(dy, "dy")
+        if (dx, dy) == (0, 0):
+            return self
+        kx, ky = self.degrees
+        if dx >= kx or dy >= ky:
+            raise ValueError(f"order of derivative must be less than degree of spline: "
+                             f"(dx, dy) = ({dx}, {dy}), degrees ({kx}, {ky})")
+        tx, ty, c = self.tck
+        rows, cols = self._core.net_size
+        # Rows of the net as one curve in x with `cols` numbers per coefficient, then the
+        # columns as one curve in y.
+        along_x = _geomkit.Curve(kx, tx, c.reshape(rows, cols)).derivative(dx)
+        tx2, cx = _curve_arrays(along_x)
+        along_y = _geomkit.Curve(ky, ty, np.ascontiguousarray(cx.T)).derivative(dy)
+        ty2, cy = _curve_arrays(along_y)
+        return _DerivedBivariateSpline._from_tck((tx2, ty2, cy.T), (kx - dx, ky - dy))
 
     def __call__(self, x: ArrayLike, y: ArrayLike, dx: int = 0, dy: int = 0,
                  grid: bool = True) -> NDArray[np.float64]:
@@ -258,7 +300,7 @@ class RectBivariateSpline:
         return self._core.integral(*limits)
 
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
-        return (_rebuild, (self.tck, self.degrees))
+        return (_rebuild, (type(self), self.tck, self.degrees))
 
     def __repr__(self) -> str:
         (x0, x1), (y0, y1) = (
@@ -276,6 +318,33 @@ def _order(value: Any, name: str) -> int:
     return min(order, _MAX_ORDER)
 
 
-def _rebuild(tck: Any, degrees: Any) -> RectBivariateSpline:
+def _rebuild(cls: type, tck: Any, degrees: Any) -> RectBivariateSpline:
     """Unpickling: the spline from its tck."""
-    return RectBivariateSpline._from_tck(tck, degrees)
+    return cls._from_tck(tck, degrees)
+
+
+def _curve_arrays(core: _geomkit.Curve) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The knots and coefficients (n, dim) of a compiled curve."""
+    t = np.empty(core.n_knots)
+    c = np.empty((core.n_coefficients, core.dim))
+    core.knots_into(t)
+    core.coefficients_into(c)
+    return t, c
+
+
+class _DerivedBivariateSpline(RectBivariateSpline):
+    """A partial derivative of a `RectBivariateSpline` (`partial_derivative`): evaluates as
+    one, but has no residual (SciPy's ``_DerivedBivariateSpline``)."""
+
+    __slots__ = ()
+    _why = ("is unavailable: this spline is the partial derivative of another one, not "
+            "built from data")
+
+    @property
+    def fp(self) -> float:
+        """Raises AttributeError (no data were interpolated)."""
+        raise AttributeError(f'attribute "fp" {self._why}')
+
+    def get_residual(self) -> float:
+        """Raises AttributeError (no data were interpolated)."""
+        raise AttributeError(f'method "get_residual" {self._why}')
