@@ -17,6 +17,9 @@ __all__ = ["BSpline", "make_interp_spline"]
 # insert_knot's limit on m: beyond it the knots would not fit in memory, and the insertions
 # (one at a time, as SciPy's) would take O(m^2) time on the way.
 _MAX_INSERTIONS = 10**6
+# Orders above every degree, passed on as this: the library refuses them in its words,
+# where a larger Python integer would only overflow on the way to Rust.
+_LARGEST_ORDER = 2**62
 
 
 class BSpline:
@@ -267,7 +270,7 @@ class BSpline:
         nu = index(nu, "nu")
         if nu < 0:
             return self.antiderivative(-nu)
-        core = self._core.derivative(min(nu, self.k + 1))
+        core = self._core.derivative(min(nu, _LARGEST_ORDER))
         return BSpline._from_core(core, self.extrapolate, self.axis, self._trailing, "zeros")
 
     def antiderivative(self, nu: int = 1) -> BSpline:
@@ -293,7 +296,7 @@ class BSpline:
         nu = index(nu, "nu")
         if nu < 0:
             return self.derivative(-nu)
-        core = self._core.antiderivative(min(nu, _geomkit.MAX_DEGREE + 1))
+        core = self._core.antiderivative(min(nu, _LARGEST_ORDER))
         ext = False if self.extrapolate == "periodic" else self.extrapolate
         return BSpline._from_core(core, ext, self.axis, self._trailing, "last")
 

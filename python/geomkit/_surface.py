@@ -13,9 +13,9 @@ from ._arrays import contiguous, index, real_scalar
 
 __all__ = ["RectBivariateSpline"]
 
-# Derivative orders above this are refused by the library whatever the degree (<= 7); the
-# clamp only keeps huge Python integers from overflowing on the way to Rust.
-_MAX_ORDER = 8
+# Orders above every degree, passed on as this: the library refuses them in its words,
+# where a larger Python integer would only overflow on the way to Rust.
+_MAX_ORDER = 2**62
 
 
 class RectBivariateSpline:

@@ -100,8 +100,14 @@ def test_derivative_and_antiderivative(k):
 
 def test_derivative_errors():
     t, c = random_spline(3, seed=2)
-    with pytest.raises(ValueError, match="derivative order 4"):
+    with pytest.raises(ValueError, match="derivative order 4 of a B-spline of degree 3"):
         geomkit.BSpline(t, c, 3).derivative(4)
+    with pytest.raises(ValueError, match="derivative order 10 of a B-spline of degree 3"):
+        geomkit.BSpline(t, c, 3).derivative(10)
+    with pytest.raises(ValueError, match="derivative order"):
+        geomkit.BSpline(t, c, 3).derivative(10**30)
+    with pytest.raises(ValueError, match="degree"):
+        geomkit.BSpline(t, c, 3).antiderivative(10**30)
     # An interior knot of multiplicity k: the derivative of order 2 jumps there, so the
     # third one would hold a Dirac delta.
     t2 = np.r_[[0.0] * 4, 5.0, 5.0, 5.0, [10.0] * 4]

@@ -202,6 +202,8 @@ def test_bad_calls():
         s(X, Y, dy=2)
     with pytest.raises(ValueError, match="derivative orders must be >= 0"):
         s.ev(1.0, 1.0, dx=-1)
+    with pytest.raises(ValueError, match="derivative order 5 of a B-spline of degree 3"):
+        s.ev(1.0, 1.0, dx=5)
     with pytest.raises(ValueError, match="derivative order"):
         s.ev(1.0, 1.0, dx=10**30)
     with pytest.raises(ValueError):

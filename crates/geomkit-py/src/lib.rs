@@ -98,13 +98,19 @@ impl Curve {
     }
 
     /// Copies the knots into `out` (length `n_knots`).
-    fn knots_into(&self, mut out: PyReadwriteArray1<'_, f64>) -> PyResult<()> {
-        copy_into(self.inner.knots(), out.as_slice_mut()?)
+    fn knots_into(&self, py: Python<'_>, mut out: PyReadwriteArray1<'_, f64>) -> PyResult<()> {
+        let out = out.as_slice_mut()?;
+        py.detach(|| copy_into(self.inner.knots(), out))
     }
 
     /// Copies the coefficients into `out` (shape (n_coefficients, dim)).
-    fn coefficients_into(&self, mut out: PyReadwriteArray2<'_, f64>) -> PyResult<()> {
-        copy_into(self.inner.control_flat(), out.as_slice_mut()?)
+    fn coefficients_into(
+        &self,
+        py: Python<'_>,
+        mut out: PyReadwriteArray2<'_, f64>,
+    ) -> PyResult<()> {
+        let out = out.as_slice_mut()?;
+        py.detach(|| copy_into(self.inner.control_flat(), out))
     }
 
     /// Values (`nu` = 0) or derivatives of order `nu` at `x` into `out` (shape (len(x), dim)),
@@ -171,7 +177,8 @@ impl Curve {
     }
 }
 
-/// `src` into `out` of the same length (a `ValueError` otherwise).
+/// `src` into `out` of the same length (a `ValueError` otherwise). The callers release the
+/// GIL around copies that can be large (coefficients: a 10^7-point curve's are 240 MB).
 fn copy_into(src: &[f64], out: &mut [f64]) -> PyResult<()> {
     if src.len() != out.len() {
         return Err(value_error(geomkit::Error::BufferSize {
@@ -302,8 +309,13 @@ impl Surface {
     }
 
     /// Copies the coefficients (row-major, x first: FITPACK's c) into `out`.
-    fn coefficients_into(&self, mut out: PyReadwriteArray1<'_, f64>) -> PyResult<()> {
-        copy_into(self.inner.control_flat(), out.as_slice_mut()?)
+    fn coefficients_into(
+        &self,
+        py: Python<'_>,
+        mut out: PyReadwriteArray1<'_, f64>,
+    ) -> PyResult<()> {
+        let out = out.as_slice_mut()?;
+        py.detach(|| copy_into(self.inner.control_flat(), out))
     }
 
     /// ∂^(dx+dy) S / ∂x^dx ∂y^dy into `out`: on the grid x × y (`grid`; `out` of len(x) ×
