@@ -12,6 +12,11 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import contiguous, extrapolate_value, index, mode, real_array, real_scalar
 
+try:  # NumPy >= 2
+    from numpy.lib.array_utils import normalize_axis_index
+except ImportError:  # NumPy 1.x
+    from numpy.core.multiarray import normalize_axis_index  # type: ignore[no-redef]
+
 __all__ = ["BSpline", "make_interp_spline"]
 
 # insert_knot's limit on m: beyond it the knots would not fit in memory, and the insertions
@@ -416,7 +421,7 @@ def _frozen(a: NDArray[np.float64]) -> NDArray[np.float64]:
 
 def _normalize_axis(axis: Any, ndim: int) -> int:
     """NumPy's axis normalization (an AxisError, a ValueError, when out of range)."""
-    return int(np.lib.array_utils.normalize_axis_index(index(axis, "axis"), ndim))
+    return int(normalize_axis_index(index(axis, "axis"), ndim))
 
 
 def _end(cond: Any, at: float, trailing: tuple[int, ...]) -> list[tuple[int, Any]] | None:

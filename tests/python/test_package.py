@@ -113,3 +113,54 @@ def test_readme_example_runs():
     exec(compile(blocks[0], "README.md (From Python)", "exec"), namespace)
     assert isinstance(namespace["spline"], geomkit.BSpline)
     assert np.isfinite(namespace["area"])
+
+
+def test_arrays_are_converted_once():
+    from geomkit._arrays import contiguous
+
+    a = np.linspace(0.0, 1.0, 10)
+    assert contiguous(a, "x") is a  # contiguous float64: the array itself, no copy
+    for other in (a[::2], np.asfortranarray(np.ones((3, 4))), a.astype(np.float32),
+                  np.arange(10)):
+        converted = contiguous(other, "x")
+        assert converted.flags.c_contiguous and converted.dtype == np.float64
+        assert not np.shares_memory(converted, other)
+        assert np.array_equal(converted, other)
+
+
+def test_compiled_module_refuses_what_it_cannot_read():
+    """The private module called directly with arrays the package never passes: exceptions,
+    never a crash or a write into a read-only or aliased array."""
+    import pytest
+
+    t = np.r_[[0.0] * 4, 1.0, 2.0, [3.0] * 4]
+    c = np.arange(12.0).reshape(6, 2)
+    curve = _geomkit.Curve(3, t, c)
+    x = np.linspace(0, 3, 5)
+    with pytest.raises(TypeError):
+        _geomkit.Curve(3, t[::2], c[:2])  # not contiguous
+    with pytest.raises(TypeError):
+        _geomkit.Curve(3, t.astype(np.int64), c)  # not float64
+    with pytest.raises(TypeError):
+        _geomkit.Curve(3, t, c.ravel())  # not 2-D
+    with pytest.raises(OverflowError):
+        _geomkit.Curve(-1, t, c)
+    with pytest.raises(ValueError, match="output buffer has length 8, expected 10"):
+        curve.eval_into(x, 0, "extend", np.empty((4, 2)))
+    read_only = np.empty((5, 2))
+    read_only.flags.writeable = False
+    with pytest.raises(TypeError, match="not writeable"):
+        curve.eval_into(x, 0, "extend", read_only)
+    with pytest.raises(TypeError):
+        curve.eval_into(x, 0, "extend", np.empty((5, 2), dtype=np.float32))
+    with pytest.raises(ValueError, match="extrapolate mode"):
+        curve.eval_into(x, 0, "sideways", np.empty((5, 2)))
+    both = np.linspace(0, 3, 10).reshape(5, 2)
+    with pytest.raises(TypeError, match="already borrowed"):  # x and out one array
+        curve.eval_into(both.reshape(-1)[:5], 0, "extend", both)
+    with pytest.raises(ValueError):
+        _geomkit.make_interp_spline_curve(x, np.ones((4, 1)), 3)
+    surface = _geomkit.make_interp_surface_heights(np.arange(4.0), np.arange(5.0),
+                                                   np.ones((4, 5)), 3, 3)
+    with pytest.raises(ValueError):
+        surface.eval_into(np.arange(3.0), np.arange(2.0), 0, 0, False, np.empty(3))
