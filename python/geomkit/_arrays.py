@@ -4,13 +4,15 @@ as a C-contiguous float64 NumPy array, converted once (no copy when it already i
 from __future__ import annotations
 
 import operator
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+Mode = Literal["extend", "nan", "periodic"]
+
 # SciPy's `extrapolate` values as the compiled module names them.
-_MODES = {True: "extend", False: "nan", "periodic": "periodic"}
+_MODES: dict[bool | str, Mode] = {True: "extend", False: "nan", "periodic": "periodic"}
 
 
 def real_array(a: ArrayLike, name: str) -> NDArray[np.float64]:
@@ -63,7 +65,7 @@ def extrapolate_value(extrapolate: Any) -> bool | str:
     return bool(extrapolate)
 
 
-def mode(extrapolate: bool | str) -> str:
+def mode(extrapolate: bool | str) -> Mode:
     """The compiled module's name of a normalized `extrapolate`."""
     return _MODES[extrapolate]
 

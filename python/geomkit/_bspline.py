@@ -241,10 +241,10 @@ class BSpline:
         x = np.asarray(x)
         x_shape, x_ndim = x.shape, x.ndim
         xs = contiguous(x.reshape(-1), "x")
-        out = np.empty((xs.shape[0], self._core.dim))
+        values = np.empty((xs.shape[0], self._core.dim))
         # Orders above k + 1 all give 0 (no overflow of a huge nu on the way to Rust).
-        self._core.eval_into(xs, min(nu, self.k + 2), mode(ext), out)
-        out = out.reshape(x_shape + self._trailing)
+        self._core.eval_into(xs, min(nu, self.k + 2), mode(ext), values)
+        out: NDArray[np.float64] = values.reshape(x_shape + self._trailing)
         if self.axis != 0:
             order = list(range(out.ndim))
             order = (order[x_ndim:x_ndim + self.axis] + order[:x_ndim]
@@ -375,7 +375,9 @@ class BSpline:
             With copies of `t` and `c` (writable, as SciPy's), the same `k`,
             `extrapolate` and `axis`.
         """
-        from scipy.interpolate import BSpline as SciPyBSpline
+        from scipy.interpolate import (  # type: ignore[import-untyped, unused-ignore]
+            BSpline as SciPyBSpline,
+        )
 
         return SciPyBSpline.construct_fast(
             self.t.copy(), self.c.copy(), self.k, extrapolate=self.extrapolate, axis=self.axis

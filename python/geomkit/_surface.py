@@ -3,7 +3,7 @@ computed by geomkit's Rust library with FITPACK's knots and SciPy's semantics.""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -75,13 +75,16 @@ class RectBivariateSpline:
     """
 
     __slots__ = ("_core", "_tck", "degrees")
+    _core: _geomkit.Surface
+    _tck: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None
+    degrees: tuple[int, int]
 
     def __init__(
         self,
         x: ArrayLike,
         y: ArrayLike,
         z: ArrayLike,
-        bbox: ArrayLike = [None] * 4,
+        bbox: Sequence[float | None] | NDArray[Any] = [None] * 4,
         kx: int = 3,
         ky: int = 3,
         s: float | None = 0,
@@ -255,9 +258,9 @@ class RectBivariateSpline:
         if grid:
             xs = contiguous(np.asarray(x).reshape(-1), "x")
             ys = contiguous(np.asarray(y).reshape(-1), "y")
-            out = np.empty((xs.shape[0], ys.shape[0]))
-            self._core.eval_into(xs, ys, dx, dy, True, out)
-            return out
+            on_grid = np.empty((xs.shape[0], ys.shape[0]))
+            self._core.eval_into(xs, ys, dx, dy, True, on_grid)
+            return on_grid
         xb, yb = np.broadcast_arrays(np.asarray(x), np.asarray(y))
         shape = xb.shape
         xs = contiguous(xb.reshape(-1), "x")
@@ -318,7 +321,7 @@ def _order(value: Any, name: str) -> int:
     return min(order, _MAX_ORDER)
 
 
-def _rebuild(cls: type, tck: Any, degrees: Any) -> RectBivariateSpline:
+def _rebuild(cls: type[RectBivariateSpline], tck: Any, degrees: Any) -> RectBivariateSpline:
     """Unpickling: the spline from its tck."""
     return cls._from_tck(tck, degrees)
 
