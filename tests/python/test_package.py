@@ -164,3 +164,42 @@ def test_compiled_module_refuses_what_it_cannot_read():
                                                    np.ones((4, 5)), 3, 3)
     with pytest.raises(ValueError):
         surface.eval_into(np.arange(3.0), np.arange(2.0), 0, 0, False, np.empty(3))
+
+
+def _seen_inside(call, function, marker):
+    """How often the main thread, polling while `call` runs in another thread, finds that
+    thread's innermost Python frame in `function` at the line holding `marker` (the call
+    into the compiled module). With the GIL held there the main thread could not run at all
+    while the compiled code does (a count of about 0); released, it polls all along."""
+    import sys
+    import threading
+
+    lines = inspect.getsourcelines(function)
+    line = next(lines[1] + i for i, text in enumerate(lines[0]) if marker in text)
+    done = threading.Event()
+    worker = threading.Thread(target=lambda: (call(), done.set()))
+    seen = 0
+    worker.start()
+    while not done.is_set():
+        frame = sys._current_frames().get(worker.ident)
+        if frame is not None and frame.f_code is function.__code__ and frame.f_lineno == line:
+            seen += 1
+    worker.join()
+    return seen
+
+
+def test_the_gil_is_released_during_computations():
+    rng = np.random.default_rng(11)
+    x = np.sort(rng.uniform(0, 10, 1_000_000))
+    y = rng.normal(size=(x.size, 3))
+    build = _seen_inside(lambda: geomkit.make_interp_spline(x, y, k=5),
+                         geomkit.make_interp_spline, "make_interp_spline_curve(")
+    spline = geomkit.make_interp_spline(x[::50], y[::50], k=5)
+    points = rng.uniform(-1, 11, 4_000_000)
+    evaluate = _seen_inside(lambda: spline(points), geomkit.BSpline.__call__, "eval_into(")
+    surface = geomkit.RectBivariateSpline(np.arange(300.0), np.arange(200.0),
+                                          rng.normal(size=(300, 200)))
+    grid = np.linspace(0, 299, 2000)
+    on_grid = _seen_inside(lambda: surface(grid, grid[:1500]),
+                           geomkit.RectBivariateSpline.__call__, "True, on_grid)")
+    assert min(build, evaluate, on_grid) > 20, (build, evaluate, on_grid)
