@@ -148,10 +148,14 @@ class BSpline:
             raise ValueError(f"Need at least {2 * k + 2} knots for degree {k}")
         if c.shape[0] < n:
             raise ValueError("Knots, coefficients and degree are inconsistent.")
-        c = _frozen(np.ascontiguousarray(c))
         trailing = c.shape[1:]
-        core = _geomkit.Curve(k, t, c[:n].reshape(n, math.prod(trailing)))
-        self._init(core, extrapolate_value(extrapolate), axis, trailing, _frozen(t), c, None)
+        # The core's copy is the spline's only storage: `t` and `c` are made from it when
+        # read (the caller's arrays are neither kept nor frozen). Coefficients beyond the
+        # n the spline uses are kept as SciPy keeps them, in a read-only copy.
+        rows = np.ascontiguousarray(c[:n]).reshape(n, math.prod(trailing))
+        core = _geomkit.Curve(k, t, rows)
+        extra = _frozen(np.array(c, dtype=np.float64)) if c.shape[0] > n else None
+        self._init(core, extrapolate_value(extrapolate), axis, trailing, None, extra, None)
 
     def _init(self, core: _geomkit.Curve, extrapolate: bool | str, axis: int,
               trailing: tuple[int, ...], t: NDArray[np.float64] | None,

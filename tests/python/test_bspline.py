@@ -248,6 +248,24 @@ def test_arrays_are_read_only():
         b.t = np.arange(10.0)
 
 
+def test_the_callers_arrays_are_not_kept():
+    t, c = random_spline(3, (2,), seed=12)
+    b = geomkit.BSpline(t, c, 3)
+    assert t.flags.writeable and c.flags.writeable  # not frozen
+    before = b(POINTS)
+    t[5] += 0.1
+    c[:] = 0.0
+    assert np.array_equal(b(POINTS), before, equal_nan=True)
+    assert not np.shares_memory(b.c, c) and not np.shares_memory(b.t, t)
+    # Coefficients beyond the n used are kept (a copy), as SciPy keeps them.
+    t, c = random_spline(3, n=8, seed=13)
+    longer = np.r_[c, 7.0, 8.0]
+    ours, theirs = both(t, longer, 3)
+    assert np.array_equal(ours.c, theirs.c) and not np.shares_memory(ours.c, longer)
+    assert_near(ours(POINTS), theirs(POINTS))
+    assert_near(ours.derivative()(POINTS), theirs.derivative()(POINTS))
+
+
 def test_repr():
     b = geomkit.BSpline(np.arange(9.0), np.arange(5.0), 3)
     assert repr(b) == ("BSpline(k=3, 9 knots on [3.0, 5.0], c of shape (5,), "
