@@ -1,5 +1,6 @@
 """pytest plugin: SciPy's own tests with make_interp_spline and RectBivariateSpline answered
-by geomkit (tests/scipy/swap.py).
+by geomkit: through the CLI (tests/scipy/swap.py, issue 22) or, with
+GEOMKIT_SCIPY_SWAP=python, by the Python package (tests/scipy/swap_python.py, issue 23).
 
     python -m pytest -p plugin --pyargs scipy.interpolate.tests.test_bsplines \
         scipy.interpolate.tests.test_fitpack2                          # run.sh does this
@@ -12,10 +13,11 @@ by geomkit (tests/scipy/swap.py).
    parameter). The others are deselected (GEOMKIT_SCIPY_SELECT=all keeps them and reports
    any of them that calls a swapped function: a check of this selection). A selected test
    that never calls one is an error of the run.
-3. Expectations: expected.txt lists the selected tests that do not pass, each with its kind
-   ("gap": in scope of issue 22, to be fixed; "n/a": a feature outside geomkit's CLI) and
-   reason. They are marked xfail(strict=True): one that starts to pass fails the run (take it
-   off the list); every other selected test must pass.
+3. Expectations: expected.txt (the CLI) or expected-python.txt (the package) lists the
+   selected tests that do not pass, each with its kind ("gap": in scope of the issue, to be
+   fixed; "n/a": a feature outside what that front end offers) and reason. They are marked
+   xfail(strict=True): one that starts to pass fails the run (take it off the list); every
+   other selected test must pass.
 """
 
 import inspect
@@ -26,7 +28,21 @@ from pathlib import Path
 import pytest
 import scipy.interpolate
 
-import swap
+# The swap layer: the CLI's (swap.py, issue 22) or the Python package's (swap_python.py,
+# issue 23), each with its own list of expected failures.
+MODE = os.environ.get("GEOMKIT_SCIPY_SWAP", "cli")
+if MODE == "python":
+    import swap_python as swap
+
+    EXPECTED = "expected-python.txt"
+    ISSUE = "issue 23"
+elif MODE == "cli":
+    import swap
+
+    EXPECTED = "expected.txt"
+    ISSUE = "issue 22"
+else:
+    raise ValueError(f"GEOMKIT_SCIPY_SWAP={MODE!r}: expected cli or python")
 
 HERE = Path(__file__).resolve().parent
 # name in the test modules -> (SciPy's, geomkit's)
@@ -38,18 +54,18 @@ ORIGINALS = {id(orig): ours for orig, ours in SWAPS.values()}
 
 
 def _load_expected():
-    """expected.txt: `ID KIND REASON...` per line (# comments); ID as pytest prints it from
-    the module's file name on (test_bsplines.py::Class::test[params])."""
+    """expected.txt (or expected-python.txt): `ID KIND REASON...` per line (# comments); ID
+    as pytest prints it from the module's file name on (test_bsplines.py::Class::test[params])."""
     expected = {}
-    for number, line in enumerate((HERE / "expected.txt").read_text().splitlines(), 1):
+    for number, line in enumerate((HERE / EXPECTED).read_text().splitlines(), 1):
         line = line.split("#", 1)[0].strip()
         if not line:
             continue
         test_id, kind, reason = (line.split(None, 2) + ["", ""])[:3]
         if kind not in ("gap", "n/a") or not reason:
-            raise pytest.UsageError(f"expected.txt:{number}: want `ID gap|n/a REASON`")
+            raise pytest.UsageError(f"{EXPECTED}:{number}: want `ID gap|n/a REASON`")
         if test_id in expected:
-            raise pytest.UsageError(f"expected.txt:{number}: {test_id} listed twice")
+            raise pytest.UsageError(f"{EXPECTED}:{number}: {test_id} listed twice")
         expected[test_id] = (kind, reason)
     return expected
 
@@ -153,7 +169,7 @@ class Suite:
     def problems(self):
         out = []
         for short in sorted(set(self.expected) - set(self.selected)):
-            out.append(f"expected.txt names {short}, which is not a selected test")
+            out.append(f"{EXPECTED} names {short}, which is not a selected test")
         for short in sorted(self.selected):
             if self.outcomes.get(short) not in (None, "skipped") and not self.invoked.get(short):
                 out.append(f"{short} is selected but never calls a swapped function")
@@ -169,7 +185,8 @@ class Suite:
 
     def pytest_terminal_summary(self, terminalreporter, exitstatus, config):
         tr = terminalreporter
-        tr.section("geomkit: SciPy's own tests through the CLI")
+        tr.section("geomkit: SciPy's own tests through "
+                   + ("the Python package" if MODE == "python" else "the CLI"))
         ran = {s: self.outcomes[s] for s in self.selected if s in self.outcomes}
         for module, what in (("test_bsplines.py", "make_interp_spline"),
                              ("test_fitpack2.py", "RectBivariateSpline")):
@@ -178,6 +195,9 @@ class Suite:
                 self._summary(tr, f"{module}: {len(mine)} tests call {what}", mine)
         for p in self.problems():
             tr.write_line(f"  SELECTION: {p}")
+        if MODE == "python":
+            tr.write_line(f"{swap.invocations} calls of the geomkit package")
+            return
         codes = {}
         for _, code, _ in swap.calls:
             codes[code] = codes.get(code, 0) + 1
@@ -198,11 +218,11 @@ class Suite:
             if o == "xpassed" or (o == "failed" and s not in listed)
         )
         tr.write_line(
-            f"{title}: {len(passed)} pass, {len(gaps)} fail on a gap of issue 22 (expected), "
+            f"{title}: {len(passed)} pass, {len(gaps)} fail on a gap of {ISSUE} (expected), "
             f"{len(na)} do not apply, {len(own_xfail)} xfail in SciPy itself, "
             f"{len(skipped)} skipped, {len(unexpected)} unexpected"
         )
-        for kind, ids in (("gap (issue 22)", gaps), ("does not apply", na)):
+        for kind, ids in ((f"gap ({ISSUE})", gaps), ("does not apply", na)):
             for s in ids:
                 tr.write_line(f"  {kind}: {s}: {listed[s][1]}")
         for s in own_xfail:
@@ -211,7 +231,7 @@ class Suite:
             tr.write_line(f"  skipped: {s}")
         for s in unexpected:
             if ran[s] == "xpassed":
-                tr.write_line(f"  UNEXPECTED PASS: {s}: take it off tests/scipy/expected.txt")
+                tr.write_line(f"  UNEXPECTED PASS: {s}: take it off tests/scipy/{EXPECTED}")
             else:
                 tr.write_line(f"  UNEXPECTED FAILURE: {s}: {self.failures.get(s, '?')}")
 

@@ -153,11 +153,14 @@ impl<'a> Tck<'a> {
             return;
         };
         *hint = l;
-        if nu > k || self.t[l] == self.t[l + 1] {
+        if nu > k || (k > 0 && self.t[l] == self.t[l + 1]) {
             // Order k + 1 (the polynomial pieces' derivative of order k + 1 vanishes), or
             // an empty end interval (an end knot repeated more than k + 1 times): every
             // basis function there is 0 (SciPy's values too; its derivatives of order k
-            // there read stale scratch memory).
+            // there read stale scratch memory). Degree 0 is the exception: SciPy's
+            // recursion has no step there and gives c_l (the step function of
+            // make_interp_spline(k=0), whose last knot is doubled, keeps y_(n-1) at
+            // x_(n-1) and beyond).
             out.fill(0.0);
             return;
         }
@@ -925,6 +928,26 @@ mod tests {
         c.eval_nu_many(&[f64::NAN, -1.0, 3.0], 0, Extrapolate::Nan, &mut out[..3])
             .unwrap();
         assert!(out[0].is_nan() && out[1].is_nan() && out[2] == 2.0);
+    }
+
+    #[test]
+    fn degree_zero_keeps_its_last_value_on_the_empty_end_interval() {
+        // SciPy: BSpline([0, 1, 2, 3, 3], [1, 2, 3, 4], 0)(x, nu, extrapolate).
+        let c =
+            BsplineCurve::from_flat(0, vec![0., 1., 2., 3., 3.], 1, vec![1., 2., 3., 4.]).unwrap();
+        let mut out = [0.0; 4];
+        c.eval_nu_many(&[2.5, 3.0, 4.0, -1.0], 0, Extrapolate::Extend, &mut out)
+            .unwrap();
+        assert_eq!(out, [3.0, 4.0, 4.0, 1.0]);
+        c.eval_nu_many(&[2.5, 3.0, 4.0, 3.5], 0, Extrapolate::Nan, &mut out)
+            .unwrap();
+        assert!(out[..2] == [3.0, 4.0] && out[2].is_nan() && out[3].is_nan());
+        c.eval_nu_many(&[3.5, 3.0, 4.0, 2.0], 1, Extrapolate::Extend, &mut out)
+            .unwrap();
+        assert_eq!(out, [0.0; 4]);
+        c.eval_nu_many(&[3.5], 0, Extrapolate::Periodic, &mut out[..1])
+            .unwrap();
+        assert_eq!(out[0], 1.0);
     }
 
     #[test]

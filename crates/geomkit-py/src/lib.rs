@@ -1,0 +1,382 @@
+//! `geomkit._geomkit`: the compiled core of the Python package `geomkit` (python/geomkit), over
+//! geomkit's B-splines in SciPy's representation (issue 23, part 1): `make_interp_spline`,
+//! `make_interp_surface` and the calculus of `BsplineCurve` and `BsplineSurface`.
+//!
+//! The Python layer shapes the arguments (SciPy's signatures, `axis`, array shapes, dtypes) and
+//! allocates every result array; this module only converts and computes:
+//!
+//! - inputs are C-contiguous float64 NumPy arrays, read in place (`PyReadonlyArray`, no copy);
+//!   anything else is a `TypeError` from the conversion;
+//! - results are written into arrays the caller allocated (`PyReadwriteArray`), so that a
+//!   size NumPy cannot allocate is its `MemoryError`, never an abort here;
+//! - every computation over arrays runs with the GIL released (`Python::detach`); the
+//!   objects are immutable (`frozen`), so one spline may be evaluated from many threads;
+//! - the library's errors become `ValueError` with its message.
+
+use geomkit::bspline::{
+    make_interp_spline, make_interp_surface, BsplineCurve, BsplineSurface, EndSpec, Extrapolate,
+    SplineEnds, SplineOptions,
+};
+use numpy::{
+    PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray1, PyReadwriteArray2, PyReadwriteArrayDyn,
+    PyUntypedArrayMethods,
+};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+/// The library's error as a Python `ValueError` with its message.
+fn value_error(e: geomkit::Error) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// SciPy's `extrapolate` as the Python layer passes it: "extend" (True), "nan" (False) or
+/// "periodic".
+fn extrapolate_mode(name: &str) -> PyResult<Extrapolate> {
+    match name {
+        "extend" => Ok(Extrapolate::Extend),
+        "nan" => Ok(Extrapolate::Nan),
+        "periodic" => Ok(Extrapolate::Periodic),
+        _ => Err(PyValueError::new_err(format!(
+            "extrapolate mode {name:?}: expected \"extend\", \"nan\" or \"periodic\""
+        ))),
+    }
+}
+
+/// A 2-D C-contiguous array as (rows, columns, numbers).
+fn matrix<'a>(a: &'a PyReadonlyArray2<'_, f64>) -> PyResult<(usize, usize, &'a [f64])> {
+    let shape = a.shape();
+    Ok((shape[0], shape[1], a.as_slice()?))
+}
+
+/// A B-spline curve: knots t, coefficients c (n rows of `dim` numbers, n = len(t) - k - 1),
+/// degree k (0 to 15). Immutable.
+#[pyclass(frozen, module = "geomkit._geomkit")]
+struct Curve {
+    inner: BsplineCurve,
+}
+
+#[pymethods]
+impl Curve {
+    /// Checks and copies knots `t` and coefficients `c` (shape (n, dim), n = len(t) - k - 1).
+    #[new]
+    fn new(
+        py: Python<'_>,
+        k: usize,
+        t: PyReadonlyArray1<'_, f64>,
+        c: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<Self> {
+        let t = t.as_slice()?;
+        let (_, dim, c) = matrix(&c)?;
+        let inner = py
+            .detach(|| BsplineCurve::from_flat(k, t.to_vec(), dim, c.to_vec()))
+            .map_err(value_error)?;
+        Ok(Curve { inner })
+    }
+
+    /// Degree k.
+    #[getter]
+    fn degree(&self) -> usize {
+        self.inner.degree()
+    }
+
+    /// Numbers per coefficient.
+    #[getter]
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+
+    /// The number of knots.
+    #[getter]
+    fn n_knots(&self) -> usize {
+        self.inner.knots().len()
+    }
+
+    /// The number of coefficients n.
+    #[getter]
+    fn n_coefficients(&self) -> usize {
+        self.inner.n_control()
+    }
+
+    /// Copies the knots into `out` (length `n_knots`).
+    fn knots_into(&self, py: Python<'_>, mut out: PyReadwriteArray1<'_, f64>) -> PyResult<()> {
+        let out = out.as_slice_mut()?;
+        py.detach(|| copy_into(self.inner.knots(), out))
+    }
+
+    /// Copies the coefficients into `out` (shape (n_coefficients, dim)).
+    fn coefficients_into(
+        &self,
+        py: Python<'_>,
+        mut out: PyReadwriteArray2<'_, f64>,
+    ) -> PyResult<()> {
+        let out = out.as_slice_mut()?;
+        py.detach(|| copy_into(self.inner.control_flat(), out))
+    }
+
+    /// Values (`nu` = 0) or derivatives of order `nu` at `x` into `out` (shape (len(x), dim)),
+    /// with SciPy's `BSpline.__call__` semantics (`BsplineCurve::eval_nu_many`).
+    fn eval_into(
+        &self,
+        py: Python<'_>,
+        x: PyReadonlyArray1<'_, f64>,
+        nu: usize,
+        extrapolate: &str,
+        mut out: PyReadwriteArray2<'_, f64>,
+    ) -> PyResult<()> {
+        let mode = extrapolate_mode(extrapolate)?;
+        let x = x.as_slice()?;
+        let out = out.as_slice_mut()?;
+        py.detach(|| self.inner.eval_nu_many(x, nu, mode, out))
+            .map_err(value_error)
+    }
+
+    /// The derivative curve of order `nu` (SciPy's `BSpline.derivative`).
+    fn derivative(&self, py: Python<'_>, nu: usize) -> PyResult<Curve> {
+        let inner = py
+            .detach(|| self.inner.derivative_nu(nu))
+            .map_err(value_error)?;
+        Ok(Curve { inner })
+    }
+
+    /// The antiderivative curve of order `nu` (SciPy's `BSpline.antiderivative`).
+    fn antiderivative(&self, py: Python<'_>, nu: usize) -> PyResult<Curve> {
+        let inner = py
+            .detach(|| self.inner.antiderivative(nu))
+            .map_err(value_error)?;
+        Ok(Curve { inner })
+    }
+
+    /// The integral over [a, b] per coordinate into `out` (length dim), SciPy's
+    /// `BSpline.integrate`.
+    fn integrate_into(
+        &self,
+        py: Python<'_>,
+        a: f64,
+        b: f64,
+        extrapolate: &str,
+        mut out: PyReadwriteArray1<'_, f64>,
+    ) -> PyResult<()> {
+        let mode = extrapolate_mode(extrapolate)?;
+        let value = py.detach(|| self.inner.integrate(a, b, mode));
+        copy_into(&value, out.as_slice_mut()?)
+    }
+
+    /// The curve with the knot `x` inserted `m` times (SciPy's `BSpline.insert_knot`);
+    /// `periodic` keeps periodic knots and coefficients periodic.
+    fn insert_knot(&self, py: Python<'_>, x: f64, m: usize, periodic: bool) -> PyResult<Curve> {
+        let inner = py
+            .detach(|| {
+                if periodic {
+                    self.inner.insert_knot_periodic(x, m)
+                } else {
+                    self.inner.insert_knot(x, m)
+                }
+            })
+            .map_err(value_error)?;
+        Ok(Curve { inner })
+    }
+}
+
+/// `src` into `out` of the same length (a `ValueError` otherwise). The callers release the
+/// GIL around copies that can be large (coefficients: a 10^7-point curve's are 240 MB).
+fn copy_into(src: &[f64], out: &mut [f64]) -> PyResult<()> {
+    if src.len() != out.len() {
+        return Err(value_error(geomkit::Error::BufferSize {
+            expected: src.len(),
+            got: out.len(),
+        }));
+    }
+    out.copy_from_slice(src);
+    Ok(())
+}
+
+/// One end of SciPy's `bc_type` as the Python layer passes it: `None` (no condition) or a list
+/// of (order, values) with orders >= 0 and values a 1-D float64 array (one per coordinate,
+/// or one for all).
+fn end_spec(end: Option<Vec<(usize, PyReadonlyArray1<'_, f64>)>>) -> PyResult<EndSpec> {
+    let Some(list) = end else {
+        return Ok(EndSpec::NotAKnot);
+    };
+    let mut derivatives = Vec::with_capacity(list.len());
+    for (order, values) in list {
+        derivatives.push((order, values.as_slice()?.to_vec()));
+    }
+    Ok(EndSpec::Derivatives(derivatives))
+}
+
+/// The interpolating B-spline of degree `k` through (x_i, y_i) (`y` of shape (len(x), dim)) in
+/// SciPy's representation: `geomkit::bspline::make_interp_spline` with the knots `t` (or
+/// SciPy's placement) and the ends `left`, `right` (see `end_spec`), or periodic ends.
+#[pyfunction]
+#[pyo3(signature = (x, y, k, t=None, left=None, right=None, periodic=false))]
+fn make_interp_spline_curve(
+    py: Python<'_>,
+    x: PyReadonlyArray1<'_, f64>,
+    y: PyReadonlyArray2<'_, f64>,
+    k: usize,
+    t: Option<PyReadonlyArray1<'_, f64>>,
+    left: Option<Vec<(usize, PyReadonlyArray1<'_, f64>)>>,
+    right: Option<Vec<(usize, PyReadonlyArray1<'_, f64>)>>,
+    periodic: bool,
+) -> PyResult<Curve> {
+    let ends = if periodic {
+        SplineEnds::Periodic
+    } else {
+        SplineEnds::Open {
+            left: end_spec(left)?,
+            right: end_spec(right)?,
+        }
+    };
+    let mut options = SplineOptions::new(k).with_ends(ends);
+    if let Some(t) = t {
+        options = options.with_knots(t.as_slice()?.to_vec());
+    }
+    let x = x.as_slice()?;
+    let (_, dim, y) = matrix(&y)?;
+    let inner = py
+        .detach(|| make_interp_spline(x, y, dim, &options))
+        .map_err(value_error)?;
+    Ok(Curve { inner })
+}
+
+/// A tensor-product B-spline surface of heights (FITPACK's tck of `RectBivariateSpline`):
+/// knots tx, ty, coefficients c (shape (len(tx) - kx - 1, len(ty) - ky - 1)), degrees 1 to 7.
+/// Immutable.
+#[pyclass(frozen, module = "geomkit._geomkit")]
+struct Surface {
+    inner: BsplineSurface,
+}
+
+#[pymethods]
+impl Surface {
+    /// Checks and copies FITPACK's tck: knots `tx`, `ty`, coefficients `c` (shape
+    /// (len(tx) - kx - 1, len(ty) - ky - 1)), degrees `kx`, `ky`.
+    #[new]
+    fn new(
+        py: Python<'_>,
+        tx: PyReadonlyArray1<'_, f64>,
+        ty: PyReadonlyArray1<'_, f64>,
+        c: PyReadonlyArray2<'_, f64>,
+        kx: usize,
+        ky: usize,
+    ) -> PyResult<Self> {
+        let (tx, ty) = (tx.as_slice()?, ty.as_slice()?);
+        let (rows, cols, c) = matrix(&c)?;
+        let inner = py
+            .detach(|| {
+                BsplineSurface::from_flat(
+                    (kx, ky),
+                    tx.to_vec(),
+                    ty.to_vec(),
+                    rows,
+                    cols,
+                    1,
+                    c.to_vec(),
+                )
+            })
+            .map_err(value_error)?;
+        Ok(Surface { inner })
+    }
+
+    /// Degrees (kx, ky).
+    #[getter]
+    fn degrees(&self) -> (usize, usize) {
+        self.inner.degrees()
+    }
+
+    /// The numbers of knots in x and y.
+    #[getter]
+    fn n_knots(&self) -> (usize, usize) {
+        let (tx, ty) = self.inner.knots();
+        (tx.len(), ty.len())
+    }
+
+    /// The net size (coefficients in x, in y).
+    #[getter]
+    fn net_size(&self) -> (usize, usize) {
+        self.inner.net_size()
+    }
+
+    /// Copies the knots in x and in y into `tx`, `ty`.
+    fn knots_into(
+        &self,
+        mut tx: PyReadwriteArray1<'_, f64>,
+        mut ty: PyReadwriteArray1<'_, f64>,
+    ) -> PyResult<()> {
+        let (kx, ky) = self.inner.knots();
+        copy_into(kx, tx.as_slice_mut()?)?;
+        copy_into(ky, ty.as_slice_mut()?)
+    }
+
+    /// Copies the coefficients (row-major, x first: FITPACK's c) into `out`.
+    fn coefficients_into(
+        &self,
+        py: Python<'_>,
+        mut out: PyReadwriteArray1<'_, f64>,
+    ) -> PyResult<()> {
+        let out = out.as_slice_mut()?;
+        py.detach(|| copy_into(self.inner.control_flat(), out))
+    }
+
+    /// ∂^(dx+dy) S / ∂x^dx ∂y^dy into `out`: on the grid x × y (`grid`; `out` of len(x) ×
+    /// len(y) numbers, SciPy's `RectBivariateSpline.__call__(x, y, dx, dy, grid=True)`) or
+    /// at the points (x[i], y[i]) (`out` of len(x) numbers, SciPy's `ev`).
+    fn eval_into(
+        &self,
+        py: Python<'_>,
+        x: PyReadonlyArray1<'_, f64>,
+        y: PyReadonlyArray1<'_, f64>,
+        dx: usize,
+        dy: usize,
+        grid: bool,
+        mut out: PyReadwriteArrayDyn<'_, f64>,
+    ) -> PyResult<()> {
+        let (x, y) = (x.as_slice()?, y.as_slice()?);
+        let out = out.as_slice_mut()?;
+        py.detach(|| {
+            if grid {
+                self.inner.eval_partial_grid(x, y, dx, dy, out)
+            } else {
+                self.inner.eval_partial_many(x, y, dx, dy, out)
+            }
+        })
+        .map_err(value_error)
+    }
+
+    /// The integral over [xa, xb] × [ya, yb] (SciPy's `RectBivariateSpline.integral`).
+    fn integral(&self, py: Python<'_>, xa: f64, xb: f64, ya: f64, yb: f64) -> f64 {
+        py.detach(|| self.inner.integral(xa, xb, ya, yb)[0])
+    }
+}
+
+/// The interpolating surface of degrees (kx, ky) through the heights z (shape (len(x),
+/// len(y))) over the grid x × y: SciPy's `RectBivariateSpline(x, y, z, kx=kx, ky=ky, s=0)`
+/// (`geomkit::bspline::make_interp_surface`).
+#[pyfunction]
+fn make_interp_surface_heights(
+    py: Python<'_>,
+    x: PyReadonlyArray1<'_, f64>,
+    y: PyReadonlyArray1<'_, f64>,
+    z: PyReadonlyArray2<'_, f64>,
+    kx: usize,
+    ky: usize,
+) -> PyResult<Surface> {
+    let (x, y) = (x.as_slice()?, y.as_slice()?);
+    let (rows, cols, z) = matrix(&z)?;
+    let inner = py
+        .detach(|| make_interp_surface(x, y, z, (rows, cols), (kx, ky)))
+        .map_err(value_error)?;
+    Ok(Surface { inner })
+}
+
+/// The module `geomkit._geomkit`.
+#[pymodule]
+fn _geomkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Curve>()?;
+    m.add_class::<Surface>()?;
+    m.add_function(wrap_pyfunction!(make_interp_spline_curve, m)?)?;
+    m.add_function(wrap_pyfunction!(make_interp_surface_heights, m)?)?;
+    m.add("MAX_SPLINE_DEGREE", geomkit::bspline::MAX_SPLINE_DEGREE)?;
+    m.add("MAX_DEGREE", BsplineCurve::MAX_DEGREE)?;
+    Ok(())
+}
