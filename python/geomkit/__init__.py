@@ -11,7 +11,10 @@ Rust library with the GIL released:
   ``to_scipy`` / ``from_scipy``, pickling;
 - `RectBivariateSpline` (``scipy.interpolate.RectBivariateSpline`` with ``s=0``):
   grid and point evaluation with partial derivatives, ``ev``, ``integral``,
-  ``get_knots``, ``get_coeffs``, pickling.
+  ``get_knots``, ``get_coeffs``, pickling;
+- `make_splprep` (``scipy.interpolate.make_splprep`` with ``s=0``): the interpolating
+  parametric curve through points of any dimension, plus geomkit's ``param`` keyword
+  ('chord', 'centripetal', 'uniform').
 
 Not yet here (the rest of issue 23): Bézier curves and surfaces, composite formulas, point
 calculus, meshes and pictures, model files.
@@ -27,6 +30,7 @@ True
 """
 
 from ._bspline import BSpline, make_interp_spline
+from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
 
-__all__ = ["BSpline", "RectBivariateSpline", "make_interp_spline"]
+__all__ = ["BSpline", "RectBivariateSpline", "make_interp_spline", "make_splprep"]

@@ -570,4 +570,6 @@ def make_interp_spline(
     if knots is not None and knots.ndim != 1:
         raise ValueError(f"Expect t to be a 1-D sorted array_like: t has shape {knots.shape}")
     core = _geomkit.make_interp_spline_curve(x, ys, k, knots, left, right, periodic)
-    return BSpline._from_core(core, "periodic" if periodic else True, axis, trailing)
+    # SciPy's k = 0 and k = 1 splines (its special cases) extrapolate=True even when periodic.
+    extrapolate: bool | str = "periodic" if periodic and k >= 2 else True
+    return BSpline._from_core(core, extrapolate, axis, trailing)

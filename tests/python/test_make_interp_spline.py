@@ -104,6 +104,17 @@ def test_periodic_every_degree(k, trailing):
     assert_near(ours(xx), theirs(xx), rel=1e-10, what="periodic extrapolation")
 
 
+@pytest.mark.parametrize("k", [0, 1])
+def test_periodic_low_degree_extrapolates(k):
+    """SciPy's k = 0 and k = 1 interpolants (its special cases) take extrapolate=True even
+    with bc_type='periodic'; geomkit's the same (compare checks the attribute)."""
+    x = np.linspace(0.0, 2.0 * np.pi, 9)
+    y = np.cos(x)
+    y[-1] = y[0]
+    ours, _ = compare(x, y, k, bc_type="periodic")
+    assert ours.extrapolate is True
+
+
 @pytest.mark.parametrize("axis", [0, 1, 2, -1, -2])
 def test_axis(axis):
     rng = np.random.default_rng(7)
