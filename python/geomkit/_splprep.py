@@ -110,11 +110,13 @@ def make_splprep(
     >>> import geomkit
     >>> phi = np.linspace(0.0, 2.0 * np.pi, 13)
     >>> spl, u = geomkit.make_splprep([np.cos(phi), np.sin(phi)], bc_type="periodic")
-    >>> spl.c.shape, u[0], u[-1]
-    ((13, 2), 0.0, 1.0)
+    >>> spl.c.shape, float(u[0]), float(u[-1])
+    ((15, 2), 0.0, 1.0)
     >>> bool(np.allclose(spl(u), [np.cos(phi), np.sin(phi)], atol=1e-14))
     True
-    >>> spl, u = geomkit.make_splprep([np.cos(phi), np.sin(phi)], param="centripetal")
+    >>> spl, u = geomkit.make_splprep([np.cos(phi), np.sin(phi)], param="centripetal", k=5)
+    >>> bool(np.allclose(spl(u), [np.cos(phi), np.sin(phi)], atol=1e-14))
+    True
     """
     if s != 0:
         raise ValueError(

@@ -168,3 +168,12 @@ def test_refusals():
         geomkit.make_splprep(closed_curve(9, 2)[:1] + [np.arange(9.0)], bc_type="periodic")
     with pytest.raises(TypeError):
         geomkit.make_splprep(3.0)  # type: ignore[arg-type]
+
+
+def test_docstring_example_runs():
+    import doctest
+
+    runner = doctest.DocTestRunner()
+    for test in doctest.DocTestFinder().find(geomkit.make_splprep, "make_splprep", globs={}):
+        runner.run(test)
+    assert runner.tries >= 4 and runner.failures == 0

@@ -72,19 +72,22 @@ def test_stubs_match_the_compiled_module():
 
 
 def test_public_api_has_numpy_style_docstrings():
-    public = [geomkit.make_interp_spline, geomkit.BSpline, geomkit.RectBivariateSpline]
+    public = [geomkit.make_interp_spline, geomkit.BSpline, geomkit.RectBivariateSpline,
+              geomkit.make_splprep]
     for cls in (geomkit.BSpline, geomkit.RectBivariateSpline):
         public += [getattr(cls, n) for n in vars(cls) if not n.startswith("_")
                    and callable(getattr(cls, n))]
     for obj in public:
         doc = inspect.getdoc(obj) or ""
         assert doc, f"{obj} has no docstring"
-        if obj in (geomkit.make_interp_spline, geomkit.BSpline, geomkit.RectBivariateSpline):
+        if obj in (geomkit.make_interp_spline, geomkit.BSpline, geomkit.RectBivariateSpline,
+                   geomkit.make_splprep):
             for section in ("Parameters\n----------", "Raises\n------", "Examples\n--------"):
                 assert section in doc, f"{obj.__name__}: no {section.splitlines()[0]}"
         elif inspect.signature(obj).parameters.keys() - {"self"}:
             assert "Parameters\n----------" in doc or "Returns\n-------" in doc, obj
-    assert set(geomkit.__all__) == {"BSpline", "RectBivariateSpline", "make_interp_spline"}
+    assert set(geomkit.__all__) == {"BSpline", "RectBivariateSpline", "make_interp_spline",
+                                    "make_splprep"}
 
 
 def test_signatures_are_scipys():
@@ -95,6 +98,9 @@ def test_signatures_are_scipys():
 
     assert params(geomkit.make_interp_spline) == params(si.make_interp_spline)
     assert params(geomkit.BSpline) == params(si.BSpline)
+    # SciPy's keywords, in SciPy's order, then geomkit's param
+    assert params(geomkit.make_splprep)[:-1] == params(si.make_splprep)
+    assert params(geomkit.make_splprep)[-1] == ("param", "chord")
     for name in ("__call__", "derivative", "antiderivative", "integrate", "insert_knot"):
         assert params(getattr(geomkit.BSpline, name)) == params(getattr(si.BSpline, name))
     assert params(geomkit.RectBivariateSpline) == params(si.RectBivariateSpline)
