@@ -5,7 +5,7 @@ GEOMKIT_SCIPY_SWAP=python, by the Python package (tests/scipy/swap_python.py, is
     python -m pytest -p plugin --pyargs scipy.interpolate.tests.test_bsplines \
         scipy.interpolate.tests.test_fitpack2                          # run.sh does this
 
-1. Swap: the test modules import the two by name; their module attributes become swap's,
+1. Swap: the test modules import them by name (make_splprep too, in the package's mode); their module attributes become swap's,
    and so does every parametrized argument that is SciPy's function (test_bsplines.py's
    TestBatch passes make_interp_spline as `make_spline`).
 2. Selection: the tests that call one of them, found in their source: the test function,
@@ -50,6 +50,8 @@ SWAPS = {
     "make_interp_spline": (scipy.interpolate.make_interp_spline, swap.make_interp_spline),
     "RectBivariateSpline": (scipy.interpolate.RectBivariateSpline, swap.RectBivariateSpline),
 }
+if MODE == "python":  # the package's make_splprep (s = 0), which the CLI does not offer
+    SWAPS["make_splprep"] = (scipy.interpolate.make_splprep, swap.make_splprep)
 ORIGINALS = {id(orig): ours for orig, ours in SWAPS.values()}
 
 
@@ -188,7 +190,8 @@ class Suite:
         tr.section("geomkit: SciPy's own tests through "
                    + ("the Python package" if MODE == "python" else "the CLI"))
         ran = {s: self.outcomes[s] for s in self.selected if s in self.outcomes}
-        for module, what in (("test_bsplines.py", "make_interp_spline"),
+        bsplines = "make_interp_spline" + (" or make_splprep" if MODE == "python" else "")
+        for module, what in (("test_bsplines.py", bsplines),
                              ("test_fitpack2.py", "RectBivariateSpline")):
             mine = {s: o for s, o in ran.items() if s.startswith(module + "::")}
             if mine:

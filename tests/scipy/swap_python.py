@@ -1,9 +1,9 @@
-"""SciPy's `make_interp_spline` and `RectBivariateSpline` answered by the geomkit Python
-package (issue 23): the second mode of the swap layer (GEOMKIT_SCIPY_SWAP=python; swap.py is
-the CLI's). Nothing is shaped here: the package's own functions run, the calls only counted
-for the pytest plugin (plugin.py), and what SciPy's tests do with the results (evaluate,
-differentiate, integrate, compare attributes) runs on geomkit's BSpline and
-RectBivariateSpline, not SciPy's.
+"""SciPy's `make_interp_spline`, `make_splprep` and `RectBivariateSpline` answered by the
+geomkit Python package (issue 23): the second mode of the swap layer
+(GEOMKIT_SCIPY_SWAP=python; swap.py is the CLI's). Nothing is shaped here: the package's own
+functions run, the calls only counted for the pytest plugin (plugin.py), and what SciPy's
+tests do with the results (evaluate, differentiate, integrate, compare attributes) runs on
+geomkit's BSpline and RectBivariateSpline, not SciPy's.
 """
 
 import geomkit
@@ -19,6 +19,13 @@ def make_interp_spline(*args, **kwargs):
     global invocations
     invocations += 1
     return geomkit.make_interp_spline(*args, **kwargs)
+
+
+def make_splprep(*args, **kwargs):
+    """geomkit.make_splprep (s = 0), counted."""
+    global invocations
+    invocations += 1
+    return geomkit.make_splprep(*args, **kwargs)
 
 
 class RectBivariateSpline(geomkit.RectBivariateSpline):
