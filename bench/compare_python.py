@@ -76,8 +76,10 @@ def process_peak():
 def worker(case):
     lib = case["lib"]
     if lib == "geomkit":
+        from importlib.metadata import version as dist_version
+
         import geomkit as m
-        version = m.__version__ if hasattr(m, "__version__") else "?"
+        version = dist_version("geomkit")
     else:
         import scipy
         import scipy.interpolate as m
