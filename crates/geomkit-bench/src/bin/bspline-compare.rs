@@ -29,7 +29,9 @@
 //!   builds the curve as `curve_build` does, then times each kind
 //!   `{"kind": "fd" | "par" | "seq" | "pp", "params": "uniform" | "sorted" | "unsorted",
 //!   "count": M, "param_seed": s}`: `fd` = `sample_uniform_fd(M)` (uniform only), `par` =
-//!   `eval_many_par`, `seq` = `Curve::eval_batch` on the calling thread, bit exact (the B-spline kernels), `pp` = `PiecewiseCurve::eval_many_par`
+//!   `eval_many_par`, `seq` = `Curve::eval_batch` on the calling thread, bit exact (the B-spline kernels),
+//!   `nu` = `eval_nu_many(t, 0, Extrapolate::Extend, out)` (SciPy's algorithm: the kernel of
+//!   the Python package's `BSpline.__call__`, `bench/compare_python.sh`), `pp` = `PiecewiseCurve::eval_many_par`
 //!   of `to_piecewise()` (built once, untimed; its time is `piecewise_build`); parameters = `linspace` over the
 //!   domain, or [`random_params`] over the domain (sorted or as generated). Reports the
 //!   values at K of the M parameters (every M/K-th).
@@ -54,8 +56,8 @@ use std::time::Instant;
 use geomkit::bspline::{
     interpolate_curve_at, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
     interpolate_heights_at, make_interp_spline, parameters, BsplineCurve, BsplineSurface,
-    CurveInterpolation, CurveInterpolator, EndCondition, InterpolationOptions, Parametrization,
-    SplineOptions, TileOptions,
+    CurveInterpolation, CurveInterpolator, EndCondition, Extrapolate, InterpolationOptions,
+    Parametrization, SplineOptions, TileOptions,
 };
 use geomkit::geom::{BatchOptions, Curve};
 use geomkit_bench::{height_grid, helix_points, linspace, random_params};
@@ -518,6 +520,10 @@ fn curve_eval(case: &Case, timing: Timing) -> Value {
                 time_it(|| curve.sample_uniform_fd(m, &mut out).map(|_| ()), timing)
             }
             "par" => time_it(|| curve.eval_many_par(&ts, &mut out), timing),
+            "nu" => time_it(
+                || curve.eval_nu_many(&ts, 0, Extrapolate::Extend, &mut out),
+                timing,
+            ),
             "seq" => time_it(|| curve.eval_batch(&ts, &mut out, &seq_options), timing),
             "pp" => time_it(|| pp.eval_many_par(&ts, &mut out), timing),
             other => {
