@@ -923,7 +923,8 @@ def markdown(res, meta, cfg):
     return "\n".join(lines) + "\n"
 
 
-def machine_meta(args, res):
+def machine_info():
+    """The machine and versions of a run (shared by the side-by-side scripts)."""
     import scipy
 
     cpu = "unknown CPU"
@@ -956,6 +957,13 @@ def machine_meta(args, res):
         blas = cfg["Build Dependencies"]["blas"]["name"]
     except Exception:  # noqa: BLE001 - informational only
         pass
+    return dict(cpu=cpu, cores=os.cpu_count(), mem=mem, rustc=rustc, git=rev,
+                python=platform.python_version(), scipy=scipy.__version__,
+                numpy=np.__version__, blas=blas,
+                date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()))
+
+
+def machine_meta(args, res):
     flags = []
     for row in res["curve_build"]:
         flags += [r.get("input_identical") for r in row["scipy"].values()]
@@ -965,10 +973,7 @@ def machine_meta(args, res):
         flags.append(row["scipy"].get("input_identical"))
     ident = ("yes, all cases" if flags and all(f is True for f in flags)
              else f"**NO** ({flags})")
-    return dict(cpu=cpu, cores=os.cpu_count(), mem=mem, rustc=rustc, git=rev,
-                python=platform.python_version(), scipy=scipy.__version__,
-                numpy=np.__version__, blas=blas, inputs_identical=ident,
-                date=time.strftime("%Y-%m-%d %H:%M %Z"), command=args.command,
+    return dict(machine_info(), inputs_identical=ident, command=args.command,
                 quick=args.quick)
 
 

@@ -32,9 +32,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import resource
-import subprocess
 import sys
 import tempfile
 import time
@@ -51,8 +49,10 @@ from compare_bspline import (  # noqa: E402  (the shared fixtures and timing sch
     chord_params,
     height_grid,
     helix_points,
+    machine_info,
     measured_first_call,
     random_params,
+    run_json,
     time_call,
 )
 
@@ -129,17 +129,6 @@ def worker(case):
 
 
 # ---------------------------------------------------------------------------- driver
-
-
-def run_json(cmd, label, log):
-    log(f"  {label}")
-    t0 = time.perf_counter()
-    proc = subprocess.run(cmd, capture_output=True, text=True)
-    if proc.returncode != 0:
-        raise RuntimeError(f"{label}: exit {proc.returncode}\n{proc.stderr[-2000:]}")
-    res = json.loads(proc.stdout)
-    res["wall_s"] = time.perf_counter() - t0
-    return res
 
 
 def run_py(case, log, label):
@@ -270,12 +259,8 @@ def markdown(res, meta):
                      if k.get("kind") == kind), None)
 
     def rust_eval(row):
-        # The kernel the package calls (`nu`); runs before that kind existed: `par`.
-        t = rust_kind(row, "nu")
-        return rust_kind(row, "par") if t is None else t
-
-    def eval_kind(row):
-        return "nu" if rust_kind(row, "nu") is not None else "par"
+        # The kernel the package calls.
+        return rust_kind(row, "nu")
 
     rbs_ratio = rbs["scipy"]["time"]["median_s"] / rbs["geomkit"]["time"]["median_s"]
     grid_ratio = rbs["scipy"]["grid_time"]["median_s"] / rbs["geomkit"]["grid_time"]["median_s"]
@@ -300,16 +285,13 @@ def markdown(res, meta):
     L.append("| case | geomkit | SciPy | SciPy / geomkit | peak extra geomkit / SciPy | "
              "process peak geomkit / SciPy | agreement |")
     L.append("|---|---|---|---|---|---|---|")
-    for r in res["build"]:
+    rows = [(f"`make_interp_spline(x, y)` N = {fmt_n(r['n'])}, y (N, 3)", r)
+            for r in res["build"]]
+    rows += [(f"`spl(x)`, {fmt_n(r['m'])} sorted points, N = {fmt_n(r['n'])} spline", r)
+             for r in res["eval"]]
+    for label, r in rows:
         g, s = r["geomkit"], r["scipy"]
-        L.append(f"| `make_interp_spline(x, y)` N = {fmt_n(r['n'])}, y (N, 3) | "
-                 f"{fmt_time(g['time']['median_s'])} | {fmt_time(s['time']['median_s'])} | "
-                 f"{ratio(r):.1f}× | {fmt_bytes(peak(g))} / {fmt_bytes(peak(s))} | "
-                 f"{fmt_bytes(g['process_peak_bytes'])} / {fmt_bytes(s['process_peak_bytes'])} | "
-                 f"{fmt_err(agreement(g['values'], s['values']))} |")
-    for r in res["eval"]:
-        g, s = r["geomkit"], r["scipy"]
-        L.append(f"| `spl(x)`, {fmt_n(r['m'])} sorted points, N = {fmt_n(r['n'])} spline | "
+        L.append(f"| {label} | "
                  f"{fmt_time(g['time']['median_s'])} | {fmt_time(s['time']['median_s'])} | "
                  f"{ratio(r):.1f}× | {fmt_bytes(peak(g))} / {fmt_bytes(peak(s))} | "
                  f"{fmt_bytes(g['process_peak_bytes'])} / {fmt_bytes(s['process_peak_bytes'])} | "
@@ -338,20 +320,15 @@ def markdown(res, meta):
     for r in res["eval"]:
         o = over(r, rust_eval(r))
         L.append(f"| evaluation, {fmt_n(r['m'])} sorted points (op `curve_eval`, kind "
-                 f"`{eval_kind(r)}`) | {fmt_time(rust_eval(r))} | "
+                 f"`nu`) | {fmt_time(rust_eval(r))} | "
                  f"{fmt_time(r['geomkit']['time']['median_s'])} | "
                  f"{o:+.1%} | {yes(o <= GOALS['overhead'])} |")
     L.append("")
-    par = [(r["m"], rust_kind(r, "par")) for r in res["eval"] if eval_kind(r) == "nu"]
-    if par:
-        L.append("Kind `nu` is `eval_nu_many` (nu = 0, extrapolate=True), the kernel "
-                 "`BSpline.__call__` calls; the fastest Rust path, `eval_many_par` (kind `par`), "
-                 "takes " + ", ".join(f"{fmt_time(t)} ({fmt_n(m)} points)" for m, t in par)
-                 + ".\n")
-    else:
-        L.append("(Kind `par` is `eval_many_par`, the fastest Rust path; the package's "
-                 "`BSpline.__call__` calls `eval_nu_many`, SciPy's algorithm, so this overhead "
-                 "includes the difference of the kernels. Later runs also time kind `nu`.)\n")
+    par = [(r["m"], rust_kind(r, "par")) for r in res["eval"]]
+    L.append("Kind `nu` is `eval_nu_many` (nu = 0, extrapolate=True), the kernel "
+             "`BSpline.__call__` calls; the fastest Rust path, `eval_many_par` (kind `par`), "
+             "takes " + ", ".join(f"{fmt_time(t)} ({fmt_n(m)} points)" for m, t in par)
+             + ".\n")
     L.append("The Rust driver writes the evaluated points into a buffer it keeps between calls; "
              "from Python every call returns a new array, so the overhead includes that "
              "allocation (and the page faults of its first touch), the checks and the "
@@ -361,28 +338,7 @@ def markdown(res, meta):
 
 
 def machine_meta(args):
-    import scipy
-
-    cpu = "unknown CPU"
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("model name"):
-            cpu = line.split(":", 1)[1].strip()
-            break
-    kb = int(Path("/proc/meminfo").read_text().split()[1])
-    try:
-        rustc = subprocess.run(["rustc", "--version"], capture_output=True, text=True,
-                               check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        rustc = "rustc (unknown version)"
-    try:
-        rev = subprocess.run(["git", "-C", str(HERE), "describe", "--always", "--dirty"],
-                             capture_output=True, text=True, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        rev = "unknown"
-    return dict(cpu=cpu, cores=os.cpu_count(), mem=f"{kb / 2**20:.0f} GiB", rustc=rustc,
-                git=rev, python=platform.python_version(), scipy=scipy.__version__,
-                numpy=np.__version__, date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-                command=args.command, quick=args.quick, note=args.note)
+    return dict(machine_info(), command=args.command, quick=args.quick, note=args.note)
 
 
 def main():

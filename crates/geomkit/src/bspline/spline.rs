@@ -719,8 +719,10 @@ impl<'a> OpenSystem<'a> {
         self.data_row(r, k, span, rhs)
     }
 
-    /// [`OpenSystem::row`] of data row r, for degree `k` (= self.k; a constant where the
-    /// caller's is, so that the basis loops unroll).
+    /// [`OpenSystem::row`] of data row r, for degree `k` (= self.k; a compile-time constant
+    /// in [`OpenSystem::solve_collocation_k`], which measured a little faster than the
+    /// run-time degree: k = 2, 10^6 points, two threads, three runs each 47-58 against 55-74
+    /// ms).
     #[inline(always)]
     fn data_row(
         &self,
