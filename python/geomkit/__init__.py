@@ -30,7 +30,17 @@ True
 """
 
 from ._bspline import BSpline, make_interp_spline
+from ._model import Drawable, Model, load, loads
 from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
 
-__all__ = ["BSpline", "RectBivariateSpline", "make_interp_spline", "make_splprep"]
+__all__ = [
+    "BSpline",
+    "Drawable",
+    "Model",
+    "RectBivariateSpline",
+    "load",
+    "loads",
+    "make_interp_spline",
+    "make_splprep",
+]

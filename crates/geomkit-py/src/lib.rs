@@ -24,6 +24,11 @@ use numpy::{
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
+mod bezier;
+mod compose;
+mod model;
+mod pointcalc;
+
 /// The library's error as a Python `ValueError` with its message.
 fn value_error(e: geomkit::Error) -> PyErr {
     PyValueError::new_err(e.to_string())
@@ -378,5 +383,9 @@ fn _geomkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(make_interp_surface_heights, m)?)?;
     m.add("MAX_SPLINE_DEGREE", geomkit::bspline::MAX_SPLINE_DEGREE)?;
     m.add("MAX_DEGREE", BsplineCurve::MAX_DEGREE)?;
+    model::register(m)?;
+    bezier::register(m)?;
+    compose::register(m)?;
+    pointcalc::register(m)?;
     Ok(())
 }
