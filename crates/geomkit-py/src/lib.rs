@@ -119,7 +119,11 @@ impl Curve {
     }
 
     /// Values (`nu` = 0) or derivatives of order `nu` at `x` into `out` (shape (len(x), dim)),
-    /// with SciPy's `BSpline.__call__` semantics (`BsplineCurve::eval_nu_many`).
+    /// with SciPy's `BSpline.__call__` semantics: `BsplineCurve::eval_nu_many`, SciPy's
+    /// recursion (the same bits), except for the values of cubics of dimension 1 to 3 at
+    /// finite `x` with `extrapolate` "extend": `BsplineCurve::eval_many_par`, the batched
+    /// cubic kernel (3 to 6 times faster; the same polynomial pieces, rounded differently:
+    /// within a few ulp of SciPy).
     fn eval_into(
         &self,
         py: Python<'_>,
@@ -131,8 +135,18 @@ impl Curve {
         let mode = extrapolate_mode(extrapolate)?;
         let x = x.as_slice()?;
         let out = out.as_slice_mut()?;
-        py.detach(|| self.inner.eval_nu_many(x, nu, mode, out))
-            .map_err(value_error)
+        let curve = &self.inner;
+        py.detach(|| {
+            if nu == 0 && mode == Extrapolate::Extend && cubic_kernel_applies(curve) {
+                // Errors only for a parameter that is not finite (checked before any
+                // evaluation): SciPy's NaN or extension for those from eval_nu_many.
+                if curve.eval_many_par(x, out).is_ok() {
+                    return Ok(());
+                }
+            }
+            curve.eval_nu_many(x, nu, mode, out)
+        })
+        .map_err(value_error)
     }
 
     /// The derivative curve of order `nu` (SciPy's `BSpline.derivative`).
@@ -180,6 +194,16 @@ impl Curve {
             .map_err(value_error)?;
         Ok(Curve { inner })
     }
+}
+
+/// Whether `eval_many_par` gives SciPy's values of `curve` (up to rounding) everywhere: a
+/// cubic of dimension 1 to 3 (its batched kernel) whose end intervals [t_3, t_4] and
+/// [t_(n-1), t_n] are not empty (SciPy gives 0 on an empty end interval, the batched
+/// kernel the neighbouring piece).
+fn cubic_kernel_applies(curve: &BsplineCurve) -> bool {
+    let t = curve.knots();
+    let n = curve.n_control();
+    curve.degree() == 3 && (1..=3).contains(&curve.dim()) && t[3] < t[4] && t[n - 1] < t[n]
 }
 
 /// `src` into `out` of the same length (a `ValueError` otherwise). The callers release the

@@ -3,6 +3,7 @@
 //! Right-hand sides are row-major n × `cols` (one column per coordinate). No dense matrix
 //! is ever formed.
 
+use crate::par::*;
 use crate::{Error, Result};
 
 /// An n × n band matrix with `kl` sub- and `ku` super-diagonals. Row i stores columns
@@ -160,24 +161,40 @@ pub(crate) struct BandLu {
 }
 
 impl BandLu {
-    /// Solves in place for B row-major n × cols.
+    /// Solves in place for B row-major n × cols. Wide right-hand sides (a surface's rows as
+    /// points of thousands of coordinates) are solved in bands of [`WIDE_BAND`] columns in
+    /// parallel: the same operations on every number, so the same bits.
     pub fn solve(&self, b: &mut [f64], cols: usize) {
+        debug_assert_eq!(b.len(), self.a.n * cols);
+        if cols < 2 * WIDE_BAND || b.len() < WIDE_MIN {
+            self.solve_rows(&mut FlatRows { b, cols });
+            return;
+        }
+        // Band j: the columns [j·WIDE_BAND, (j+1)·WIDE_BAND) of every row.
+        let mut bands: Vec<Vec<&mut [f64]>> = (0..cols.div_ceil(WIDE_BAND))
+            .map(|_| Vec::with_capacity(self.a.n))
+            .collect();
+        for row in b.chunks_exact_mut(cols) {
+            for (band, part) in bands.iter_mut().zip(row.chunks_mut(WIDE_BAND)) {
+                band.push(part);
+            }
+        }
+        bands.par_iter_mut().for_each(|rows| self.solve_rows(rows));
+    }
+
+    /// [`BandLu::solve`] on the rows of B.
+    fn solve_rows(&self, rows: &mut impl Rows) {
         let a = &self.a;
         let (n, kl, ku) = (a.n, a.kl, a.ku);
-        debug_assert_eq!(b.len(), n * cols);
         for k in 0..n {
             let piv = self.pivots[k];
             if piv != k {
-                for c in 0..cols {
-                    b.swap(k * cols + c, piv * cols + c);
-                }
+                rows.swap(k, piv);
             }
             for r in k + 1..=(k + kl).min(n - 1) {
                 let l = a.data[a.idx(r, k)];
                 if l != 0.0 {
-                    for c in 0..cols {
-                        b[r * cols + c] -= l * b[k * cols + c];
-                    }
+                    rows.sub_scaled(r, k, l);
                 }
             }
         }
@@ -185,18 +202,98 @@ impl BandLu {
             for j in k + 1..=(k + ku + kl).min(n - 1) {
                 let v = a.data[a.idx(k, j)];
                 if v != 0.0 {
-                    for c in 0..cols {
-                        b[k * cols + c] -= v * b[j * cols + c];
-                    }
+                    rows.sub_scaled(k, j, v);
                 }
             }
-            let d = a.data[a.idx(k, k)];
-            for c in 0..cols {
-                b[k * cols + c] /= d;
-            }
+            rows.divide(k, a.data[a.idx(k, k)]);
         }
     }
 }
+
+/// The rows of a right-hand side, as [`BandLu::solve_rows`] changes them.
+trait Rows {
+    /// Exchanges rows i < j.
+    fn swap(&mut self, i: usize, j: usize);
+    /// Row `dst` -= `factor` · row `src` (dst != src).
+    fn sub_scaled(&mut self, dst: usize, src: usize, factor: f64);
+    /// Row r /= d.
+    fn divide(&mut self, r: usize, d: f64);
+}
+
+/// Row `dst` and row `src` (!= dst) of rows of `len` numbers in `b`.
+fn two_rows(b: &mut [f64], len: usize, dst: usize, src: usize) -> (&mut [f64], &[f64]) {
+    if dst > src {
+        let (lo, hi) = b.split_at_mut(dst * len);
+        (&mut hi[..len], &lo[src * len..(src + 1) * len])
+    } else {
+        let (lo, hi) = b.split_at_mut(src * len);
+        (&mut lo[dst * len..(dst + 1) * len], &hi[..len])
+    }
+}
+
+/// `x -= f · p`, element by element.
+#[inline]
+fn sub_scaled(x: &mut [f64], p: &[f64], f: f64) {
+    for (x, p) in x.iter_mut().zip(p) {
+        *x -= f * p;
+    }
+}
+
+/// B row-major, rows of `cols` numbers.
+struct FlatRows<'a> {
+    b: &'a mut [f64],
+    cols: usize,
+}
+
+impl Rows for FlatRows<'_> {
+    fn swap(&mut self, i: usize, j: usize) {
+        let cols = self.cols;
+        let (lo, hi) = self.b.split_at_mut(j * cols);
+        lo[i * cols..(i + 1) * cols].swap_with_slice(&mut hi[..cols]);
+    }
+
+    fn sub_scaled(&mut self, dst: usize, src: usize, factor: f64) {
+        let (x, p) = two_rows(self.b, self.cols, dst, src);
+        sub_scaled(x, p, factor);
+    }
+
+    fn divide(&mut self, r: usize, d: f64) {
+        for x in &mut self.b[r * self.cols..(r + 1) * self.cols] {
+            *x /= d;
+        }
+    }
+}
+
+impl Rows for Vec<&mut [f64]> {
+    fn swap(&mut self, i: usize, j: usize) {
+        let (head, tail) = self.split_at_mut(j);
+        head[i].swap_with_slice(tail[0]);
+    }
+
+    fn sub_scaled(&mut self, dst: usize, src: usize, factor: f64) {
+        let (x, p) = if dst > src {
+            let (head, tail) = self.split_at_mut(dst);
+            (&mut *tail[0], &*head[src])
+        } else {
+            let (head, tail) = self.split_at_mut(src);
+            (&mut *head[dst], &*tail[0])
+        };
+        sub_scaled(x, p, factor);
+    }
+
+    fn divide(&mut self, r: usize, d: f64) {
+        for x in self[r].iter_mut() {
+            *x /= d;
+        }
+    }
+}
+
+/// Columns of a band of a wide right-hand side ([`BandLu::solve`]): 2 KiB of each row, so
+/// that the rows a step touches stay in the first-level cache.
+const WIDE_BAND: usize = 256;
+
+/// Right-hand sides of fewer numbers are solved on the calling thread.
+const WIDE_MIN: usize = 1 << 16;
 
 /// A cyclic tridiagonal system
 /// lower[i] x[i-1] + diag[i] x[i] + upper[i] x[i+1] = b[i] with indices taken mod n
@@ -296,6 +393,43 @@ mod tests {
         a.solve(&mut b, 1).unwrap();
         for (got, want) in b.iter().zip(&x) {
             assert!((got - want).abs() < 1e-13, "{got} vs {want}");
+        }
+    }
+
+    #[test]
+    fn wide_right_hand_sides_solve_in_bands_with_the_bits_of_one_pass() {
+        // 300 rows, 2 sub- and 2 super-diagonals with pivoting (a zero diagonal entry),
+        // 700 columns: bands of 256, 256 and 188 columns in parallel.
+        let (n, cols) = (300, 700);
+        let mut a = BandMatrix::zeros(n, 2, 2);
+        for i in 0..n {
+            for j in i.saturating_sub(2)..=(i + 2).min(n - 1) {
+                let v = if i == j && i % 7 == 3 {
+                    0.0
+                } else {
+                    1.0 + ((i * 7 + j * 13) % 11) as f64 / 3.0
+                };
+                a.set(i, j, v);
+            }
+        }
+        let lu = a.factor().unwrap();
+        let b: Vec<f64> = (0..n * cols)
+            .map(|i| ((i * 2654435761) % 1000) as f64 / 7.0 - 70.0)
+            .collect();
+        assert!(b.len() >= WIDE_MIN && cols >= 2 * WIDE_BAND);
+        let mut wide = b.clone();
+        lu.solve(&mut wide, cols);
+        // Column by column, each a right-hand side of its own (one pass, no bands).
+        for c in [0, 1, 255, 256, 511, 512, 699] {
+            let mut column: Vec<f64> = (0..n).map(|r| b[r * cols + c]).collect();
+            lu.solve(&mut column, 1);
+            for r in 0..n {
+                assert_eq!(
+                    wide[r * cols + c].to_bits(),
+                    column[r].to_bits(),
+                    "({r}, {c})"
+                );
+            }
         }
     }
 

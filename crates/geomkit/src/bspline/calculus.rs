@@ -132,8 +132,17 @@ impl<'a> Tck<'a> {
 
     /// The value (ν = 0) or ν-th derivative at x with SciPy's interval and extrapolation,
     /// into `out` (d numbers); `hint` as for [`Tck::interval`], updated.
-    #[inline]
-    fn eval_into(&self, x: f64, nu: usize, mode: Extrapolate, hint: &mut usize, out: &mut [f64]) {
+    /// `scratch`: at least 2(k + 1) numbers.
+    #[inline(always)]
+    fn eval_into(
+        &self,
+        x: f64,
+        nu: usize,
+        mode: Extrapolate,
+        hint: &mut usize,
+        scratch: &mut [f64],
+        out: &mut [f64],
+    ) {
         let k = self.k;
         if nu > k + 1 {
             // SciPy: zero for every x, NaN and outside the base interval included (order
@@ -164,7 +173,6 @@ impl<'a> Tck<'a> {
             out.fill(0.0);
             return;
         }
-        let mut scratch = [0.0; SCRATCH];
         let (h, hh) = scratch.split_at_mut(k + 1);
         de_boor_d(self.t, x, k, l, nu, h, hh);
         let d = self.d;
@@ -177,11 +185,50 @@ impl<'a> Tck<'a> {
         }
     }
 
-    /// [`Tck::eval_into`] over a batch (rows of d numbers in `out`).
+    /// [`Tck::eval_into`] over a batch (rows of d numbers in `out`). Degrees 1 to 5 and
+    /// dimensions 1 to 3 run a copy of the loop compiled for them (loops unrolled, the same
+    /// operations in the same order: the same bits).
     fn eval_batch(&self, xs: &[f64], nu: usize, mode: Extrapolate, out: &mut [f64]) {
-        let mut hint = self.k;
-        for (&x, o) in xs.iter().zip(out.chunks_exact_mut(self.d)) {
-            self.eval_into(x, nu, mode, &mut hint, o);
+        match (self.k, self.d) {
+            (1, 1) => self.eval_batch_k::<1, 1>(xs, nu, mode, out),
+            (1, 2) => self.eval_batch_k::<1, 2>(xs, nu, mode, out),
+            (1, 3) => self.eval_batch_k::<1, 3>(xs, nu, mode, out),
+            (2, 1) => self.eval_batch_k::<2, 1>(xs, nu, mode, out),
+            (2, 2) => self.eval_batch_k::<2, 2>(xs, nu, mode, out),
+            (2, 3) => self.eval_batch_k::<2, 3>(xs, nu, mode, out),
+            (3, 1) => self.eval_batch_k::<3, 1>(xs, nu, mode, out),
+            (3, 2) => self.eval_batch_k::<3, 2>(xs, nu, mode, out),
+            (3, 3) => self.eval_batch_k::<3, 3>(xs, nu, mode, out),
+            (5, 1) => self.eval_batch_k::<5, 1>(xs, nu, mode, out),
+            (5, 2) => self.eval_batch_k::<5, 2>(xs, nu, mode, out),
+            (5, 3) => self.eval_batch_k::<5, 3>(xs, nu, mode, out),
+            _ => {
+                let mut hint = self.k;
+                let mut scratch = [0.0; SCRATCH];
+                for (&x, o) in xs.iter().zip(out.chunks_exact_mut(self.d)) {
+                    self.eval_into(x, nu, mode, &mut hint, &mut scratch, o);
+                }
+            }
+        }
+    }
+
+    /// [`Tck::eval_batch`] for degree `K` and dimension `D`.
+    fn eval_batch_k<const K: usize, const D: usize>(
+        &self,
+        xs: &[f64],
+        nu: usize,
+        mode: Extrapolate,
+        out: &mut [f64],
+    ) {
+        let tck = Tck {
+            k: K,
+            d: D,
+            ..*self
+        };
+        let mut hint = K;
+        let mut scratch = [0.0; SCRATCH];
+        for (&x, o) in xs.iter().zip(out.chunks_exact_mut(D)) {
+            tck.eval_into(x, nu, mode, &mut hint, &mut scratch, o);
         }
     }
 
@@ -258,7 +305,7 @@ impl<'a> Tck<'a> {
 /// derivatives (ν <= k), into `h[..=k]`, on a non-empty interval l (t_l < t_(l+1));
 /// `hh` is scratch of k numbers. First k-ν steps of the Cox–de Boor recursion, then ν
 /// steps of the derivative recursion B' = j (B_i / (t_(i+j) - t_i) - B_(i+1) / ...).
-#[inline]
+#[inline(always)]
 fn de_boor_d(t: &[f64], x: f64, k: usize, l: usize, nu: usize, h: &mut [f64], hh: &mut [f64]) {
     h[0] = 1.0;
     for j in 1..=k - nu {
@@ -282,6 +329,29 @@ fn de_boor_d(t: &[f64], x: f64, k: usize, l: usize, nu: usize, h: &mut [f64], hh
             h[n - 1] -= w;
             h[n] = w;
         }
+    }
+}
+
+/// The last step of [`BsplineSurface::eval_partial_grid`] for heights (dimension 1) of
+/// degree `Q` in y: Σ_b by\[b\]·row\[ly - Q + b\] at every y, in the same order as the
+/// general loop (the same bits), compiled for the degree.
+fn combine_heights<const Q: usize>(
+    row: &[f64],
+    ybasis: &[Option<(usize, [f64; 8])>],
+    out: &mut [f64],
+) {
+    for (yb, o) in ybasis.iter().zip(out.iter_mut()) {
+        *o = match yb {
+            Some((ly, by)) => {
+                let c = &row[ly - Q..=*ly];
+                let mut z = 0.0;
+                for b in 0..=Q {
+                    z += by[b] * c[b];
+                }
+                z
+            }
+            None => f64::NAN,
+        };
     }
 }
 
@@ -760,16 +830,24 @@ impl BsplineSurface {
                             *r += bx[a] * s;
                         }
                     }
-                    for (yb, o) in ybasis.iter().zip(chunk.chunks_exact_mut(d)) {
-                        let Some((ly, by)) = yb else {
-                            o.fill(f64::NAN);
-                            continue;
-                        };
-                        o.fill(0.0);
-                        for b in 0..=q {
-                            let c = &row[(ly - q + b) * d..(ly - q + b + 1) * d];
-                            for (z, w) in o.iter_mut().zip(c) {
-                                *z += by[b] * w;
+                    match (q, d) {
+                        (1, 1) => combine_heights::<1>(row, &ybasis, chunk),
+                        (2, 1) => combine_heights::<2>(row, &ybasis, chunk),
+                        (3, 1) => combine_heights::<3>(row, &ybasis, chunk),
+                        (5, 1) => combine_heights::<5>(row, &ybasis, chunk),
+                        _ => {
+                            for (yb, o) in ybasis.iter().zip(chunk.chunks_exact_mut(d)) {
+                                let Some((ly, by)) = yb else {
+                                    o.fill(f64::NAN);
+                                    continue;
+                                };
+                                o.fill(0.0);
+                                for b in 0..=q {
+                                    let c = &row[(ly - q + b) * d..(ly - q + b + 1) * d];
+                                    for (z, w) in o.iter_mut().zip(c) {
+                                        *z += by[b] * w;
+                                    }
+                                }
                             }
                         }
                     }

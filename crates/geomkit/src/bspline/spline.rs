@@ -52,6 +52,7 @@
 use super::banded::BandMatrix;
 use super::curve::{basis_funs, basis_funs_derivs, find_span, BsplineCurve};
 use super::interpolate::bessel_tangent;
+use super::surface::transpose;
 use crate::par::*;
 use crate::{Error, Result};
 
@@ -326,20 +327,11 @@ pub fn make_interp_surface(
     // Along x: the rows of z as points of ny coordinates; along y: the transpose of that.
     let sx = make_interp_spline(x, z, ny, &SplineOptions::new(kx))?;
     let (cx, ncx) = (sx.control_flat(), sx.n_control());
-    let mut t = vec![0.0; cx.len()];
-    for i in 0..ncx {
-        for j in 0..ny {
-            t[j * ncx + i] = cx[i * ny + j];
-        }
-    }
+    let t = transpose(cx, ncx, ny, 1);
     let sy = make_interp_spline(y, &t, ncx, &SplineOptions::new(ky))?;
+    drop(t);
     let (cy, ncy) = (sy.control_flat(), sy.n_control());
-    let mut net = vec![0.0; cy.len()];
-    for j in 0..ncy {
-        for i in 0..ncx {
-            net[i * ncy + j] = cy[j * ncx + i];
-        }
-    }
+    let net = transpose(cy, ncy, ncx, 1);
     super::BsplineSurface::from_flat(
         (kx, ky),
         sx.knots().to_vec(),
@@ -613,8 +605,7 @@ fn solve_open(
             return Ok(c);
         }
     }
-    let (a, b) = sys.window(0, nt)?;
-    solve_refined(a, b, dim)
+    solve_refined(|| sys.window(0, nt), dim)
 }
 
 /// Windowed coefficients more than this many times the data mark a system too
@@ -962,16 +953,31 @@ const REFINE_STEPS: usize = 40;
 /// precision ([`BandMatrix::residual`]) until the correction is below 1e-15 of X, which
 /// recovers the digits lost while cond · ε < 1. A system beyond that (the correction does
 /// not shrink) is refused as singular: an answer without correct digits is not returned.
-fn solve_refined(a: BandMatrix, b: Vec<f64>, dim: usize) -> Result<Vec<f64>> {
+///
+/// `system` gives A and B; a large B is solved in place and asked for again only if X needs
+/// refining (no copy of a right-hand side of 10^8 numbers in the usual case).
+fn solve_refined(
+    system: impl Fn() -> Result<(BandMatrix, Vec<f64>)>,
+    dim: usize,
+) -> Result<Vec<f64>> {
+    let (a, b) = system()?;
     // Only exact zero pivots are refused here: refinement judges the rest.
     let lu = a.clone().factor_below(0.0).map_err(|_| singular())?;
-    let mut x = b.clone();
-    lu.solve(&mut x, dim);
     // Small systems are always refined (it costs less than the solve); large ones when
     // amplified.
-    if b.len() > REFINE_ALWAYS && max_abs(&x) <= AMPLIFIED * max_abs(&b) {
-        return Ok(x);
-    }
+    let (mut x, b) = if b.len() > REFINE_ALWAYS {
+        let scale = max_abs(&b);
+        let mut x = b;
+        lu.solve(&mut x, dim);
+        if max_abs(&x) <= AMPLIFIED * scale {
+            return Ok(x);
+        }
+        (x, system()?.1)
+    } else {
+        let mut x = b.clone();
+        lu.solve(&mut x, dim);
+        (x, b)
+    };
     let mut last = f64::INFINITY;
     for _ in 0..REFINE_STEPS {
         let mut d = a.residual(&x, &b, dim);
@@ -1237,8 +1243,7 @@ mod tests {
                 ),
             ] {
                 let sys = OpenSystem::new(&x, &y, 2, &t, k, &left, &right).unwrap();
-                let (a, b) = sys.window(0, sys.nt).unwrap();
-                let whole = solve_refined(a, b, 2).unwrap();
+                let whole = solve_refined(|| sys.window(0, sys.nt), 2).unwrap();
                 let tiled = solve_tiled(&sys, 200, TILE_HALO).unwrap();
                 // Every degree's not-a-knot system decays (even degrees: knots between the
                 // data); derivative conditions on knots at the data do not for even degrees:

@@ -415,14 +415,30 @@ fn grid_parameters(
     Ok(t)
 }
 
-fn transpose(data: &[f64], rows: usize, cols: usize, dim: usize) -> Vec<f64> {
+/// The transpose of a row-major `rows × cols` array of points of `dim` numbers. In tiles
+/// of 64 × 64 points (a tile's reads and writes stay in cache; a point-by-point transpose of
+/// a 4096² grid misses the cache and the TLB on every read), bands of 64 output rows in
+/// parallel.
+pub(super) fn transpose(data: &[f64], rows: usize, cols: usize, dim: usize) -> Vec<f64> {
+    const TILE: usize = 64;
     let mut out = vec![0.0; data.len()];
-    out.par_chunks_mut(rows * dim)
+    if rows == 0 || cols == 0 || dim == 0 {
+        return out;
+    }
+    // Output row j holds column j of `data`.
+    out.par_chunks_mut(TILE * rows * dim)
         .enumerate()
-        .for_each(|(j, col)| {
-            for i in 0..rows {
-                col[i * dim..(i + 1) * dim]
-                    .copy_from_slice(&data[(i * cols + j) * dim..(i * cols + j + 1) * dim]);
+        .for_each(|(band, dst)| {
+            let j0 = band * TILE;
+            let width = dst.len() / (rows * dim);
+            for i0 in (0..rows).step_by(TILE) {
+                for j in 0..width {
+                    let row = &mut dst[j * rows * dim..(j + 1) * rows * dim];
+                    for i in i0..(i0 + TILE).min(rows) {
+                        let at = (i * cols + j0 + j) * dim;
+                        row[i * dim..(i + 1) * dim].copy_from_slice(&data[at..at + dim]);
+                    }
+                }
             }
         });
     out
@@ -845,5 +861,26 @@ impl Surface for BsplineSurface {
             inner_knots(&self.knots_u, du),
             inner_knots(&self.knots_v, dv),
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiled_transpose_equals_the_definition() {
+        // Sizes across the 64-point tiles: partial tiles at both ends, points of 1 to 3.
+        for (rows, cols, dim) in [(1, 1, 1), (70, 130, 1), (129, 65, 3), (64, 200, 2)] {
+            let data: Vec<f64> = (0..rows * cols * dim).map(|i| i as f64).collect();
+            let t = transpose(&data, rows, cols, dim);
+            for i in 0..rows {
+                for j in 0..cols {
+                    for c in 0..dim {
+                        assert_eq!(t[(j * rows + i) * dim + c], data[(i * cols + j) * dim + c]);
+                    }
+                }
+            }
+        }
     }
 }
