@@ -511,3 +511,14 @@ def test_docstring_examples():
     result = doctest.testmod(geomkit._compose, optionflags=doctest.ELLIPSIS)
     assert result.attempted >= 15
     assert result.failed == 0
+
+
+def test_the_gil_is_released_during_evaluation():
+    from test_package import _seen_inside
+
+    s = bicubic_scene(4, 4)
+    u, v = RNG.uniform(0, 4, 400_000), RNG.uniform(0, 4, 400_000)
+    tape, cells = s.evaluator(threads=1), s.evaluator("cells", threads=1)
+    seen = [_seen_inside(lambda: f(u, v), geomkit.Evaluator.__call__, marker)
+            for f, marker in ((tape, ".eval_into("), (cells, ".eval_cells_into("))]
+    assert min(seen) > 20, seen
