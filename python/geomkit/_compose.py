@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 from collections.abc import Mapping, Sequence
 from typing import Any, Literal, TypeVar
 
@@ -22,7 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
 from ._arrays import contiguous, index, real_array
-from ._model import Drawable, Model, register_kind
+from ._model import Drawable, Model, _write_atomic, register_kind
 
 __all__ = [
     "Body",
@@ -429,6 +430,92 @@ class _Composite(Drawable):
     # -- model files ----------------------------------------------------------------------
     def _model(self) -> _geomkit.Model:
         return self._inner.model()
+
+    def formula_file(self, what: str | None = None) -> str:
+        """The formula file the CLI writes with ``-o OUT.json`` (``geomkit compose ... -o
+        f.json``): the formula in every syntax, its size, the continuity report and the
+        model it was made from, which ``geomkit eval``, ``mesh`` and ``render`` read back.
+
+        Parameters
+        ----------
+        what : str, optional
+            What the formula describes (default: `describe`, or the ``what`` of the formula
+            file this object was read from).
+
+        Returns
+        -------
+        str
+            The JSON text, in the CLI's layout.
+
+        Raises
+        ------
+        ValueError
+            If a formula cannot be printed in every syntax, or a number is not finite.
+
+        Examples
+        --------
+        >>> import json
+        >>> import geomkit
+        >>> f = json.loads(geomkit.body("cube").formula_file())
+        >>> f["type"], f["variables"], f["op_count"], f["model"]["type"]
+        ('formula', ['u', 'v'], 32, 'ruled')
+        """
+        model = json.loads(self._inner.model().to_json())
+        described = self.describe()
+        if model.get("type") == "formula":  # made from a formula file: its what and model
+            described = model.get("what", described)
+            model = model.get("model")
+        file: dict[str, Any] = {
+            "type": "formula",
+            "what": described if what is None else str(what),
+            "variables": list(self.variables),
+            "coordinates": list(self.coordinates),
+            "op_count": self.op_count,
+            "formulas": self.formulas(),
+        }
+        report = self._inner.continuity()
+        if report is not None:
+            max_jump, tolerance, continuous, statement, jumps = report
+            piecewise = len(self.variables) == 1
+            file["continuity"] = {
+                "max_jump": max_jump, "tolerance": tolerance, "continuous": continuous,
+                "statement": statement,
+                "jumps": [{"at": at, "max_jump": jump} if piecewise else
+                          {"line": line, "index": i, "cell": cell, "max_jump": jump, "at": at}
+                          for line, i, cell, jump, at in jumps],
+            }
+        if model is not None:
+            file["model"] = model
+        return _geomkit.parse_model(json.dumps(file, allow_nan=False)).to_json()
+
+    def save_formula(self, path: str | os.PathLike[str], what: str | None = None) -> None:
+        """Writes `formula_file` to `path` (atomically), as ``geomkit compose ... -o
+        path.json`` does; `geomkit.load` reads it back into this class.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file.
+        what : str, optional
+            What the formula describes (default: `describe`).
+
+        Raises
+        ------
+        ValueError
+            As `formula_file`.
+        OSError
+            If the file cannot be written.
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> import geomkit
+        >>> path = os.path.join(tempfile.mkdtemp(), "cube.json")
+        >>> geomkit.body("cube").save_formula(path)
+        >>> geomkit.load(path).formula("maple") == geomkit.body("cube").formula("maple")
+        True
+        """
+        _write_atomic(os.fspath(path), self.formula_file(what).encode("utf-8"))
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (_from_json, (self.to_json(),))

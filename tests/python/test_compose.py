@@ -36,8 +36,7 @@ PAPER_CUBE = {
 }
 
 # `geomkit compose piecewise pw.json -o pwf.json` of {"type": "piecewise", "knots": [0, 1, 2],
-# "pieces": ["x^2", "2*x-1"]}, as the CLI wrote it (formulas shortened to two; the reader
-# keeps whatever it finds there).
+# "pieces": ["x^2", "2*x-1"]}, as the CLI wrote it.
 CLI_FORMULA_FILE = r"""{
   "type": "formula",
   "what": "piecewise function of 2 pieces",
@@ -45,12 +44,26 @@ CLI_FORMULA_FILE = r"""{
   "coordinates": ["f"],
   "op_count": 13,
   "formulas": {
+    "c": "#include <math.h>\ndouble f(double x) { return fabs(x - 1.0) - fabs(x - 2.0) + (fabs(x)/2.0 - fabs(x - 1.0)/2.0 + (1.0/2.0))*(fabs(x)/2.0 - fabs(x - 1.0)/2.0 + (1.0/2.0)) + 1.0; }\n",
+    "desmos": "f_{f}(x)=\\left|x - 1\\right| - \\left|x - 2\\right| + {\\left(\\frac{\\left|x\\right|}{2} - \\frac{\\left|x - 1\\right|}{2} + \\frac{1}{2}\\right)}^{2} + 1\n",
+    "glsl": "float f(float x) { return abs(x - 1.0) - abs(x - 2.0) + (abs(x)/2.0 - abs(x - 1.0)/2.0 + (1.0/2.0))*(abs(x)/2.0 - abs(x - 1.0)/2.0 + (1.0/2.0)) + 1.0; }\n",
+    "js": "const f = (x) => Math.abs(x - 1) - Math.abs(x - 2) + (Math.abs(x)/2 - Math.abs(x - 1)/2 + (1/2))*(Math.abs(x)/2 - Math.abs(x - 1)/2 + (1/2)) + 1;\n",
+    "latex": "f(x) = \\left|x - 1\\right| - \\left|x - 2\\right| + {\\left(\\frac{\\left|x\\right|}{2} - \\frac{\\left|x - 1\\right|}{2} + \\frac{1}{2}\\right)}^{2} + 1\n",
     "maple": "f := (x) -> abs(x - 1) - abs(x - 2) + (abs(x)/2 - abs(x - 1)/2 + 1/2)^2 + 1;\n",
+    "mathematica": "f[x_] := Abs[x - 1] - Abs[x - 2] + (Abs[x]/2 - Abs[x - 1]/2 + 1/2)^2 + 1\n",
+    "matlab": "f = @(x) abs(x - 1) - abs(x - 2) + (abs(x)./2 - abs(x - 1)./2 + 1/2).^2 + 1;\n",
+    "numpy": "import numpy as np\nf = lambda x: np.abs(x - 1) - np.abs(x - 2) + (np.abs(x)/2 - np.abs(x - 1)/2 + 1/2)**2 + 1\n",
+    "rust": "fn f(x: f64) -> f64 { (x - 1.0).abs() - (x - 2.0).abs() + (x.abs()/2.0 - (x - 1.0).abs()/2.0 + (1.0/2.0)).powi(2) + 1.0 }\n",
     "sympy": "from sympy import *\nx = symbols(\"x\")\nf = Abs(x - 1) - Abs(x - 2) + (Abs(x)/2 - Abs(x - 1)/2 + Rational(1, 2))**2 + 1\n"
   },
   "continuity": {
     "continuous": true,
-    "jumps": [{"at": 1.0, "max_jump": 0.0}],
+    "jumps": [
+      {
+        "at": 1.0,
+        "max_jump": 0.0
+      }
+    ],
     "max_jump": 0.0,
     "statement": "continuous: the largest jump at a breakpoint is 0.00e0 (tolerance 4.26e-14); the formula reproduces every piece",
     "tolerance": 4.263256414560601e-14
@@ -377,6 +390,26 @@ def test_reads_the_clis_formula_file():
     assert json.loads(f.to_json()) == json.loads(CLI_FORMULA_FILE)  # the file it came from
     assert geomkit.loads(json.dumps({"type": "polygon", "points": [[0, 0], [1, 0], [0, 1]]})
                          ).kind == "curve"
+
+
+def test_writes_the_clis_formula_file(tmp_path):
+    """formula_file is the file `geomkit compose piecewise ... -o f.json` writes, to the
+    letter of its JSON (the interoperability of the two front ends), and loads back."""
+    p = geomkit.Piecewise([0, 1, 2], ["x^2", "2*x-1"])
+    assert json.loads(p.formula_file("piecewise function of 2 pieces")) == \
+        json.loads(CLI_FORMULA_FILE)
+    for name, obj in examples().items():
+        path = tmp_path / f"{name}.json"
+        obj.save_formula(path)
+        back = geomkit.load(path)
+        assert type(back) is type(obj) or isinstance(obj, geomkit.Body), name
+        f = json.loads(path.read_text())
+        assert f["type"] == "formula" and f["formulas"] == obj.formulas(), name
+        assert back.formula("c") == obj.formula("c")
+        assert json.loads(back.formula_file()) == json.loads(obj.formula_file()), name
+    r = json.loads(examples()["explicit"].formula_file())["continuity"]
+    assert set(r) == {"max_jump", "tolerance", "continuous", "statement", "jumps"}
+    assert set(r["jumps"][0]) == {"line", "index", "cell", "max_jump", "at"}
 
 
 def test_pickling():
