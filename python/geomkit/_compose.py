@@ -165,8 +165,10 @@ class Evaluator:
     ([0.0, -1.0], [1.0, 0.0], [0.0, 0.0])
     """
 
-    def __init__(self, inner: _geomkit.Composite, method: _Method, threads: int) -> None:
+    def __init__(self, inner: _geomkit.Composite, method: _Method, threads: int,
+                 owner: Any = None) -> None:
         self._inner = inner
+        self._owner = owner
         self._method = method
         self._threads = threads
         self._variables = tuple(inner.variables)
@@ -199,6 +201,10 @@ class Evaluator:
             self._inner.eval_cells_into(flat, out, self._threads)
         results = tuple(out[k].reshape(shape) for k in range(self._dim))
         return results[0] if self._dim == 1 else results
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # Pickled as the formula it evaluates (the compiled tape is rebuilt on unpickling).
+        return (_evaluator, (self._owner, self._method, self._threads or None))
 
     def __repr__(self) -> str:
         return f"<geomkit.Evaluator f({', '.join(self._variables)}), method={self._method!r}>"
@@ -404,7 +410,7 @@ class _Composite(Drawable):
             raise ValueError(f"threads={n}: expected at least 1")
         if method == "tape":
             self._inner.op_count  # builds the formula now: its errors here, not at the call
-        return Evaluator(self._inner, method, n)
+        return Evaluator(self._inner, method, n, self)
 
     def lambdify(self, threads: int | None = None) -> Evaluator:
         """``evaluator(method='tape')``: the compiled single formula, named after SymPy's
@@ -1177,6 +1183,11 @@ def _from_model(model: _geomkit.Model) -> Any:
 def _from_json(text: str) -> Any:
     """Unpickles a composite formula from its model file."""
     return _from_model(_geomkit.parse_model(text))
+
+
+def _evaluator(owner: _Composite, method: _Method, threads: int | None) -> Evaluator:
+    """Unpickles an evaluator."""
+    return owner.evaluator(method, threads)
 
 
 def _body(name: str, params: dict[str, Any]) -> Body:
