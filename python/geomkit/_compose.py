@@ -688,6 +688,57 @@ class CompositeSurface(_Composite):
         return cls({"type": "bspline_surface", "degree": [p, q], "knots_u": ku.tolist(),
                     "knots_v": kv.tolist(), "net": a.tolist()})
 
+    @classmethod
+    def from_spline(cls, spline: Any) -> CompositeSurface:
+        """The explicit composite surface z(x, y) of a fitted spline of heights: one
+        polynomial patch per knot cell (see `from_bspline`).
+
+        Parameters
+        ----------
+        spline : geomkit.RectBivariateSpline or scipy.interpolate.RectBivariateSpline
+            Any object with ``get_knots()``, ``get_coeffs()`` and ``degrees`` (FITPACK's tck),
+            degrees 1 to 7.
+
+        Returns
+        -------
+        CompositeSurface
+
+        Raises
+        ------
+        TypeError
+            For an object without those.
+        ValueError
+            For knots and coefficients that do not make a spline surface.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import geomkit
+        >>> x = np.linspace(0.0, 1.0, 5)
+        >>> spl = geomkit.RectBivariateSpline(x, x, np.add.outer(x, x**2))
+        >>> s = geomkit.CompositeSurface.from_spline(spl)
+        >>> round(float(s.evaluator()(0.5, 0.5)), 12)
+        0.75
+        """
+        try:
+            tx, ty = spline.get_knots()
+            c = spline.get_coeffs()
+            kx, ky = spline.degrees
+        except (AttributeError, TypeError, ValueError):
+            raise TypeError(
+                "expected a spline surface with get_knots(), get_coeffs() and degrees, got "
+                f"{type(spline).__name__}"
+            ) from None
+        tx, ty = _vector(tx, "knots"), _vector(ty, "knots")
+        rows, cols = tx.size - index(kx, "degree") - 1, ty.size - index(ky, "degree") - 1
+        cc = real_array(c, "coefficients").reshape(-1)
+        if rows < 1 or cols < 1 or cc.size != rows * cols:
+            raise ValueError(
+                f"{cc.size} coefficients do not fit knots of sizes {tx.size}, {ty.size} and "
+                f"degrees ({kx}, {ky})"
+            )
+        return cls.from_bspline(tx, ty, cc.reshape(rows, cols, 1), degree=(kx, ky))
+
     @property
     def kind(self) -> str:
         """'surface' (parametric, in u, v) or 'explicit' (z in x, y)."""

@@ -296,6 +296,13 @@ def test_bspline_cells_equal_scipys_surface():
     assert_near(s.evaluator()(px, py), rbs.ev(px, py), rel=1e-11, what="tape")
     assert_near(s.evaluator("cells")(px, py), rbs.ev(px, py), rel=1e-11, what="cells")
     assert s.continuity().continuous
+    for spline in (rbs, geomkit.RectBivariateSpline(x, y, z, kx=2, ky=5)):
+        ref = spline.ev(px, py) if spline is rbs else \
+            RectBivariateSpline(x, y, z, kx=2, ky=5, s=0).ev(px, py)
+        assert_near(geomkit.CompositeSurface.from_spline(spline).evaluator()(px, py), ref,
+                    rel=1e-10, what=f"from_spline {type(spline).__module__}")
+    with pytest.raises(TypeError, match="get_knots"):
+        geomkit.CompositeSurface.from_spline(object())
 
 
 def test_piecewise_from_scipy_bspline():
