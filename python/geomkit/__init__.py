@@ -35,7 +35,7 @@ from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
 
 # --- composite formulas (method 3): python/geomkit/_compose.py
-from ._compose import Body, CompositeSurface, ContinuityReport, Evaluator, Jump, Piecewise, RuledReport, RuledSurface, body  # noqa: E402,E501
+from ._compose import Body, CompositeSurface, ContinuityReport, Evaluator, Jump, Piecewise, RuledReport, RuledSurface, body  # noqa: E501
 
 __all__ = [
     "BSpline",
