@@ -34,11 +34,23 @@ from ._model import Drawable, Model, load, loads
 from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
 
+# --- composite formulas (method 3): python/geomkit/_compose.py
+from ._compose import Body, CompositeSurface, ContinuityReport, Evaluator, Jump, Piecewise, RuledReport, RuledSurface, body  # noqa: E501
+
 __all__ = [
     "BSpline",
+    "Body",
+    "CompositeSurface",
+    "ContinuityReport",
     "Drawable",
+    "Evaluator",
+    "Jump",
     "Model",
+    "Piecewise",
     "RectBivariateSpline",
+    "RuledReport",
+    "RuledSurface",
+    "body",
     "load",
     "loads",
     "make_interp_spline",
