@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
 from ._arrays import contiguous, extrapolate_value, index, mode, real_array, real_scalar
+from ._model import Drawable, register_kind
 
 try:  # NumPy >= 2
     from numpy.lib.array_utils import normalize_axis_index
@@ -27,7 +28,7 @@ _MAX_INSERTIONS = 10**6
 _LARGEST_ORDER = 2**62
 
 
-class BSpline:
+class BSpline(Drawable):
     """A univariate spline in the B-spline basis, as ``scipy.interpolate.BSpline``.
 
     .. math:: S(x) = \\sum_{j=0}^{n-1} c_j B_{j, k; t}(x)
@@ -175,6 +176,16 @@ class BSpline:
         self = object.__new__(cls)
         self._init(core, extrapolate, axis, trailing, None, None, pad)
         return self
+
+    @classmethod
+    def _from_model(cls, model: _geomkit.Model) -> BSpline:
+        """The spline of a ``bspline_curve`` model file (coefficients of shape (n,) for a
+        curve of dimension 1, else (n, dim))."""
+        core = _geomkit.Curve.from_model(model)
+        return cls._from_core(core, True, 0, () if core.dim == 1 else (core.dim,))
+
+    def _model(self) -> _geomkit.Model:
+        return self._core.model()
 
     # -- SciPy's attributes ---------------------------------------------------------------
     @property
@@ -573,3 +584,6 @@ def make_interp_spline(
     # SciPy's k = 0 and k = 1 splines (its special cases) extrapolate=True even when periodic.
     extrapolate: bool | str = "periodic" if periodic and k >= 2 else True
     return BSpline._from_core(core, extrapolate, axis, trailing)
+
+
+register_kind("bspline_curve", BSpline._from_model)

@@ -10,6 +10,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
 from ._arrays import contiguous, index, real_scalar
+from ._model import Drawable, register_kind
 
 __all__ = ["RectBivariateSpline"]
 
@@ -18,7 +19,7 @@ __all__ = ["RectBivariateSpline"]
 _MAX_ORDER = 2**62
 
 
-class RectBivariateSpline:
+class RectBivariateSpline(Drawable):
     """The interpolating bivariate spline over a rectangular grid, as
     ``scipy.interpolate.RectBivariateSpline(x, y, z, s=0)``.
 
@@ -140,6 +141,18 @@ class RectBivariateSpline:
         self._tck = None
         self.degrees = (kx, ky)
         return self
+
+    @classmethod
+    def _from_model(cls, model: _geomkit.Model) -> RectBivariateSpline:
+        """The spline of a ``bspline_surface`` model file of heights (degrees 1 to 7)."""
+        self = object.__new__(cls)
+        self._core = _geomkit.Surface.from_model(model)
+        self._tck = None
+        self.degrees = self._core.degrees
+        return self
+
+    def _model(self) -> _geomkit.Model:
+        return self._core.model()
 
     @property
     def fp(self) -> float:
@@ -351,3 +364,6 @@ class _DerivedBivariateSpline(RectBivariateSpline):
     def get_residual(self) -> float:
         """Raises AttributeError (no data were interpolated)."""
         raise AttributeError(f'method "get_residual" {self._why}')
+
+
+register_kind("bspline_surface", RectBivariateSpline._from_model)

@@ -17,6 +17,7 @@ use geomkit::bspline::{
     make_interp_spline, make_interp_surface, BsplineCurve, BsplineSurface, EndSpec, Extrapolate,
     SplineEnds, SplineOptions,
 };
+use geomkit_model::{AnyModel, BsplineCurveModel, BsplineSurfaceModel};
 use numpy::{
     PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray1, PyReadwriteArray2, PyReadwriteArrayDyn,
     PyUntypedArrayMethods,
@@ -178,6 +179,25 @@ impl Curve {
         let mode = extrapolate_mode(extrapolate)?;
         let value = py.detach(|| self.inner.integrate(a, b, mode));
         copy_into(&value, out.as_slice_mut()?)
+    }
+
+    /// The model file of the curve (`bspline_curve`), for saving, meshing and drawing.
+    fn model(&self) -> PyResult<model::Model> {
+        model::Model::from_file(BsplineCurveModel::file_of(&self.inner, None))
+    }
+
+    /// The curve of a `bspline_curve` model.
+    #[staticmethod]
+    fn from_model(m: &model::Model) -> PyResult<Curve> {
+        match &m.model {
+            AnyModel::BsplineCurve(c) => Ok(Curve {
+                inner: c.curve.clone(),
+            }),
+            _ => Err(PyValueError::new_err(format!(
+                "a {} is not a B-spline curve",
+                m.model.describe()
+            ))),
+        }
     }
 
     /// The curve with the knot `x` inserted `m` times (SciPy's `BSpline.insert_knot`);
@@ -370,6 +390,33 @@ impl Surface {
             }
         })
         .map_err(value_error)
+    }
+
+    /// The model file of the surface (`bspline_surface`, heights), for saving, meshing and
+    /// drawing.
+    fn model(&self) -> PyResult<model::Model> {
+        model::Model::from_file(BsplineSurfaceModel::file_of(&self.inner, None))
+    }
+
+    /// The surface of a `bspline_surface` model of heights (dimension 1, degrees 1 to 7).
+    #[staticmethod]
+    fn from_model(m: &model::Model) -> PyResult<Surface> {
+        let AnyModel::BsplineSurface(s) = &m.model else {
+            return Err(PyValueError::new_err(format!(
+                "a {} is not a B-spline surface",
+                m.model.describe()
+            )));
+        };
+        let (kx, ky) = s.surface.degrees();
+        if s.surface.dim() != 1 || !(1..=7).contains(&kx) || !(1..=7).contains(&ky) {
+            return Err(PyValueError::new_err(format!(
+                "a {} is not a surface of heights of degrees 1 to 7 (RectBivariateSpline's)",
+                m.model.describe()
+            )));
+        }
+        Ok(Surface {
+            inner: s.surface.clone(),
+        })
     }
 
     /// The integral over [xa, xb] × [ya, yb] (SciPy's `RectBivariateSpline.integral`).
