@@ -33,11 +33,15 @@ from ._bspline import BSpline, make_interp_spline
 from ._model import Drawable, Model, load, loads
 from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
+from ._model import Mesh, MeshReport, Polyline  # meshes and pictures (issue 23)
 
 __all__ = [
     "BSpline",
     "Drawable",
+    "Mesh",
+    "MeshReport",
     "Model",
+    "Polyline",
     "RectBivariateSpline",
     "load",
     "loads",
