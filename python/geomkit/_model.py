@@ -639,7 +639,15 @@ def _restore_mesh(
 
 
 class Polyline:
-    """The mesh of a curve: points at increasing parameters (`Drawable.mesh`).
+    """A polyline: points at strictly increasing parameters; the mesh of a curve
+    (`Drawable.mesh`) or of your own arrays.
+
+    Parameters
+    ----------
+    points : array_like, shape (n, dim)
+        The points, finite, of any dimension dim >= 1.
+    parameters : array_like, shape (n,)
+        The curve parameter of each point, finite and strictly increasing.
 
     Attributes
     ----------
@@ -648,15 +656,46 @@ class Polyline:
     parameters : ndarray, shape (n,)
         The curve parameter of each point (read-only).
 
+    Raises
+    ------
+    ValueError
+        For arrays of other shapes, values that are not finite, parameters that do not
+        increase.
+    TypeError
+        For values that are not numbers.
+
     Examples
     --------
     >>> import geomkit
     >>> line = geomkit.loads('{"type": "bezier_curve", "points": [[0], [1]]}').mesh(samples=3)
     >>> line.parameters.tolist(), line.points.tolist()
     ([0.0, 0.5, 1.0], [[0.0], [0.5], [1.0]])
+    >>> geomkit.Polyline([[0, 0], [1, 2]], [0, 1])
+    <geomkit.Polyline: 2 points in R^2>
     """
 
-    def __init__(self, inner: _geomkit.Mesh) -> None:
+    _inner: _geomkit.Mesh
+    _points: NDArray[np.float64]
+    _parameters: NDArray[np.float64]
+
+    def __init__(self, points: ArrayLike, parameters: ArrayLike) -> None:
+        p = contiguous(points, "points")
+        t = contiguous(parameters, "parameters")
+        if p.ndim != 2 or p.shape[1] == 0:
+            raise ValueError(f"points must have shape (n, dim) with dim >= 1, got {p.shape}")
+        if t.ndim != 1 or t.shape[0] != p.shape[0]:
+            raise ValueError(
+                f"parameters must have shape ({p.shape[0]},) (one per point), got {t.shape}"
+            )
+        self._set(_geomkit.Mesh.polyline(p, t))
+
+    @classmethod
+    def _of(cls, inner: _geomkit.Mesh) -> Polyline:
+        line = cls.__new__(cls)
+        line._set(inner)
+        return line
+
+    def _set(self, inner: _geomkit.Mesh) -> None:
         n, dim = inner.polyline_shape
         points = np.empty((n, dim))
         parameters = np.empty(n)
@@ -684,8 +723,10 @@ class Polyline:
         return int(self._points.shape[1])
 
     def write(self, path: str | os.PathLike[str]) -> None:
-        """Writes the polyline to `path` by its extension (``.obj .ply .glb``), atomically;
-        1-D points as (0, 0, x), 2-D ones in the plane z = 0.
+        """Writes the polyline to `path` by its extension (``.obj .ply .glb``), atomically.
+
+        Points in R^3 as they are; 2-D ones in the plane z = 0; 1-D ones as the graph
+        (t, x(t), 0) over the parameter; above 3-D the first three coordinates.
 
         Raises
         ------
@@ -702,13 +743,16 @@ class Polyline:
     def __len__(self) -> int:
         return int(self._points.shape[0])
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Polyline, (self._points, self._parameters))
+
     def __repr__(self) -> str:
         return f"<geomkit.Polyline: {len(self)} points in R^{self.dim}>"
 
 
 def _wrap(inner: _geomkit.Mesh) -> Mesh | Polyline:
     """The Python object of a compiled tessellation."""
-    return Polyline(inner) if inner.kind == "polyline" else Mesh._of(inner)
+    return Polyline._of(inner) if inner.kind == "polyline" else Mesh._of(inner)
 
 
 def _path(path: Any) -> str:

@@ -144,9 +144,11 @@ def test_every_cli_file_loads_saves_and_loads_again(cli_files, tmp_path, name):
     model.save(out)
     assert json.loads(out.read_text()) == json.loads(path.read_text())
     assert geomkit.load(out).to_json() == model.to_json()
-    # The CLI reads what save wrote (it renders it, or says why it cannot).
-    r = subprocess.run([str(CLI), "eval", str(out), "--samples", "3"], capture_output=True)
-    assert r.returncode == 0 or b"error" in r.stderr.lower()
+    # The CLI reads what save wrote: its mesh of the saved file is the package's, byte for
+    # byte (the same library writers; a PLY of f64 is exact).
+    cli("mesh", str(out), "-o", "cli.ply", cwd=tmp_path)
+    model.write(tmp_path / "py.ply")
+    assert (tmp_path / "cli.ply").read_bytes() == (tmp_path / "py.ply").read_bytes()
 
 
 def test_every_demo_file_loads(tmp_path):
@@ -433,6 +435,51 @@ def read_glb(path: Path) -> tuple[dict, np.ndarray]:
     assert acc["componentType"] == 5126 and acc["type"] == "VEC3"
     pos = np.frombuffer(binary, "<f4", count=3 * acc["count"], offset=start).reshape(-1, 3)
     return gltf, pos.astype(float)
+
+
+def test_polyline_of_arrays_pickle_and_bad_input(tmp_path):
+    line = geomkit.Polyline([[0, 0, 0], [1, 2, 3], [2, 0, 1]], [0, 0.5, 2])
+    assert len(line) == 3 and line.dim == 3
+    again = pickle.loads(pickle.dumps(line))
+    np.testing.assert_array_equal(again.points, line.points)
+    np.testing.assert_array_equal(again.parameters, line.parameters)
+    c = geomkit.loads(json.dumps(CURVE)).mesh(tolerance=1e-3)
+    c2 = pickle.loads(pickle.dumps(c))
+    np.testing.assert_array_equal(c2.points, c.points)
+    c2.write(tmp_path / "c.obj")
+    assert len(meshio.read(tmp_path / "c.obj").points) == len(c)
+    for points, params, error in [
+        ([[0, 0], [1, 1]], [1, 0], ValueError),  # not increasing
+        ([[0, 0], [1, np.inf]], [0, 1], ValueError),
+        ([[0, 0], [1, 1]], [0, np.nan], ValueError),
+        ([[0, 0], [1, 1]], [0, 1, 2], ValueError),
+        ([0, 1], [0, 1], ValueError),  # 1-D points array
+        (np.zeros((2, 0)), [0, 1], ValueError),
+        ([["a", "b"]], [0], TypeError),
+    ]:
+        with pytest.raises(error):
+            geomkit.Polyline(points, params)
+
+
+def test_one_dimensional_curve_is_a_graph(cli_files, tmp_path):
+    """A one-factor point-calculus model through (0, 1), (1, 3), (2, 2): its polyline passes
+    through the three points, written as the graph (t, y(t), 0)."""
+    fit = geomkit.load(cli_files["fit1"])
+    line = fit.mesh(samples=3)
+    assert isinstance(line, geomkit.Polyline) and line.dim == 1
+    np.testing.assert_allclose(line.parameters, [0, 1, 2], atol=1e-15)
+    np.testing.assert_allclose(line.points[:, 0], [1, 3, 2], atol=1e-14)
+    fit.write(tmp_path / "fit.obj", samples=3)
+    np.testing.assert_allclose(meshio.read(tmp_path / "fit.obj").points,
+                               [[0, 1, 0], [1, 3, 0], [2, 2, 0]], atol=1e-14)
+
+
+def test_empty_mesh_of_arrays(tmp_path):
+    empty = geomkit.Mesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64))
+    assert empty.vertices.shape == (0, 3) and empty.faces.shape == (0, 3)
+    assert empty.area == 0 and not empty.is_watertight
+    empty.write(tmp_path / "e.obj")
+    assert "0 vertices, 0 triangles" in (tmp_path / "e.obj").read_text()
 
 
 def test_curve_obj_text(tmp_path):

@@ -12,7 +12,9 @@ use geomkit::mesh::{self, MeshReport, ObjNormals, Polyline, TriMesh};
 use geomkit_model::{AnyModel, Loaded, ModelFile, Sampling, Shape, Tessellation};
 use geomkit_plot::figures::View;
 use geomkit_plot::{picture_svg, svg_to_png, PictureOptions};
-use numpy::{PyReadonlyArray2, PyReadwriteArray1, PyReadwriteArray2, PyUntypedArrayMethods};
+use numpy::{
+    PyReadonlyArray1, PyReadonlyArray2, PyReadwriteArray1, PyReadwriteArray2, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -205,7 +207,7 @@ impl Mesh {
         }
     }
 
-    fn polyline(&self) -> PyResult<&Polyline> {
+    fn line(&self) -> PyResult<&Polyline> {
         match &self.tessellation {
             Tessellation::Polyline(p) => Ok(p),
             Tessellation::Mesh(_) => Err(PyValueError::new_err(
@@ -264,6 +266,25 @@ impl Mesh {
         })?;
         Ok(Mesh {
             tessellation: Tessellation::Mesh(mesh),
+            report: None,
+        })
+    }
+
+    /// A polyline of `points` (n, dim) at strictly increasing `parameters` (n).
+    #[staticmethod]
+    fn polyline(
+        py: Python<'_>,
+        points: PyReadonlyArray2<'_, f64>,
+        parameters: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Self> {
+        let dim = points.shape()[1];
+        let p = points.as_slice()?;
+        let t = parameters.as_slice()?;
+        let line = py
+            .detach(|| Polyline::new(dim, t.to_vec(), p.to_vec()))
+            .map_err(crate::value_error)?;
+        Ok(Mesh {
+            tessellation: Tessellation::Polyline(line),
             report: None,
         })
     }
@@ -370,20 +391,20 @@ impl Mesh {
     /// Polyline: (points, dimension).
     #[getter]
     fn polyline_shape(&self) -> PyResult<(usize, usize)> {
-        let p = self.polyline()?;
+        let p = self.line()?;
         Ok((p.len(), p.dim()))
     }
 
     /// Polyline: the points into `out` (shape (n, dim)).
     fn points_into(&self, py: Python<'_>, mut out: PyReadwriteArray2<'_, f64>) -> PyResult<()> {
-        let p = self.polyline()?;
+        let p = self.line()?;
         let out = out.as_slice_mut()?;
         py.detach(|| crate::copy_into(p.points(), out))
     }
 
     /// Polyline: the curve parameter of each point into `out` (length n).
     fn parameters_into(&self, py: Python<'_>, mut out: PyReadwriteArray1<'_, f64>) -> PyResult<()> {
-        let p = self.polyline()?;
+        let p = self.line()?;
         let out = out.as_slice_mut()?;
         py.detach(|| crate::copy_into(p.params(), out))
     }
