@@ -687,7 +687,7 @@ class Polyline:
             raise ValueError(
                 f"parameters must have shape ({p.shape[0]},) (one per point), got {t.shape}"
             )
-        self._set(_geomkit.Mesh.polyline(p, t))
+        self._set(_geomkit.mesh_polyline(p, t))
 
     @classmethod
     def _of(cls, inner: _geomkit.Mesh) -> Polyline:
@@ -918,11 +918,28 @@ def _indices(faces: ArrayLike) -> NDArray[np.int64]:
     return np.ascontiguousarray(arr, dtype=np.int64)
 
 
+def _umask() -> int:
+    """The process's umask, read without changing it where Linux tells it (os.umask can
+    only be read by setting it, which races with other threads creating files)."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 def _write_atomic(path: str, data: bytes) -> None:
     """Writes `data` to `path` through a temporary file in the same directory."""
     directory = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(dir=directory, prefix=".geomkit-", suffix=".tmp")
     try:
+        if hasattr(os, "fchmod"):  # mkstemp's 0o600 -> a plain open's 0o666 minus the umask
+            os.fchmod(fd, 0o666 & ~_umask())
         with os.fdopen(fd, "wb") as f:
             f.write(data)
         os.replace(tmp, path)

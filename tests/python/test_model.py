@@ -593,6 +593,18 @@ def test_unknown_extension_lists_the_formats(tmp_path):
         s.write(3)  # type: ignore[arg-type]
 
 
+def test_written_files_have_the_usual_permissions(tmp_path):
+    """Like a plain open(): 0o666 minus the umask (not the temporary file's 0o600)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    s = geomkit.loads(json.dumps(SURFACE))
+    s.write(tmp_path / "s.obj", samples=3)
+    s.render(tmp_path / "s.svg")
+    s.save(tmp_path / "s.json")
+    for p in tmp_path.iterdir():
+        assert p.stat().st_mode & 0o777 == 0o666 & ~mask, p.name
+
+
 def test_failed_write_keeps_the_old_file(tmp_path):
     """glTF stores float32: a model beyond its range is an error after meshing, and the file
     there before stays as it was, with no temporary left behind."""
@@ -669,6 +681,15 @@ def test_docstring_examples():
             runner.run(test)
     assert count >= 10
     assert runner.failures == 0
+
+
+def test_docs_page_runs(tmp_path, monkeypatch):
+    """The Python block of docs/python-meshes.md runs as it stands."""
+    text = (ROOT / "docs" / "python-meshes.md").read_text(encoding="utf-8")
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert len(blocks) == 1
+    monkeypatch.chdir(tmp_path)
+    exec(compile(blocks[0], "docs/python-meshes.md", "exec"), {})
 
 
 def test_public_names():

@@ -270,25 +270,6 @@ impl Mesh {
         })
     }
 
-    /// A polyline of `points` (n, dim) at strictly increasing `parameters` (n).
-    #[staticmethod]
-    fn polyline(
-        py: Python<'_>,
-        points: PyReadonlyArray2<'_, f64>,
-        parameters: PyReadonlyArray1<'_, f64>,
-    ) -> PyResult<Self> {
-        let dim = points.shape()[1];
-        let p = points.as_slice()?;
-        let t = parameters.as_slice()?;
-        let line = py
-            .detach(|| Polyline::new(dim, t.to_vec(), p.to_vec()))
-            .map_err(crate::value_error)?;
-        Ok(Mesh {
-            tessellation: Tessellation::Polyline(line),
-            report: None,
-        })
-    }
-
     /// "mesh" (triangles) or "polyline" (a curve's points).
     #[getter]
     fn kind(&self) -> &'static str {
@@ -471,6 +452,25 @@ impl Mesh {
     }
 }
 
+/// A polyline of `points` (n, dim) at strictly increasing `parameters` (n).
+#[pyfunction]
+fn mesh_polyline(
+    py: Python<'_>,
+    points: PyReadonlyArray2<'_, f64>,
+    parameters: PyReadonlyArray1<'_, f64>,
+) -> PyResult<Mesh> {
+    let dim = points.shape()[1];
+    let p = points.as_slice()?;
+    let t = parameters.as_slice()?;
+    let line = py
+        .detach(|| Polyline::new(dim, t.to_vec(), p.to_vec()))
+        .map_err(crate::value_error)?;
+    Ok(Mesh {
+        tessellation: Tessellation::Polyline(line),
+        report: None,
+    })
+}
+
 /// One unit normal per vertex: its corners' normal where they agree, the normalized mean of
 /// their distinct normals at a crease.
 fn vertex_normals(m: &TriMesh) -> Vec<[f64; 3]> {
@@ -513,6 +513,7 @@ fn parse_model(text: &str) -> PyResult<Model> {
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_class::<Mesh>()?;
+    m.add_function(wrap_pyfunction!(mesh_polyline, m)?)?;
     m.add_function(wrap_pyfunction!(parse_model, m)?)?;
     Ok(())
 }
