@@ -262,6 +262,31 @@ def test_cube_files_read_by_trimesh_and_meshio(cli_files, tmp_path, ext):
         np.testing.assert_allclose(tm.bounds, [[-1, -1, -1], [1, 1, 1]], atol=1e-6)
 
 
+@pytest.mark.parametrize("layout", ["auto", "indexed", "per-vertex", "none"])
+def test_obj_normal_layouts(cli_files, tmp_path, layout):
+    """Every OBJ layout of `geomkit mesh --obj-normals` reads back in trimesh as the closed
+    cube of volume 8; the normals in the file are the layout's."""
+    cube = geomkit.load(cli_files["cube"])
+    mesh = cube.mesh()
+    path = tmp_path / "cube.obj"
+    cube.write(path, obj_normals=layout)
+    lines = path.read_text().splitlines()
+    vn = [ln for ln in lines if ln.startswith("vn ")]
+    v = [ln for ln in lines if ln.startswith("v ")]
+    if layout in ("auto", "none"):  # a body with sharp edges: no normals under auto
+        assert vn == [] and len(v) == len(mesh.vertices)
+    elif layout == "indexed":  # positions shared, one vn per distinct normal: the 6 faces'
+        assert len(v) == len(mesh.vertices)
+        normals = np.array([[float(x) for x in ln.split()[1:]] for ln in vn])
+        assert len(np.unique(np.round(normals, 12), axis=0)) == 6
+    else:  # one vn per v, vertices split at the edges
+        assert len(vn) == len(v) > len(mesh.vertices)
+    tm = trimesh.load(path, force="mesh", process=False)
+    tm.merge_vertices(merge_tex=True, merge_norm=True)
+    assert len(tm.vertices) == len(mesh.vertices) and len(tm.faces) == len(mesh.faces)
+    assert tm.is_watertight and abs(tm.volume - 8.0) < 1e-9
+
+
 def test_box_volume_and_stl_ascii(cli_files, tmp_path):
     box = geomkit.load(cli_files["box"])
     path = tmp_path / "box.stl"
@@ -618,6 +643,10 @@ def test_failed_write_keeps_the_old_file(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["big.glb"]
     with pytest.raises(OSError):
         big.write(tmp_path / "no" / "such" / "dir.obj")
+    (tmp_path / "a-directory.obj").mkdir()
+    with pytest.raises(OSError):
+        big.write(tmp_path / "a-directory.obj")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a-directory.obj", "big.glb"]
     with pytest.raises(OSError):
         big.render(tmp_path / "no" / "dir.svg")
 
