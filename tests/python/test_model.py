@@ -499,6 +499,31 @@ def test_one_dimensional_curve_is_a_graph(cli_files, tmp_path):
                                [[0, 1, 0], [1, 3, 0], [2, 2, 0]], atol=1e-14)
 
 
+def test_two_factor_model_passes_through_the_experiments(cli_files):
+    """A two-factor point-calculus model is the surface (a, b, y(a, b)) through every
+    experimental point of its CSV: a 3 x 3 uniform mesh holds the six of them."""
+    fit = geomkit.load(cli_files["fit2"])
+    mesh = fit.mesh(samples=3)
+    assert mesh.vertices.shape == (9, 3)
+    experiments = np.loadtxt(cli_files["fit2"].parent / "exp.csv", delimiter=",", skiprows=1)
+    d = np.linalg.norm(mesh.vertices[:, None, :] - experiments[None, :, :], axis=2)
+    assert np.all(d.min(axis=0) < 1e-14)
+
+
+def test_four_dimensional_curve_meshes_but_does_not_draw(tmp_path):
+    c = geomkit.loads(json.dumps({"type": "bezier_curve",
+                                  "points": [[0, 0, 0, 0], [1, 2, 3, 4], [2, 0, 1, 0]]}))
+    line = c.mesh(samples=3)
+    assert line.dim == 4
+    np.testing.assert_allclose(line.points[1], [1, 1, 1.75, 2], atol=1e-15)
+    with pytest.raises(ValueError, match="R\\^4"):
+        c.svg()
+    assert c._repr_svg_() is None and c._repr_png_() is None
+    with pytest.raises(ValueError):
+        c.render(tmp_path / "c.png")
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_empty_mesh_of_arrays(tmp_path):
     empty = geomkit.Mesh(np.zeros((0, 3)), np.zeros((0, 3), dtype=np.int64))
     assert empty.vertices.shape == (0, 3) and empty.faces.shape == (0, 3)
