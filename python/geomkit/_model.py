@@ -16,9 +16,11 @@ too) with the library's writers, atomically.
 
 from __future__ import annotations
 
+import json
 import math
 import operator
 import os
+import re
 import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -386,6 +388,11 @@ def loads(text: str) -> Any:
 def load(path: str | os.PathLike[str]) -> Any:
     """Reads a model file written by the CLI, the editor or `Drawable.save`.
 
+    Any JSON model file (every ``"type"`` of docs/formats.md), or a B-spline curve's
+    control points as CSV or ``.npy`` (one point per row) with its knots in the sibling
+    ``NAME.knots.EXT``, as ``geomkit interpolate curve --control -o NAME.EXT`` writes them
+    (the degree is len(knots) - len(points) - 1).
+
     Raises
     ------
     ValueError
@@ -393,13 +400,82 @@ def load(path: str | os.PathLike[str]) -> Any:
     OSError
         If the file cannot be read.
     """
-    path = os.fspath(path)
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
+    path = _path(path)
+    if os.path.splitext(path)[1].lower() in (".csv", ".npy"):
+        text = _control_pair_json(path)
+    else:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
     try:
         return loads(text)
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
+
+
+def _knots_sibling(path: str) -> str:
+    """``NAME.knots.EXT``, the knots of the control points in ``NAME.EXT``."""
+    stem, ext = os.path.splitext(path)
+    return f"{stem}.knots{ext}"
+
+
+def _read_table(path: str) -> NDArray[np.float64]:
+    """A table of numbers as the CLI reads it: ``.npy`` (float64, 1-D or 2-D), or CSV with an
+    optional header line, columns separated by commas, semicolons, tabs or blanks."""
+    if path.lower().endswith(".npy"):
+        arr = np.load(path, allow_pickle=False)
+        if arr.dtype.kind not in "biuf" or arr.ndim not in (1, 2):
+            raise ValueError(f"{path}: expected a 1-D or 2-D array of numbers, got {arr.dtype} "
+                             f"of shape {arr.shape}")
+        arr = arr.astype(np.float64)
+        return arr[:, None] if arr.ndim == 1 else arr
+    rows: list[list[float]] = []
+    with open(path, encoding="utf-8") as f:
+        for number, line in enumerate(f, 1):
+            fields = [x for x in re.split(r"[,;\t ]+", line.strip()) if x]
+            if not fields:
+                continue
+            try:
+                rows.append([float(x) for x in fields])
+            except ValueError:
+                if rows or number > 1:
+                    raise ValueError(f"{path}, line {number}: {line.strip()!r} is not a row "
+                                     "of numbers") from None
+                continue  # the header
+            if len(rows[-1]) != len(rows[0]):
+                raise ValueError(f"{path}, line {number}: {len(rows[-1])} columns, the first "
+                                 f"row has {len(rows[0])}")
+    if not rows:
+        raise ValueError(f"{path}: no rows of numbers")
+    return np.array(rows)
+
+
+def _control_pair_json(path: str) -> str:
+    """A B-spline curve's model file from its control points (CSV or ``.npy``, one per row)
+    and its knots in ``NAME.knots.EXT``, as ``interpolate curve --control`` writes them."""
+    knots_path = _knots_sibling(path)
+    if not os.path.isfile(knots_path):
+        if not os.path.exists(path):
+            raise FileNotFoundError(f"{path}: no such file")
+        raise ValueError(
+            f"{path}: control points need their knots in {knots_path} (as `geomkit "
+            "interpolate curve --control` writes them); models without a knots file are JSON"
+        )
+    control, knots = _read_table(path), _read_table(knots_path)
+    if knots.shape[1] != 1:
+        raise ValueError(f"{knots_path}: expected one knot per row, found {knots.shape[1]} "
+                         "columns")
+    n, k = len(control), len(knots)
+    if k <= n + 1:
+        raise ValueError(f"{knots_path}: {k} knots for {n} control points in {path} (need "
+                         "control points + degree + 1)")
+    if not (np.isfinite(control).all() and np.isfinite(knots).all()):
+        raise ValueError(f"{path}: the control points and knots must be finite")
+    return json.dumps({
+        "type": "bspline_curve",
+        "degree": k - n - 1,
+        "knots": knots[:, 0].tolist(),
+        "control_points": control.tolist(),
+    })
 
 
 ObjNormals = Literal["auto", "indexed", "per-vertex", "none"]

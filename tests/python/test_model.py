@@ -100,6 +100,8 @@ def cli_files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     cli("bezier", "elevate", "s.json", "--to", "3,4", "-o", "elevated_surface.json", cwd=d)
     cli("interpolate", "curve", "pts.csv", "-o", "interp_curve.json", cwd=d)
     cli("interpolate", "surface", "--heights", "h.csv", "-o", "interp_surface.json", cwd=d)
+    for ext in ("csv", "npy"):
+        cli("interpolate", "curve", "pts.csv", "--control", "-o", f"control.{ext}", cwd=d)
     cli("compose", "body", "cube", "-o", "cube.json", cwd=d)
     cli("compose", "body", "box", "--size", "1,2,3", "-o", "box.json", cwd=d)
     cli("compose", "patches", "interp_surface.json", "-o", "patches.json", cwd=d)
@@ -149,6 +151,56 @@ def test_every_cli_file_loads_saves_and_loads_again(cli_files, tmp_path, name):
     cli("mesh", str(out), "-o", "cli.ply", cwd=tmp_path)
     model.write(tmp_path / "py.ply")
     assert (tmp_path / "cli.ply").read_bytes() == (tmp_path / "py.ply").read_bytes()
+
+
+@pytest.mark.parametrize("ext", ["csv", "npy"])
+def test_control_points_with_their_knots_load(cli_files, tmp_path, ext):
+    """`interpolate curve --control -o NAME.EXT` writes control points and NAME.knots.EXT:
+    they load as the B-spline curve SciPy evaluates the same (knots, coefficients) to, through
+    the five points; the CLI's mesh of the pair is the package's, byte for byte."""
+    from scipy.interpolate import BSpline
+
+    d = cli_files["interp_curve"].parent
+    model = geomkit.load(d / f"control.{ext}")
+    assert model._model().kind == "bspline_curve"
+    spec = json.loads(model.to_json())
+    knots, control = np.array(spec["knots"]), np.array(spec["control_points"])
+    if ext == "npy":
+        np.testing.assert_array_equal(control, np.load(d / "control.npy"))
+    reference = BSpline(knots, control, spec["degree"])
+    line = model.mesh(tolerance=1e-4)
+    np.testing.assert_allclose(line.points, reference(line.parameters), rtol=0, atol=1e-12)
+    points = np.loadtxt(d / "pts.csv", delimiter=",")
+    on = [np.min(np.linalg.norm(reference(np.linspace(*line.parameters[[0, -1]], 20001))
+                                - p, axis=1)) for p in points]
+    assert max(on) < 1e-3  # passes through the points (to the sampling of the check)
+    cli("mesh", str(d / f"control.{ext}"), "-o", str(tmp_path / "cli.ply"), cwd=tmp_path)
+    model.write(tmp_path / "py.ply")
+    assert (tmp_path / "cli.ply").read_bytes() == (tmp_path / "py.ply").read_bytes()
+
+
+def test_control_points_errors(tmp_path):
+    (tmp_path / "c.csv").write_text("x,y\n0,0\n1,1\n")
+    with pytest.raises(ValueError, match="knots"):
+        geomkit.load(tmp_path / "c.csv")  # no sibling
+    (tmp_path / "c.knots.csv").write_text("knot\n0\n0\n1\n")
+    with pytest.raises(ValueError, match="3 knots for 2 control points"):
+        geomkit.load(tmp_path / "c.csv")
+    (tmp_path / "c.knots.csv").write_text("0\n0\n1\n1\n")
+    line = geomkit.load(tmp_path / "c.csv").mesh(samples=3)  # degree 1: the segment
+    np.testing.assert_allclose(line.points, [[0, 0], [0.5, 0.5], [1, 1]], atol=1e-15)
+    (tmp_path / "c.knots.csv").write_text("0\n1\n0\n1\n")
+    with pytest.raises(ValueError, match="c.csv"):
+        geomkit.load(tmp_path / "c.csv")  # decreasing knots: the library's message
+    (tmp_path / "c.csv").write_text("x,y\n0,0\n1,a\n")
+    with pytest.raises(ValueError, match="line 3"):
+        geomkit.load(tmp_path / "c.csv")
+    with pytest.raises(OSError):
+        geomkit.load(tmp_path / "missing.csv")
+    np.save(tmp_path / "s.npy", np.array(["a", "b"]))
+    np.save(tmp_path / "s.knots.npy", np.zeros(4))
+    with pytest.raises(ValueError, match="numbers"):
+        geomkit.load(tmp_path / "s.npy")
 
 
 def test_every_demo_file_loads(tmp_path):
