@@ -422,11 +422,11 @@ def _read_table(path: str) -> NDArray[np.float64]:
     """A table of numbers as the CLI reads it: ``.npy`` (float64, 1-D or 2-D), or CSV with an
     optional header line, columns separated by commas, semicolons, tabs or blanks."""
     if path.lower().endswith(".npy"):
-        arr = np.load(path, allow_pickle=False)
-        if arr.dtype.kind not in "biuf" or arr.ndim not in (1, 2):
-            raise ValueError(f"{path}: expected a 1-D or 2-D array of numbers, got {arr.dtype} "
-                             f"of shape {arr.shape}")
-        arr = arr.astype(np.float64)
+        loaded = np.load(path, allow_pickle=False)
+        if loaded.dtype.kind not in "biuf" or loaded.ndim not in (1, 2):
+            raise ValueError(f"{path}: expected a 1-D or 2-D array of numbers, got "
+                             f"{loaded.dtype} of shape {loaded.shape}")
+        arr: NDArray[np.float64] = np.asarray(loaded, dtype=np.float64)
         return arr[:, None] if arr.ndim == 1 else arr
     rows: list[list[float]] = []
     with open(path, encoding="utf-8") as f:
