@@ -33,6 +33,7 @@ from ._bspline import BSpline, make_interp_spline
 from ._model import Drawable, Model, load, loads
 from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
+from ._model import Mesh, MeshReport, Polyline  # meshes and pictures (issue 23)
 
 # --- composite formulas (method 3): python/geomkit/_compose.py
 from ._compose import Body, CompositeSurface, ContinuityReport, Evaluator, Jump, Piecewise, RuledReport, RuledSurface, body  # noqa: E501
@@ -45,8 +46,11 @@ __all__ = [
     "Drawable",
     "Evaluator",
     "Jump",
+    "Mesh",
+    "MeshReport",
     "Model",
     "Piecewise",
+    "Polyline",
     "RectBivariateSpline",
     "RuledReport",
     "RuledSurface",

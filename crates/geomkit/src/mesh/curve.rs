@@ -44,6 +44,56 @@ pub struct Polyline {
 }
 
 impl Polyline {
+    /// A polyline of `params.len()` points of dimension `dim` (`points` row-major) at
+    /// strictly increasing, finite `params` (a saved [`tessellate_curve`] result, or one's
+    /// own).
+    ///
+    /// Errors: `dim` 0, a length of `points` other than `dim * params.len()`
+    /// ([`Error::InvalidShape`]), a number that is not finite ([`Error::NonFinite`]),
+    /// parameters that do not increase ([`Error::InvalidShape`]).
+    ///
+    /// ```
+    /// use geomkit::mesh::Polyline;
+    /// let p = Polyline::new(2, vec![0.0, 1.0], vec![0.0, 0.0, 1.0, 2.0]).unwrap();
+    /// assert_eq!(p.point(1), &[1.0, 2.0]);
+    /// assert!(Polyline::new(2, vec![1.0, 0.0], vec![0.0; 4]).is_err());
+    /// ```
+    pub fn new(dim: usize, params: Vec<f64>, points: Vec<f64>) -> Result<Self> {
+        if dim == 0 || Some(points.len()) != dim.checked_mul(params.len()) {
+            return Err(Error::InvalidShape {
+                what: "polyline",
+                reason: format!(
+                    "{} numbers are not {} points of dimension {dim}",
+                    points.len(),
+                    params.len()
+                ),
+            });
+        }
+        if let Some(index) = params.iter().position(|t| !t.is_finite()) {
+            return Err(Error::NonFinite {
+                what: "polyline parameter",
+                index,
+            });
+        }
+        if let Some(index) = points.iter().position(|x| !x.is_finite()) {
+            return Err(Error::NonFinite {
+                what: "polyline point",
+                index: index / dim,
+            });
+        }
+        if let Some(k) = params.windows(2).position(|w| w[0] >= w[1]) {
+            return Err(Error::InvalidShape {
+                what: "polyline",
+                reason: format!("parameters {k} and {} do not increase", k + 1),
+            });
+        }
+        Ok(Polyline {
+            dim,
+            params,
+            points,
+        })
+    }
+
     /// Dimension of the points.
     pub fn dim(&self) -> usize {
         self.dim
