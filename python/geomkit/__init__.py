@@ -33,6 +33,7 @@ from ._bspline import BSpline, make_interp_spline
 from ._model import Drawable, Model, load, loads
 from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
+from ._netsurface import BSplineSurface, make_interp_surface
 from ._model import Mesh, MeshReport, Polyline  # meshes and pictures (issue 23)
 
 # --- composite formulas (method 3): python/geomkit/_compose.py
@@ -40,6 +41,7 @@ from ._compose import Body, CompositeSurface, ContinuityReport, Evaluator, Jump,
 
 __all__ = [
     "BSpline",
+    "BSplineSurface",
     "Body",
     "CompositeSurface",
     "ContinuityReport",
@@ -58,5 +60,6 @@ __all__ = [
     "load",
     "loads",
     "make_interp_spline",
+    "make_interp_surface",
     "make_splprep",
 ]

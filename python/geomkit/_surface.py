@@ -10,7 +10,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
 from ._arrays import contiguous, index, real_scalar
-from ._model import Drawable, register_kind
+from ._model import Drawable
 
 __all__ = ["RectBivariateSpline"]
 
@@ -365,5 +365,3 @@ class _DerivedBivariateSpline(RectBivariateSpline):
         """Raises AttributeError (no data were interpolated)."""
         raise AttributeError(f'method "get_residual" {self._why}')
 
-
-register_kind("bspline_surface", RectBivariateSpline._from_model)

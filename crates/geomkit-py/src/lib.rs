@@ -14,8 +14,9 @@
 //! - the library's errors become `ValueError` with its message.
 
 use geomkit::bspline::{
-    make_interp_spline, make_interp_surface, BsplineCurve, BsplineSurface, EndSpec, Extrapolate,
-    SplineEnds, SplineOptions,
+    interpolate_surface_flat, make_interp_spline, make_interp_surface, BsplineCurve,
+    BsplineSurface, EndCondition, EndSpec, Extrapolate, Parametrization, SplineEnds,
+    SplineOptions, SurfaceInterpolationOptions,
 };
 use geomkit_model::{AnyModel, BsplineCurveModel, BsplineSurfaceModel};
 use numpy::{
@@ -398,6 +399,20 @@ impl Surface {
         model::Model::from_file(BsplineSurfaceModel::file_of(&self.inner, None))
     }
 
+    /// The surface of any `bspline_surface` model.
+    #[staticmethod]
+    fn from_model_any(m: &model::Model) -> PyResult<Surface> {
+        match &m.model {
+            AnyModel::BsplineSurface(s) => Ok(Surface {
+                inner: s.surface.clone(),
+            }),
+            _ => Err(PyValueError::new_err(format!(
+                "a {} is not a B-spline surface",
+                m.model.describe()
+            ))),
+        }
+    }
+
     /// The surface of a `bspline_surface` model of heights (dimension 1, degrees 1 to 7).
     #[staticmethod]
     fn from_model(m: &model::Model) -> PyResult<Surface> {
@@ -417,6 +432,35 @@ impl Surface {
         Ok(Surface {
             inner: s.surface.clone(),
         })
+    }
+
+    /// The dimension of the points (1: heights).
+    #[getter]
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+
+    /// Points S(u, v) into `out`: on the grid u × v (`grid`; `out` of len(u)·len(v)·dim
+    /// numbers, `BsplineSurface::eval_grid`) or at the pairs (u[i], v[i]) (`eval_many_par`).
+    /// Outside the domain the end patches continue. Errors: non-finite parameters, lengths.
+    fn eval_points_into(
+        &self,
+        py: Python<'_>,
+        u: PyReadonlyArray1<'_, f64>,
+        v: PyReadonlyArray1<'_, f64>,
+        grid: bool,
+        mut out: PyReadwriteArrayDyn<'_, f64>,
+    ) -> PyResult<()> {
+        let (u, v) = (u.as_slice()?, v.as_slice()?);
+        let out = out.as_slice_mut()?;
+        py.detach(|| {
+            if grid {
+                self.inner.eval_grid(u, v, out)
+            } else {
+                self.inner.eval_many_par(u, v, out)
+            }
+        })
+        .map_err(value_error)
     }
 
     /// The integral over [xa, xb] × [ya, yb] (SciPy's `RectBivariateSpline.integral`).
@@ -445,6 +489,66 @@ fn make_interp_surface_heights(
     Ok(Surface { inner })
 }
 
+/// An end condition of a direction of a parametric surface by name.
+fn surface_end(name: &str) -> PyResult<EndCondition> {
+    Ok(match name {
+        "not-a-knot" => EndCondition::NotAKnot,
+        "natural" => EndCondition::Natural,
+        "bessel" => EndCondition::Bessel,
+        "periodic" => EndCondition::Periodic,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "end condition {name:?}: expected \"not-a-knot\", \"natural\", \"bessel\" \
+                 or \"periodic\""
+            )))
+        }
+    })
+}
+
+/// The bicubic surface through a rows × cols grid of points (`points`: rows·cols rows of
+/// `dim` numbers, row-major), with parameters by `param` ("chord", "centripetal",
+/// "uniform", averaged over the grid lines) and an end condition per direction
+/// (`geomkit::bspline::interpolate_surface_flat`). Returns the surface and the parameters of
+/// the grid rows and columns.
+#[pyfunction]
+fn interpolate_grid(
+    py: Python<'_>,
+    points: PyReadonlyArray2<'_, f64>,
+    rows: usize,
+    cols: usize,
+    end_u: &str,
+    end_v: &str,
+    param: &str,
+) -> PyResult<(Surface, Vec<f64>, Vec<f64>)> {
+    let parametrization = match param {
+        "chord" => Parametrization::ChordLength,
+        "centripetal" => Parametrization::Centripetal,
+        "uniform" => Parametrization::Uniform,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "param {param:?}: expected \"chord\", \"centripetal\" or \"uniform\""
+            )))
+        }
+    };
+    let options = SurfaceInterpolationOptions::default()
+        .with_ends(surface_end(end_u)?, surface_end(end_v)?)
+        .with_parametrization(parametrization);
+    let (n, dim, flat) = matrix(&points)?;
+    if Some(n) != rows.checked_mul(cols) {
+        return Err(PyValueError::new_err(format!(
+            "{n} points do not make a {rows} x {cols} grid"
+        )));
+    }
+    let fit = py
+        .detach(|| interpolate_surface_flat(rows, cols, dim, flat, &options))
+        .map_err(value_error)?;
+    Ok((
+        Surface { inner: fit.surface },
+        fit.params_u,
+        fit.params_v,
+    ))
+}
+
 /// The module `geomkit._geomkit`.
 #[pymodule]
 fn _geomkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -452,6 +556,7 @@ fn _geomkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Surface>()?;
     m.add_function(wrap_pyfunction!(make_interp_spline_curve, m)?)?;
     m.add_function(wrap_pyfunction!(make_interp_surface_heights, m)?)?;
+    m.add_function(wrap_pyfunction!(interpolate_grid, m)?)?;
     m.add("MAX_SPLINE_DEGREE", geomkit::bspline::MAX_SPLINE_DEGREE)?;
     m.add("MAX_DEGREE", BsplineCurve::MAX_DEGREE)?;
     model::register(m)?;
