@@ -29,6 +29,7 @@ Examples
 True
 """
 
+from ._bezier import BezierCurve, BezierSurface, degree_change_matrix, h_matrix
 from ._bspline import BSpline, make_interp_spline
 from ._model import Drawable, Model, load, loads
 from ._splprep import make_splprep
@@ -36,9 +37,13 @@ from ._surface import RectBivariateSpline
 
 __all__ = [
     "BSpline",
+    "BezierCurve",
+    "BezierSurface",
     "Drawable",
     "Model",
     "RectBivariateSpline",
+    "degree_change_matrix",
+    "h_matrix",
     "load",
     "loads",
     "make_interp_spline",
