@@ -681,3 +681,57 @@ def test_public_api_is_documented():
         assert "Returns\n-------" in doc or "Parameters\n----------" in doc, obj
     assert {"BezierCurve", "BezierSurface", "degree_change_matrix", "h_matrix"} <= \
         set(geomkit.__all__)
+
+
+def test_results_too_large_are_refused_not_allocated():
+    wide = BezierCurve(np.zeros((2, 1000)))
+    with pytest.raises(ValueError, match="a curve of degree 999999 in R\\^1000.*limit"):
+        wide.elevate(999_999)  # 10^9 numbers: refused before the library allocates them
+    net = BezierSurface(np.zeros((2, 1000, 3)))
+    with pytest.raises(ValueError, match="a surface of degrees .*limit"):
+        net.elevate((100_000, 999))
+    with pytest.raises(ValueError, match="limit"):
+        net.change_degree((2**40, 999))
+
+
+def test_compiled_module_refuses_what_it_cannot_read():
+    from geomkit import _geomkit
+
+    pts = np.arange(12.0).reshape(6, 2)
+    with pytest.raises(TypeError):
+        _geomkit.BezierCurveCore(pts[::2])  # not contiguous
+    with pytest.raises(TypeError):
+        _geomkit.BezierCurveCore(pts.astype(np.float32))
+    with pytest.raises(TypeError):
+        _geomkit.BezierCurveCore(pts.ravel())
+    core = _geomkit.BezierCurveCore(pts)
+    with pytest.raises(ValueError, match="buffer"):
+        core.eval_into(np.linspace(0, 1, 5), 0, np.empty((4, 2)))
+    read_only = np.empty((5, 2))
+    read_only.flags.writeable = False
+    with pytest.raises(TypeError, match="not writeable"):
+        core.eval_into(np.linspace(0, 1, 5), 0, read_only)
+    with pytest.raises(OverflowError):
+        core.elevate(-1)
+    with pytest.raises(ValueError, match="norm"):
+        core.reduce_approx(2, None, None, "l1")
+    surface = _geomkit.BezierSurfaceCore(np.zeros((2, 3, 1)))
+    with pytest.raises(ValueError, match="same length"):
+        surface.eval_points_into(np.zeros(2), np.zeros(3), np.empty((2, 1)))
+    with pytest.raises(ValueError, match="buffer"):
+        surface.eval_grid_into(np.zeros(2), np.zeros(3), np.empty((2, 2, 1)))
+    with pytest.raises(TypeError, match="not a Bézier surface"):
+        _geomkit.BezierSurfaceCore.from_model(core.to_model())
+
+
+def test_the_gil_is_released_during_evaluation():
+    from test_package import _seen_inside
+
+    rng = np.random.default_rng(2)
+    c = BezierCurve(rng.normal(size=(40, 3)))
+    t = rng.uniform(0, 1, 3_000_000)
+    curve = _seen_inside(lambda: c(t), BezierCurve.__call__, "eval_into(")
+    s = BezierSurface(rng.normal(size=(12, 12, 3)))
+    u = np.linspace(0, 1, 1200)
+    grid = _seen_inside(lambda: s(u, u), BezierSurface.__call__, "eval_grid_into(")
+    assert min(curve, grid) > 20, (curve, grid)

@@ -49,6 +49,26 @@ fn check_paper_degree(n: usize, n_new: usize, what: &str) -> PyResult<()> {
     Ok(())
 }
 
+/// Most numbers (f64) of a curve or net a change of degree may create: 2^27, 1 GiB. The
+/// library bounds the work of an elevation (its weight count), not the size of the result,
+/// which also grows with the dimension of the points and, for a surface, with the other
+/// direction; without this bound `to=10**7` on a net of 1000 columns would abort the
+/// interpreter when the allocation fails.
+const MAX_RESULT_NUMBERS: u128 = 1 << 27;
+
+/// Refuses a result of `count` numbers above [`MAX_RESULT_NUMBERS`].
+fn check_result_size(count: u128, what: impl FnOnce() -> String) -> PyResult<()> {
+    if count > MAX_RESULT_NUMBERS {
+        return Err(value_error(geomkit::Error::TooLarge {
+            what: what(),
+            size: count,
+            unit: "number count",
+            limit: MAX_RESULT_NUMBERS,
+        }));
+    }
+    Ok(())
+}
+
 /// A degree report as (formal degree, real degree, defect, residual, rejected residual,
 /// tolerance).
 type ReportTuple = (usize, usize, usize, f64, Option<f64>, f64);
@@ -142,6 +162,14 @@ impl BezierCurveCore {
                  weights)"
             ))),
         }
+    }
+
+    /// Refuses a change to degree `to` whose control points would be too many numbers.
+    fn check_target(&self, to: usize) -> PyResult<()> {
+        let per_point = self.as_curve().dim() + usize::from(self.is_rational());
+        check_result_size((to as u128 + 1) * per_point as u128, || {
+            format!("a curve of degree {to} in R^{}", self.as_curve().dim())
+        })
     }
 
     fn as_curve(&self) -> &dyn Curve {
@@ -324,6 +352,7 @@ impl BezierCurveCore {
 
     /// Elevation to degree `to` >= n in one step (closed form (8)); the curve is unchanged.
     fn elevate(&self, py: Python<'_>, to: usize) -> PyResult<Self> {
+        self.check_target(to)?;
         py.detach(|| match &self.inner {
             CurveKind::Polynomial(c) => c.elevate_degree(to).map(Self::polynomial),
             CurveKind::Rational(r) => r.elevate_degree(to).map(Self::rational),
@@ -346,6 +375,7 @@ impl BezierCurveCore {
     /// exact reduction otherwise.
     #[pyo3(signature = (to, tolerance=None))]
     fn change_degree(&self, py: Python<'_>, to: usize, tolerance: Option<f64>) -> PyResult<Self> {
+        self.check_target(to)?;
         py.detach(|| match &self.inner {
             CurveKind::Polynomial(c) => c.change_degree(to, tolerance).map(Self::polynomial),
             CurveKind::Rational(r) => if to >= r.degree() {
@@ -422,6 +452,7 @@ impl BezierCurveCore {
     fn change_degree_paper(&self, py: Python<'_>, to: usize) -> PyResult<Self> {
         let c = self.require_polynomial("the paper's formula (10)")?;
         check_paper_degree(c.degree(), to, "the paper's formula (10)")?;
+        self.check_target(to)?;
         py.detach(|| c.change_degree_paper(to))
             .map(Self::polynomial)
             .map_err(value_error)
@@ -652,6 +683,10 @@ impl BezierSurfaceCore {
         m: usize,
         tolerance: Option<f64>,
     ) -> PyResult<Self> {
+        check_result_size(
+            (n as u128 + 1) * (m as u128 + 1) * self.inner.dim() as u128,
+            || format!("a surface of degrees ({n}, {m}) in R^{}", self.inner.dim()),
+        )?;
         py.detach(|| self.inner.change_degree(n, m, tolerance))
             .map(surface)
             .map_err(value_error)
@@ -662,6 +697,10 @@ impl BezierSurfaceCore {
         let (a, b) = self.inner.degrees();
         check_paper_degree(a, n, "the paper's formula (14) in u")?;
         check_paper_degree(b, m, "the paper's formula (14) in v")?;
+        check_result_size(
+            (n as u128 + 1) * (m as u128 + 1) * self.inner.dim() as u128,
+            || format!("a surface of degrees ({n}, {m}) in R^{}", self.inner.dim()),
+        )?;
         py.detach(|| self.inner.change_degree_paper(n, m))
             .map(surface)
             .map_err(value_error)
