@@ -624,6 +624,39 @@ class BezierCurve(Drawable):
         self._core.power_into(out)
         return out
 
+    @classmethod
+    def from_power(cls, coefficients: ArrayLike) -> BezierCurve:
+        """The polynomial curve p(t) = Σ s_j t^j of the power-form coefficients.
+
+        U_n = S_n H_n^-1 with the closed-form inverse (H_n^-1)_ij = C(j,i) / C(n,i)
+        (formula (5)), accumulated in double-double.
+
+        Parameters
+        ----------
+        coefficients : array_like, shape (n + 1, dim)
+            Row j is s_j, the coefficient of t^j (finite).
+
+        Returns
+        -------
+        BezierCurve
+
+        Raises
+        ------
+        ValueError
+            For an empty array, a wrong shape or a number that is not finite.
+
+        Examples
+        --------
+        p(t) = (t, t²):
+
+        >>> from geomkit import BezierCurve
+        >>> BezierCurve.from_power([[0, 0], [1, 0], [0, 1]]).points.tolist()
+        [[0.0, 0.0], [0.5, 0.0], [1.0, 1.0]]
+        """
+        return cls._wrap(
+            _geomkit.BezierCurveCore.from_power(_points(coefficients, "coefficients", 2))
+        )
+
     # -- change of degree ------------------------------------------------------------------
 
     def elevate(self, to: int) -> BezierCurve:

@@ -146,6 +146,24 @@ def test_example_2_the_quintic_of_real_degree_3():
                                rtol=0, atol=1e-12)
 
 
+def test_power_form_round_trip_is_h_inverse():
+    rng = np.random.default_rng(21)
+    s = rng.integers(-40, 40, size=(7, 2)) / 8.0
+    n = len(s) - 1
+    # U = S H_n^-1 with (H_n^-1)_ij = C(j,i) / C(n,i), in exact rationals.
+    exact = [[sum(Fraction(s[i][k]) * Fraction(comb(j, i), comb(n, i)) for i in range(j + 1))
+              for k in range(2)] for j in range(n + 1)]
+    c = BezierCurve.from_power(s)
+    np.testing.assert_allclose(c.points, np.array(exact, dtype=float), rtol=0,
+                               atol=4 * EPS * np.abs(np.array(exact, dtype=float)).max())
+    np.testing.assert_allclose(c.power_coefficients(), s, rtol=0, atol=1e-12)
+    t = np.linspace(0, 1, 9)
+    np.testing.assert_allclose(c(t), np.polynomial.polynomial.polyval(t, s).T, rtol=0,
+                               atol=1e-12)
+    with pytest.raises(ValueError):
+        BezierCurve.from_power([[np.inf]])
+
+
 def test_reduction_below_the_real_degree_names_it():
     q = BezierCurve(QUINTIC)
     with pytest.raises(ValueError, match=r"the real degree is 3 \(degree defect 2\)"):

@@ -350,6 +350,20 @@ impl BezierCurveCore {
         copy_into(&c.to_power(), out.as_slice_mut()?)
     }
 
+    /// The polynomial curve of the power-form coefficients `s` (shape (n+1, dim), row j the
+    /// coefficient of t^j): U_n = S_n H_n^-1, (H_n^-1)_ij = C(j,i) / C(n,i) (formula (5)).
+    #[classmethod]
+    fn from_power(
+        _cls: &Bound<'_, PyType>,
+        py: Python<'_>,
+        s: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<Self> {
+        let (_, dim, flat) = matrix(&s)?;
+        py.detach(|| BezierCurve::from_power(dim, flat))
+            .map(Self::polynomial)
+            .map_err(value_error)
+    }
+
     /// Elevation to degree `to` >= n in one step (closed form (8)); the curve is unchanged.
     fn elevate(&self, py: Python<'_>, to: usize) -> PyResult<Self> {
         self.check_target(to)?;
