@@ -239,6 +239,31 @@ def _two_degrees(to: Any) -> tuple[int, int]:
     return (_degree(to[0], "to[0]"), _degree(to[1], "to[1]"))
 
 
+def _surface_parameters(
+    u: ArrayLike, v: ArrayLike, grid: bool
+) -> tuple[NDArray[np.float64], NDArray[np.float64], tuple[int, ...]]:
+    """Surface parameters as two C-contiguous 1-D arrays and the shape of the result's
+    points: on a grid (u and v 1-D, a scalar one value) (len(u), len(v)); at pairs, their
+    broadcast shape (u and v broadcast and flattened)."""
+    us, vs = real_array(u, "u"), real_array(v, "v")
+    if grid:
+        if us.ndim > 1 or vs.ndim > 1:
+            raise ValueError(
+                f"on a grid u and v must be 1-D, got shapes {us.shape} and {vs.shape} "
+                "(use grid=False for pairs)"
+            )
+        us, vs = us.reshape(-1), vs.reshape(-1)
+        shape: tuple[int, ...] = (us.shape[0], vs.shape[0])
+    else:
+        try:
+            us, vs = np.broadcast_arrays(us, vs)
+        except ValueError as e:
+            raise ValueError(f"u and v do not broadcast together: {e}") from None
+        shape = us.shape
+        us, vs = us.reshape(-1), vs.reshape(-1)
+    return np.ascontiguousarray(us), np.ascontiguousarray(vs), shape
+
+
 def _points(points: ArrayLike, name: str, ndim: int) -> NDArray[np.float64]:
     """Control points as a C-contiguous float64 array of `ndim` dimensions, none empty."""
     a = contiguous(points, name)
@@ -1279,29 +1304,49 @@ class BezierSurface(Drawable):
         2.0
         """
         core = self._derived(_order(du, "du"), _order(dv, "dv"))
-        dim = self._core.dim
-        us, vs = real_array(u, "u"), real_array(v, "v")
+        us, vs, shape = _surface_parameters(u, v, grid)
+        out = np.empty(shape + (self._core.dim,))
         if grid:
-            if us.ndim > 1 or vs.ndim > 1:
-                raise ValueError(
-                    f"on a grid u and v must be 1-D, got shapes {us.shape} and {vs.shape} "
-                    "(use grid=False for pairs)"
-                )
-            us = np.ascontiguousarray(us.reshape(-1))
-            vs = np.ascontiguousarray(vs.reshape(-1))
-            out = np.empty((us.shape[0], vs.shape[0], dim))
             core.eval_grid_into(us, vs, out)
-            return out
-        try:
-            bu, bv = np.broadcast_arrays(us, vs)
-        except ValueError as e:
-            raise ValueError(f"u and v do not broadcast together: {e}") from None
-        shape = bu.shape
-        flat_u = np.ascontiguousarray(bu.reshape(-1))
-        flat_v = np.ascontiguousarray(bv.reshape(-1))
-        pts = np.empty((flat_u.shape[0], dim))
-        core.eval_points_into(flat_u, flat_v, pts)
-        return pts.reshape(shape + (dim,))
+        else:
+            core.eval_points_into(us, vs, out.reshape(-1, self._core.dim))
+        return out
+
+    def normal(self, u: ArrayLike, v: ArrayLike, grid: bool = True) -> NDArray[np.float64]:
+        """Unit normals n = (∂p/∂u × ∂p/∂v) / |∂p/∂u × ∂p/∂v| of a surface in R^3.
+
+        Parameters
+        ----------
+        u, v : array_like
+            Parameters (finite), on a grid (1-D each, default) or at pairs (``grid=False``,
+            broadcast together), as for `__call__`.
+        grid : bool, optional
+            Grid or pairs.
+
+        Returns
+        -------
+        ndarray
+            Shape ``(len(u), len(v), 3)`` on a grid, ``broadcast(u, v).shape + (3,)`` at
+            pairs; NaN where the partial derivatives are parallel or vanish (a degenerate
+            point, e.g. a collapsed edge).
+
+        Raises
+        ------
+        ValueError
+            For a surface not in R^3, parameters that are not finite, shapes that do not
+            fit.
+
+        Examples
+        --------
+        >>> from geomkit import BezierSurface
+        >>> s = BezierSurface([[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]])
+        >>> s.normal(0.5, 0.5).tolist()
+        [[[0.0, 0.0, 1.0]]]
+        """
+        us, vs, shape = _surface_parameters(u, v, grid)
+        out = np.empty(shape + (3,))
+        self._core.normals_into(us, vs, grid, out)
+        return out
 
     def derivative(self, du: int = 1, dv: int = 0) -> BezierSurface:
         """The partial-derivative surface ∂^(du+dv) p / ∂u^du ∂v^dv, of degrees

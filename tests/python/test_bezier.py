@@ -457,6 +457,25 @@ def test_surface_evaluation_is_tensor_de_casteljau():
         s([np.nan], [0.5])
 
 
+def test_surface_normals():
+    # p(u, v) = (u, v, u v) on a bilinear net, elevated: n ∝ (-v, -u, 1).
+    s = BezierSurface([[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 1]]]).elevate((3, 2))
+    u, v = np.linspace(0, 1, 5), np.linspace(0, 1, 4)
+    uu, vv = np.meshgrid(u, v, indexing="ij")
+    expected = np.stack([-vv, -uu, np.ones_like(uu)], axis=-1)
+    expected /= np.linalg.norm(expected, axis=-1, keepdims=True)
+    np.testing.assert_allclose(s.normal(u, v), expected, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(s.normal(uu, vv, grid=False), expected, rtol=0, atol=1e-14)
+    # A collapsed edge (all of row 0 one point): ∂p/∂v vanishes at u = 0.
+    cone = BezierSurface([[[0, 0, 1]] * 3, [[1, 0, 0], [1, 1, 0], [0, 1, 0]]])
+    n = cone.normal([0.0, 0.5], [0.5])
+    assert np.isnan(n[0, 0]).all() and np.isfinite(n[1, 0]).all()
+    with pytest.raises(ValueError, match="dimension|R\\^3|expected 3"):
+        BezierSurface(np.zeros((2, 2, 2))).normal(0.5, 0.5)
+    with pytest.raises(ValueError, match="finite"):
+        s.normal([np.inf], [0.5])
+
+
 def test_surface_fig5_and_the_eight_problems():
     """The paper's Fig. 5 situation: a (4, 3) surface on a 5×4 net whose S has a zero
     bottom row (real u-degree 3), reduced to a 4×4 net, then t-degree 3 and τ-degree 6."""

@@ -21,7 +21,7 @@ use geomkit_model::schema::ReductionError;
 use geomkit_model::{AnyModel, BezierModel, ModelFile};
 use numpy::{
     PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyReadwriteArray1, PyReadwriteArray2,
-    PyReadwriteArray3, PyUntypedArrayMethods,
+    PyReadwriteArray3, PyReadwriteArrayDyn, PyUntypedArrayMethods,
 };
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -109,6 +109,18 @@ fn hex_matrix(m: &ExactMatrix) -> HexMatrix {
         }
     }
     (m.rows(), m.cols(), entries)
+}
+
+/// Parameters u and v of pairs (u[k], v[k]): of the same length.
+fn same_length(u: &[f64], v: &[f64]) -> PyResult<()> {
+    if u.len() != v.len() {
+        return Err(PyValueError::new_err(format!(
+            "u and v must have the same length, got {} and {}",
+            u.len(),
+            v.len()
+        )));
+    }
+    Ok(())
 }
 
 /// A parametric direction named "u" or "v".
@@ -655,17 +667,57 @@ impl BezierSurfaceCore {
         mut out: PyReadwriteArray2<'_, f64>,
     ) -> PyResult<()> {
         let (u, v) = (u.as_slice()?, v.as_slice()?);
-        if u.len() != v.len() {
-            return Err(PyValueError::new_err(format!(
-                "u and v must have the same length, got {} and {}",
-                u.len(),
-                v.len()
-            )));
-        }
+        same_length(u, v)?;
         let out = out.as_slice_mut()?;
         py.detach(|| {
             let uv: Vec<f64> = u.iter().zip(v).flat_map(|(&a, &b)| [a, b]).collect();
             self.inner.eval_batch(&uv, out, &BatchOptions::default())
+        })
+        .map_err(value_error)
+    }
+
+    /// Unit normals (∂p/∂u × ∂p/∂v normalized) of a surface in R^3 into `out`: on the grid
+    /// u × v (`grid`, shape (len(u), len(v), 3)) or at the pairs (u[k], v[k]) (shape
+    /// (len(u), 3)); NaN where the partial derivatives are parallel or vanish.
+    fn normals_into(
+        &self,
+        py: Python<'_>,
+        u: PyReadonlyArray1<'_, f64>,
+        v: PyReadonlyArray1<'_, f64>,
+        grid: bool,
+        mut out: PyReadwriteArrayDyn<'_, f64>,
+    ) -> PyResult<()> {
+        let (u, v) = (u.as_slice()?, v.as_slice()?);
+        let out = out.as_slice_mut()?;
+        let pairs: Vec<(f64, f64)> = if grid {
+            u.iter()
+                .flat_map(|&a| v.iter().map(move |&b| (a, b)))
+                .collect()
+        } else {
+            same_length(u, v)?;
+            u.iter().copied().zip(v.iter().copied()).collect()
+        };
+        if out.len() != pairs.len() * 3 {
+            return Err(value_error(geomkit::Error::BufferSize {
+                expected: pairs.len() * 3,
+                got: out.len(),
+            }));
+        }
+        if let Some(k) = pairs
+            .iter()
+            .position(|(a, b)| !(a.is_finite() && b.is_finite()))
+        {
+            return Err(value_error(geomkit::Error::NonFinite {
+                what: "parameter pair",
+                index: k,
+            }));
+        }
+        py.detach(|| {
+            for (&(a, b), o) in pairs.iter().zip(out.chunks_exact_mut(3)) {
+                let n = self.inner.normal(a, b)?;
+                o.copy_from_slice(&n.unwrap_or([f64::NAN; 3]));
+            }
+            Ok(())
         })
         .map_err(value_error)
     }
