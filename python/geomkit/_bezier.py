@@ -2,13 +2,13 @@
 spec/bezier-order.md: Nikulin, 2011), computed by geomkit's Rust library.
 
 - `BezierCurve`: a curve in any dimension, polynomial or rational (weights), formula (1);
-  evaluation and derivatives over arrays, split, power form (5); elevation (6)-(8), exact
+  evaluation and derivatives over arrays, split, power form (5) both ways; elevation (6)-(8), exact
   reduction (9), the unified change (10), the degree report (real degree, defect), the
   best approximation of a lower degree with its error report, the paper's formula (10) as
   written (exact matrices, or naive f64), exact rational results, and the paper's hand
   edits of the control polygon with how far they move the curve.
 - `BezierSurface`: a tensor-product surface over an (n+1)×(m+1) net, formula (11); grid and
-  point evaluation, partial derivatives, the change of degree per direction (14)-(16), its
+  point evaluation, partial derivatives, unit normals, the change of degree per direction (14)-(16), its
   degree report, and the manual change (13) of rows and columns.
 - `degree_change_matrix`, `h_matrix`: the paper's matrices (4), (8), (10), exact as
   `fractions.Fraction` or rounded once to float.

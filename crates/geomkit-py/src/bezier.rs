@@ -184,6 +184,30 @@ impl BezierCurveCore {
         })
     }
 
+    /// The library's error of an exact reduction, its advice made the package's: the best
+    /// approximation is `reduce_approx`, for polynomial curves only.
+    fn exact_reduction_error(&self, e: geomkit::Error) -> PyErr {
+        match e {
+            geomkit::Error::DegreeDefectTooSmall {
+                real_degree,
+                requested,
+                defect,
+            } => {
+                let hint = if self.is_rational() {
+                    "a rational curve reduces exactly only (reduce_approx takes polynomial \
+                     curves)"
+                } else {
+                    "use reduce_approx for the best approximation of that degree"
+                };
+                PyValueError::new_err(format!(
+                    "cannot reduce exactly to degree {requested}: the real degree is \
+                     {real_degree} (degree defect {defect}); {hint}"
+                ))
+            }
+            other => value_error(other),
+        }
+    }
+
     fn as_curve(&self) -> &dyn Curve {
         match &self.inner {
             CurveKind::Polynomial(c) => c,
@@ -394,7 +418,7 @@ impl BezierCurveCore {
             CurveKind::Polynomial(c) => c.reduce_degree(to, tolerance).map(Self::polynomial),
             CurveKind::Rational(r) => r.reduce_degree(to, tolerance).map(Self::rational),
         })
-        .map_err(value_error)
+        .map_err(|e| self.exact_reduction_error(e))
     }
 
     /// The unified change of degree (formula (10) done stably): elevation when `to` >= n,
@@ -411,7 +435,7 @@ impl BezierCurveCore {
             }
             .map(Self::rational),
         })
-        .map_err(value_error)
+        .map_err(|e| self.exact_reduction_error(e))
     }
 
     /// Formal degree, real degree, defect and residuals by the residual test (of the
