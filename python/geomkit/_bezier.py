@@ -309,9 +309,9 @@ def degree_change_matrix(n: int, n_new: int, *, exact: bool = True) -> NDArray[A
     Parameters
     ----------
     n : int
-        The current degree, 0 to ``MAX_PAPER_DEGREE`` (256).
+        The current degree, 0 to ``MAX_PAPER_DEGREE`` (100).
     n_new : int
-        The new degree, 0 to 256.
+        The new degree, 0 to 100.
     exact : bool, optional
         True (default): an object array of `fractions.Fraction`; False: float64 entries,
         each the exact value rounded once.
@@ -323,7 +323,7 @@ def degree_change_matrix(n: int, n_new: int, *, exact: bool = True) -> NDArray[A
     Raises
     ------
     ValueError
-        For a negative degree or one above 256.
+        For a negative degree or one above 100.
     TypeError
         For degrees that are not integers.
 
@@ -349,7 +349,7 @@ def h_matrix(n: int, *, exact: bool = True) -> NDArray[Any]:
     Parameters
     ----------
     n : int
-        The degree, 0 to 256.
+        The degree, 0 to 100.
     exact : bool, optional
         True (default): `fractions.Fraction` entries; False: float64.
 
@@ -360,7 +360,7 @@ def h_matrix(n: int, *, exact: bool = True) -> NDArray[Any]:
     Raises
     ------
     ValueError
-        For a negative degree or one above 256.
+        For a negative degree or one above 100.
 
     Examples
     --------
@@ -929,7 +929,7 @@ class BezierCurve(Drawable):
         Parameters
         ----------
         to : int
-            The new degree (both degrees at most 256).
+            The new degree (both degrees at most 100).
 
         Returns
         -------
@@ -938,7 +938,7 @@ class BezierCurve(Drawable):
         Raises
         ------
         ValueError
-            For a rational curve, a degree above 256, or a result that overflows.
+            For a rational curve, a degree above 100, or a result that overflows.
 
         Examples
         --------
@@ -959,7 +959,7 @@ class BezierCurve(Drawable):
         Parameters
         ----------
         to : int
-            The new degree (both degrees at most 256).
+            The new degree (both degrees at most 100).
 
         Returns
         -------
@@ -969,7 +969,7 @@ class BezierCurve(Drawable):
         Raises
         ------
         ValueError
-            For a rational curve or a degree above 256.
+            For a rational curve or a degree above 100.
 
         Examples
         --------
@@ -996,7 +996,7 @@ class BezierCurve(Drawable):
         Raises
         ------
         ValueError
-            For a rational curve or a degree above 256.
+            For a rational curve or a degree above 100.
 
         Examples
         --------
@@ -1012,7 +1012,7 @@ class BezierCurve(Drawable):
         Parameters
         ----------
         to : int
-            The new degree, at least `real_degree_exact()` (both degrees at most 256).
+            The new degree, at least `real_degree_exact()` (both degrees at most 100).
 
         Returns
         -------
@@ -1022,7 +1022,7 @@ class BezierCurve(Drawable):
         ------
         ValueError
             When `to` is below the exact real degree (the message names it), for a rational
-            curve or a degree above 256.
+            curve or a degree above 100.
 
         Examples
         --------
@@ -1484,7 +1484,7 @@ class BezierSurface(Drawable):
         Parameters
         ----------
         to : (int, int)
-            The new degrees (all degrees at most 256).
+            The new degrees (all degrees at most 100).
 
         Returns
         -------
@@ -1493,7 +1493,7 @@ class BezierSurface(Drawable):
         Raises
         ------
         ValueError
-            For a degree above 256, or a result that overflows.
+            For a degree above 100, or a result that overflows.
 
         Examples
         --------

@@ -651,12 +651,15 @@ def test_bad_arguments():
         c.reduce(3, tolerance=-1.0)
     with pytest.raises(TypeError):
         c.reduce(3, tolerance="small")
-    with pytest.raises(ValueError, match="limit of 256"):
+    with pytest.raises(ValueError, match="limit of 100"):
         c.change_degree_paper(10**6)
-    with pytest.raises(ValueError, match="limit of 256"):
+    with pytest.raises(ValueError, match="limit of 100"):
         c.paper_formula_f64(10**12)
-    with pytest.raises(ValueError, match="limit of 256"):
+    with pytest.raises(ValueError, match="limit of 100"):
         degree_change_matrix(300, 2)
+    with pytest.raises(ValueError, match="limit of 100"):
+        degree_change_matrix(2, 101)
+    assert degree_change_matrix(100, 100)[50, 50] == 1  # the limit itself is served
     with pytest.raises(ValueError, match="limit"):
         BezierCurve(np.zeros((2000, 1))).degree_report()
     with pytest.raises(ValueError):
@@ -683,6 +686,20 @@ def test_elevate_then_reduce_gives_back_the_points(n, extra, dim, seed):
     np.testing.assert_allclose(back.points, pts, rtol=0, atol=1e-11 * np.abs(pts).max())
     t = np.linspace(0, 1, 17)
     np.testing.assert_allclose(e(t), c(t), rtol=0, atol=1e-12 * np.abs(pts).max())
+
+
+@given(
+    n=st.integers(0, 6), m=st.integers(0, 6), up_u=st.integers(0, 5), up_v=st.integers(0, 5),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_surface_elevate_then_reduce_gives_back_the_net(n, m, up_u, up_v, seed):
+    net = np.random.default_rng(seed).uniform(-10, 10, size=(n + 1, m + 1, 3))
+    s = BezierSurface(net)
+    e = s.change_degree((n + up_u, m + up_v))
+    assert e.degree_report().real_degree == s.degree_report().real_degree
+    np.testing.assert_allclose(e.reduce((n, m)).net, net, rtol=0, atol=1e-11 * 10)
+    u = np.linspace(0, 1, 5)
+    np.testing.assert_allclose(e(u, u), s(u, u), rtol=0, atol=1e-12 * 10)
 
 
 def test_threads_give_the_same_bits():
