@@ -575,6 +575,14 @@ def test_files_the_cli_writes(tmp_path):
     red, err = q.reduce_approx(2, continuity=(0, 0))
     assert approx == red
     assert approx.reduction_error == ReductionError(err.l2, err.linf_bound)
+    degree = subprocess.run([str(CLI), "bezier", "degree", "--json", str(src)], check=True,
+                            capture_output=True, text=True).stdout
+    r = q.degree_report()
+    assert json.loads(degree) == {"degree": r.degree, "real_degree": r.real_degree,
+                                  "defect": r.defect}
+    arc = BezierCurve([[1.0, 0.0], [1.0, 1.0], [0.0, 1.0]], weights=[1.0, 0.5**0.5, 1.0])
+    arc.save(src)
+    assert cli("elevate", "--to", "5") == arc.elevate(5)
     src.write_text(json.dumps({"type": "bezier_surface",
                                "net": np.arange(18.0).reshape(3, 2, 3).tolist()}))
     s = cli("elevate", "--to", "4,3")
