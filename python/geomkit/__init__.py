@@ -29,6 +29,7 @@ Examples
 True
 """
 
+from ._bezier import BezierCurve, BezierSurface, degree_change_matrix, h_matrix
 from ._bspline import BSpline, make_interp_spline
 from ._model import Drawable, Model, load, loads
 from ._splprep import make_splprep
@@ -41,10 +42,15 @@ from ._compose import Body, CompositeSurface, ContinuityReport, Evaluator, Jump,
 
 __all__ = [
     "BSpline",
+<<<<<<< HEAD
     "BSplineSurface",
     "Body",
     "CompositeSurface",
     "ContinuityReport",
+=======
+    "BezierCurve",
+    "BezierSurface",
+>>>>>>> wp-py-bezier
     "Drawable",
     "Evaluator",
     "Jump",
@@ -54,9 +60,14 @@ __all__ = [
     "Piecewise",
     "Polyline",
     "RectBivariateSpline",
+<<<<<<< HEAD
     "RuledReport",
     "RuledSurface",
     "body",
+=======
+    "degree_change_matrix",
+    "h_matrix",
+>>>>>>> wp-py-bezier
     "load",
     "loads",
     "make_interp_spline",
