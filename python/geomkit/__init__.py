@@ -1,23 +1,26 @@
-"""geomkit: geometric modeling at Rust speed.
+"""geomkit: geometric modeling of curves and surfaces at Rust speed.
 
-This first part of the Python package (issue 23, part 1) gives SciPy's interpolating
-B-splines, with SciPy's names, signatures, attributes and semantics, computed by geomkit's
-Rust library with the GIL released:
+The four methods of geomkit's Rust library, with NumPy arrays in and out and the GIL
+released during every computation over arrays:
 
-- `make_interp_spline` (``scipy.interpolate.make_interp_spline``): degrees 0 to 7, every
-  ``bc_type`` form, any shape of ``y`` with ``axis``;
-- `BSpline` (``scipy.interpolate.BSpline``): evaluation with derivatives and the three
-  extrapolation modes, ``derivative``, ``antiderivative``, ``integrate``, ``insert_knot``,
-  ``to_scipy`` / ``from_scipy``, pickling;
-- `RectBivariateSpline` (``scipy.interpolate.RectBivariateSpline`` with ``s=0``):
-  grid and point evaluation with partial derivatives, ``ev``, ``integral``,
-  ``get_knots``, ``get_coeffs``, pickling;
-- `make_splprep` (``scipy.interpolate.make_splprep`` with ``s=0``): the interpolating
-  parametric curve through points of any dimension, plus geomkit's ``param`` keyword
-  ('chord', 'centripetal', 'uniform').
+1. Bézier change of degree (`BezierCurve`, rational too, and `BezierSurface`): elevation,
+   exact reduction down to the real degree, the degree report, the best approximate
+   reduction with its error report, the paper's matrices (`degree_change_matrix`,
+   `h_matrix`, exact as fractions), vertex, row and column edits.
+2. Interpolating B-splines, SciPy-shaped: `make_interp_spline` / `BSpline`,
+   `RectBivariateSpline`, `make_splprep` with SciPy's names, signatures and semantics, and
+   the parametric surface through an M x N grid of points (`make_interp_surface`,
+   `BSplineSurface`).
+3. Single analytic formulas of composite shapes: closed bodies (`body`), composite surfaces
+   of patches, piecewise-ruled surfaces, piecewise functions and curves, printed in 11
+   syntaxes (``.formula(fmt)``), as SymPy expressions (``.to_sympy()``) and as a compiled
+   evaluator over NumPy arrays (``.evaluator()``).
+4. Point calculus: k-factor models through experimental points (`PointModel`) with shares,
+   certified optimum and formulas, and point-equation curves and surfaces.
 
-Not yet here (the rest of issue 23): Bézier curves and surfaces, composite formulas, point
-calculus, meshes and pictures, model files.
+Every model object is `Drawable`: ``.mesh()``, ``.write("x.glb")`` (also .stl, .obj,
+.ply), ``.render("x.png")``, ``.svg()``, ``.png()``, its picture in Jupyter, and
+``.save(path)`` to the model files of the CLI, which `load` reads back.
 
 Examples
 --------
@@ -27,50 +30,36 @@ Examples
 >>> s = geomkit.make_interp_spline(x, np.sin(x), k=5, bc_type="periodic")
 >>> bool(np.allclose(s(x), np.sin(x), atol=1e-15))
 True
+>>> geomkit.BezierCurve([[0, 0], [1, 2], [2, 0]]).elevate(4).degree
+4
 """
 
-from ._bezier import BezierCurve, BezierSurface, degree_change_matrix, h_matrix
+from ._bezier import *  # noqa: F403
+from ._bezier import __all__ as _bezier_all
 from ._bspline import BSpline, make_interp_spline
-from ._model import Drawable, Model, load, loads
+from ._compose import *  # noqa: F403
+from ._compose import __all__ as _compose_all
+from ._model import Drawable, Mesh, MeshReport, Model, Polyline, load, loads
+from ._netsurface import BSplineSurface, make_interp_surface
 from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
-from ._netsurface import BSplineSurface, make_interp_surface
-from ._model import Mesh, MeshReport, Polyline  # meshes and pictures (issue 23)
 
-# --- composite formulas (method 3): python/geomkit/_compose.py
-from ._compose import Body, CompositeSurface, ContinuityReport, Evaluator, Jump, Piecewise, RuledReport, RuledSurface, body  # noqa: E501
-
-__all__ = [
-    "BSpline",
-<<<<<<< HEAD
-    "BSplineSurface",
-    "Body",
-    "CompositeSurface",
-    "ContinuityReport",
-=======
-    "BezierCurve",
-    "BezierSurface",
->>>>>>> wp-py-bezier
-    "Drawable",
-    "Evaluator",
-    "Jump",
-    "Mesh",
-    "MeshReport",
-    "Model",
-    "Piecewise",
-    "Polyline",
-    "RectBivariateSpline",
-<<<<<<< HEAD
-    "RuledReport",
-    "RuledSurface",
-    "body",
-=======
-    "degree_change_matrix",
-    "h_matrix",
->>>>>>> wp-py-bezier
-    "load",
-    "loads",
-    "make_interp_spline",
-    "make_interp_surface",
-    "make_splprep",
-]
+__all__ = sorted(
+    [
+        "BSpline",
+        "BSplineSurface",
+        "Drawable",
+        "Mesh",
+        "MeshReport",
+        "Model",
+        "Polyline",
+        "RectBivariateSpline",
+        "load",
+        "loads",
+        "make_interp_spline",
+        "make_interp_surface",
+        "make_splprep",
+        *_bezier_all,
+        *_compose_all,
+    ]
+)
