@@ -91,7 +91,9 @@ class BSpline(Drawable):
     1.0
     """
 
-    __slots__ = ("_core", "_knots", "_coefs", "k", "extrapolate", "axis", "_trailing", "_pad")
+    __slots__ = ("_core", "_knots", "_coefs", "k", "extrapolate", "axis", "_trailing", "_pad",
+                 "_source")
+    _source: _geomkit.Model | None
 
     def __init__(
         self,
@@ -169,6 +171,7 @@ class BSpline(Drawable):
         self._knots = t
         self._coefs = c
         self._pad = pad
+        self._source = None
 
     @classmethod
     def _from_core(cls, core: _geomkit.Curve, extrapolate: bool | str, axis: int,
@@ -182,10 +185,12 @@ class BSpline(Drawable):
         """The spline of a ``bspline_curve`` model file (coefficients of shape (n,) for a
         curve of dimension 1, else (n, dim))."""
         core = _geomkit.Curve.from_model(model)
-        return cls._from_core(core, True, 0, () if core.dim == 1 else (core.dim,))
+        self = cls._from_core(core, True, 0, () if core.dim == 1 else (core.dim,))
+        self._source = model  # saved as read (with the parameters of its points)
+        return self
 
     def _model(self) -> _geomkit.Model:
-        return self._core.model()
+        return self._source if self._source is not None else self._core.model()
 
     # -- SciPy's attributes ---------------------------------------------------------------
     @property

@@ -33,11 +33,12 @@ class BSplineSurface(Drawable):
         surface read from a file without them).
     """
 
-    __slots__ = ("_core", "degrees", "params_u", "params_v")
+    __slots__ = ("_core", "degrees", "params_u", "params_v", "_source")
     _core: _geomkit.Surface
     degrees: tuple[int, int]
     params_u: NDArray[np.float64] | None
     params_v: NDArray[np.float64] | None
+    _source: _geomkit.Model | None
 
     def __init__(self) -> None:
         raise TypeError("make a BSplineSurface with geomkit.make_interp_surface or geomkit.load")
@@ -50,6 +51,7 @@ class BSplineSurface(Drawable):
         self.degrees = core.degrees
         self.params_u = params_u
         self.params_v = params_v
+        self._source = None
         return self
 
     @classmethod
@@ -61,10 +63,19 @@ class BSplineSurface(Drawable):
         try:
             return RectBivariateSpline._from_model(model)
         except ValueError:
-            return cls._from_core(_geomkit.Surface.from_model_any(model), None, None)
+            params = _geomkit.surface_grid_parameters(model)
+            pu, pv = (None, None) if params is None else (np.array(params[0]),
+                                                           np.array(params[1]))
+            self = cls._from_core(_geomkit.Surface.from_model_any(model), pu, pv)
+            self._source = model  # saved as read (with the parameters of its points)
+            return self
 
     def _model(self) -> _geomkit.Model:
-        return self._core.model()
+        if self._source is not None:
+            return self._source
+        if self.params_u is None or self.params_v is None:
+            return self._core.model()
+        return self._core.model(self.params_u.tolist(), self.params_v.tolist())
 
     @property
     def dim(self) -> int:

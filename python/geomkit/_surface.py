@@ -75,7 +75,8 @@ class RectBivariateSpline(Drawable):
     True
     """
 
-    __slots__ = ("_core", "_tck", "degrees")
+    __slots__ = ("_core", "_tck", "degrees", "_source")
+    _source: _geomkit.Model | None
     _core: _geomkit.Surface
     _tck: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]] | None
     degrees: tuple[int, int]
@@ -122,6 +123,7 @@ class RectBivariateSpline(Drawable):
         self._core = _geomkit.make_interp_surface_heights(x, y, z, kx, ky)
         self._tck = None
         self.degrees = (kx, ky)
+        self._source = None
 
     @classmethod
     def _from_tck(cls, tck: Any, degrees: Any) -> RectBivariateSpline:
@@ -140,6 +142,7 @@ class RectBivariateSpline(Drawable):
         self._core = _geomkit.Surface(tx, ty, c.reshape(shape), kx, ky)
         self._tck = None
         self.degrees = (kx, ky)
+        self._source = None
         return self
 
     @classmethod
@@ -149,10 +152,11 @@ class RectBivariateSpline(Drawable):
         self._core = _geomkit.Surface.from_model(model)
         self._tck = None
         self.degrees = self._core.degrees
+        self._source = model  # saved as read (with the parameters of its points)
         return self
 
     def _model(self) -> _geomkit.Model:
-        return self._core.model()
+        return self._source if self._source is not None else self._core.model()
 
     @property
     def fp(self) -> float:

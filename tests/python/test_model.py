@@ -262,7 +262,7 @@ def read_all(path: Path) -> dict[str, tuple[int, int]]:
 
 def test_cube_mesh_arrays_and_exact_volume(cli_files):
     cube = geomkit.load(cli_files["cube"])
-    assert isinstance(cube, geomkit.Model)
+    assert isinstance(cube, geomkit.Drawable)
     mesh = cube.mesh()
     assert isinstance(mesh, geomkit.Mesh)
     v, f, n = mesh.vertices, mesh.faces, mesh.normals

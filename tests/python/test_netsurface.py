@@ -87,8 +87,13 @@ def test_save_load_pickle_and_mesh(tmp_path) -> None:  # type: ignore[no-untyped
     assert np.array_equal(again.params_u, s.params_u)
     uv = np.linspace(0, 6, 7), np.linspace(0, 8, 5)
     assert np.array_equal(again(*uv), s(*uv))
-    mesh = s.mesh(samples=(6, 5))
-    assert mesh.vertices.shape == (30, 3)
+    # The file has the grid parameters, as the CLI's `interpolate surface` writes them.
+    assert np.array_equal(back.params_u, s.params_u)
+    # Meshed: vertices on the surface's bounding box of dense samples.
+    dense = s(np.linspace(0, 6, 61), np.linspace(0, 8, 81)).reshape(-1, 3)
+    mesh = s.mesh(tolerance=1e-3)
+    lo, hi = dense.min(axis=0), dense.max(axis=0)
+    assert np.all(mesh.vertices >= lo - 1e-3) and np.all(mesh.vertices <= hi + 1e-3)
     # A height surface file still loads as SciPy's class.
     h = geomkit.RectBivariateSpline(np.arange(5.0), np.arange(6.0), np.ones((5, 6)))
     h.save(tmp_path / "h.json")

@@ -25,6 +25,7 @@ use numpy::{
 };
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyType;
 
 mod bezier;
 mod compose;
@@ -188,8 +189,8 @@ impl Curve {
     }
 
     /// The curve of a `bspline_curve` model.
-    #[staticmethod]
-    fn from_model(m: &model::Model) -> PyResult<Curve> {
+    #[classmethod]
+    fn from_model(_cls: &Bound<'_, PyType>, m: &model::Model) -> PyResult<Curve> {
         match &m.model {
             AnyModel::BsplineCurve(c) => Ok(Curve {
                 inner: c.curve.clone(),
@@ -393,15 +394,21 @@ impl Surface {
         .map_err(value_error)
     }
 
-    /// The model file of the surface (`bspline_surface`, heights), for saving, meshing and
-    /// drawing.
-    fn model(&self) -> PyResult<model::Model> {
-        model::Model::from_file(BsplineSurfaceModel::file_of(&self.inner, None))
+    /// The model file of the surface (`bspline_surface`), with the parameters of the grid
+    /// of points it passes through if given, for saving, meshing and drawing.
+    #[pyo3(signature = (params_u=None, params_v=None))]
+    fn model(
+        &self,
+        params_u: Option<Vec<f64>>,
+        params_v: Option<Vec<f64>>,
+    ) -> PyResult<model::Model> {
+        let params = params_u.as_deref().zip(params_v.as_deref());
+        model::Model::from_file(BsplineSurfaceModel::file_of(&self.inner, params))
     }
 
     /// The surface of any `bspline_surface` model.
-    #[staticmethod]
-    fn from_model_any(m: &model::Model) -> PyResult<Surface> {
+    #[classmethod]
+    fn from_model_any(_cls: &Bound<'_, PyType>, m: &model::Model) -> PyResult<Surface> {
         match &m.model {
             AnyModel::BsplineSurface(s) => Ok(Surface {
                 inner: s.surface.clone(),
@@ -414,8 +421,8 @@ impl Surface {
     }
 
     /// The surface of a `bspline_surface` model of heights (dimension 1, degrees 1 to 7).
-    #[staticmethod]
-    fn from_model(m: &model::Model) -> PyResult<Surface> {
+    #[classmethod]
+    fn from_model(_cls: &Bound<'_, PyType>, m: &model::Model) -> PyResult<Surface> {
         let AnyModel::BsplineSurface(s) = &m.model else {
             return Err(PyValueError::new_err(format!(
                 "a {} is not a B-spline surface",
@@ -549,6 +556,16 @@ fn interpolate_grid(
     ))
 }
 
+/// The parameters of the grid rows and columns a `bspline_surface` model passes through, if
+/// its file has them.
+#[pyfunction]
+fn surface_grid_parameters(m: &model::Model) -> Option<(Vec<f64>, Vec<f64>)> {
+    match &m.model {
+        AnyModel::BsplineSurface(s) => s.parameters.clone(),
+        _ => None,
+    }
+}
+
 /// The module `geomkit._geomkit`.
 #[pymodule]
 fn _geomkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -557,6 +574,7 @@ fn _geomkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(make_interp_spline_curve, m)?)?;
     m.add_function(wrap_pyfunction!(make_interp_surface_heights, m)?)?;
     m.add_function(wrap_pyfunction!(interpolate_grid, m)?)?;
+    m.add_function(wrap_pyfunction!(surface_grid_parameters, m)?)?;
     m.add("MAX_SPLINE_DEGREE", geomkit::bspline::MAX_SPLINE_DEGREE)?;
     m.add("MAX_DEGREE", BsplineCurve::MAX_DEGREE)?;
     model::register(m)?;
