@@ -31,6 +31,8 @@ True
 
 from ._bspline import BSpline, make_interp_spline
 from ._model import Drawable, Model, load, loads
+from ._pointcalc import (Optimum, PointCurve, PointCurveSamples, PointModel, PointSurface,
+                         PointSurfaceSamples, point_curve, point_surface)
 from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
 
@@ -38,9 +40,17 @@ __all__ = [
     "BSpline",
     "Drawable",
     "Model",
+    "Optimum",
+    "PointCurve",
+    "PointCurveSamples",
+    "PointModel",
+    "PointSurface",
+    "PointSurfaceSamples",
     "RectBivariateSpline",
     "load",
     "loads",
     "make_interp_spline",
     "make_splprep",
+    "point_curve",
+    "point_surface",
 ]
