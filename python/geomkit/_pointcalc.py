@@ -927,6 +927,12 @@ class PointCurve(Drawable):
         ------
         ValueError
             For NaN or infinite parameters, a point beyond float64.
+
+        Examples
+        --------
+        >>> from geomkit import point_curve
+        >>> point_curve([[0.0, 0.0], [1.0, 1.0]])([0.0, 0.25]).tolist()
+        [[0.0, 0.0], [0.25, 0.25]]
         """
         ts = real_array(t, "t")
         out = np.empty((ts.size, self.dim))
@@ -1233,6 +1239,12 @@ class PointSurface(Drawable):
         ------
         ValueError
             For NaN or infinite parameters, a point beyond float64.
+
+        Examples
+        --------
+        >>> from geomkit import point_surface
+        >>> point_surface([[0.0, 1.0], [2.0, 3.0]])([0.0, 0.5], 0.5)[:, 0].tolist()
+        [1.0, 1.5]
         """
         uu, vv = np.broadcast_arrays(real_array(u, "u"), real_array(v, "v"))
         shape = uu.shape
@@ -1257,6 +1269,14 @@ class PointSurface(Drawable):
         ------
         ValueError
             For NaN or infinite parameters, a point beyond float64.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from geomkit import point_surface
+        >>> s = point_surface(np.arange(9.0).reshape(3, 3))
+        >>> s.grid([0.0, 1.0], [0.0, 0.5, 1.0])[..., 0].tolist()
+        [[0.0, 3.0, 6.0], [2.0, 5.0, 8.0]]
         """
         uu = contiguous(u, "u").reshape(-1)
         vv = contiguous(v, "v").reshape(-1)
@@ -1282,6 +1302,14 @@ class PointSurface(Drawable):
         ------
         ValueError
             For NaN or infinite parameters.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from geomkit import point_surface
+        >>> a = point_surface(np.ones((3, 3)), printed=True).shares(0.5, 0.5)
+        >>> round(float(a[0][0]), 15), float(sum(r.sum() for r in a))
+        (0.0625, 1.15625)
         """
         rows = self._core.shares(real_scalar(u, "u"), real_scalar(v, "v"))
         return [np.array(r) for r in rows]
@@ -1304,6 +1332,14 @@ class PointSurface(Drawable):
         ValueError
             For an unknown syntax, the printed geomatrix (no formula), a coefficient
             beyond float64.
+
+        Examples
+        --------
+        >>> from geomkit import point_surface
+        >>> print(point_surface([[0.0, 1.0], [2.0, 3.0]]).formula("sympy"), end="")
+        from sympy import *
+        u, v = symbols("u v")
+        x = u*(-v + 1) + v*(u + 2.0)
         """
         return self._core.formula(_format(fmt))
 

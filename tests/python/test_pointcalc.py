@@ -506,3 +506,14 @@ def test_compiled_module_refuses_what_it_cannot_read():
 def test_docstring_examples_run():
     result = doctest.testmod(_pointcalc, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert result.attempted >= 15 and result.failed == 0
+
+
+def test_the_gil_is_released_during_evaluation():
+    from test_package import _seen_inside
+
+    rng = np.random.default_rng(2)
+    m = geomkit.PointModel.fit({"a": "cheb1:30", "b": "cheb1:30", "c": "cheb1:30"},
+                               rng.normal(size=(30, 30, 30)))
+    x = rng.uniform(0, 1, size=(300_000, 3))
+    seen = _seen_inside(lambda: m.eval(x), geomkit.PointModel.eval, "eval_into(")
+    assert seen > 20, seen
