@@ -593,11 +593,13 @@ class PointModel(Drawable):
         ----------
         x : array_like, shape (n, k) or (k,); or a pandas DataFrame; or a mapping
             The points: rows of factor values in the order of `factors`; a DataFrame (or a
-            mapping of arrays) with a column per factor name, in any order.
+            mapping of arrays) with a column per factor name, in any order. For a model of
+            one factor, shape (n,) is n points and a number is one.
 
         Returns
         -------
-        ndarray, shape (n, len(responses)), or (len(responses),) for one point of shape (k,)
+        ndarray, shape (n, len(responses)), or (len(responses),) for one point (shape (k,),
+        or a number for one factor)
 
         Raises
         ------
@@ -620,9 +622,10 @@ class PointModel(Drawable):
         """
         xs = self._points(x, "x")
         k = len(self.factors)
-        single = xs.ndim == 1
-        if single:
-            xs = xs.reshape(1, -1)
+        # One point: (k,) values, or a number for a one-factor model (where (n,) are n points).
+        single = xs.ndim == 1 and (k > 1 or np.ndim(x) == 0)
+        if xs.ndim == 1:
+            xs = xs.reshape(1, -1) if single else xs.reshape(-1, 1)
         if xs.ndim != 2 or xs.shape[1] != k:
             raise ValueError(f"x has shape {xs.shape}; expected (n, {k}) rows of the factors "
                              f"{', '.join(self.factors)}")

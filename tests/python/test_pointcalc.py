@@ -311,6 +311,17 @@ def test_dataframe_and_array_paths_give_identical_bits():
         geomkit.PointModel.from_dataframe(x, factors=["a"], response=["y"])
 
 
+def test_one_factor_models_take_a_vector_of_points():
+    m = geomkit.PointModel.fit({"t": [F(0), F(1, 3), F(1)]}, [1.0, 4.0, 0.0])
+    t = np.array([0.0, 0.25, F(1, 3), 0.5])
+    want = [float(sum(lagrange([F(0), F(1, 3), F(1)], j, F(x)) * y
+                      for j, y in enumerate([1, 4, 0]))) for x in t]
+    np.testing.assert_allclose(m.eval(t.astype(float))[:, 0], want, rtol=1e-15)
+    assert m.eval(t.astype(float)).shape == (4, 1)
+    assert m.eval(1 / 3).tolist() == [4.0]
+    assert m(np.array([[0.0], [1.0]])).tolist() == [[1.0], [0.0]]
+
+
 def test_exact_nodes_match_data_levels_as_the_cli():
     x = np.array([[0.0], [0.3333333333333], [1.0]])
     m = geomkit.PointModel.from_records(x, [1.0, 2.0, 0.0], factor_names=["t"],
@@ -347,6 +358,14 @@ def test_round_trip_with_files_the_cli_writes(tmp_path):
     assert out[0] == "a,b,y,w"
     cli = np.array([[float(v) for v in line.split(",")][2:] for line in out[1:]])
     assert np.array_equal(cli, ours.eval(at))
+    # The CLI's shares and formulas of our saved model: the same numbers and text.
+    cli_shares = json.loads(_cli("pointcalc", "shares", "ours.json", "--at", "b=1.25,a=0.5",
+                                 cwd=tmp_path))["shares"]
+    assert [s["share"] for s in cli_shares] == ours.shares({"a": 0.5, "b": 1.25}).ravel().tolist()
+    assert cli_shares[1]["point"] == {"a": 0.0, "b": 2.0}
+    for fmt in ("numpy", "sympy", "latex", "c"):
+        assert _cli("pointcalc", "formula", "ours.json", "--format", fmt, cwd=tmp_path) == \
+            ours.formula(fmt)
     # The optimum of the CLI and ours.
     single = geomkit.PointModel.fit({"a": [F(0), F(1, 4), F(1)], "b": b},
                                     np.array([[x * x - y / 3 for y in b] for x in a]))
@@ -363,6 +382,8 @@ def test_curve_and_surface_sample_files_are_the_clis(tmp_path):
          cwd=tmp_path)
     theirs = geomkit.load(tmp_path / "c.json")
     curve = geomkit.point_curve(points, nodes="cheb2:4", samples=33)
+    assert _cli("pointcalc", "formula", "p.json", "--nodes", "cheb2:4", "--format", "maple",
+                cwd=tmp_path) == curve.formula("maple")
     assert isinstance(theirs, geomkit.PointCurveSamples)
     assert json.loads(curve.to_json()) == json.loads(theirs.to_json())
     np.testing.assert_array_equal(theirs.points, curve(theirs.t))
