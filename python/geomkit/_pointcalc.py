@@ -190,6 +190,16 @@ def _columns(df: Any, names: Sequence[str], what: str) -> F64:
     return np.ascontiguousarray(np.stack(cols, axis=1) if cols else np.empty((len(df), 0)))
 
 
+def _response_names(names: Any, r: int) -> list[str]:
+    """The names of r responses: given, or ``y`` / ``y1, y2, ...``."""
+    if names is None:
+        return ["y"] if r == 1 else [f"y{i + 1}" for i in range(r)]
+    out = _names(names, "response_names")
+    if len(out) != r:
+        raise ValueError(f"{len(out)} response names for {r} responses")
+    return out
+
+
 def _names(names: Any, what: str) -> list[str]:
     if isinstance(names, str):
         return [names]
@@ -359,12 +369,7 @@ class PointModel(Drawable):
             raise ValueError(
                 f"response has shape {values.shape}; the levels make a grid of shape {shape} "
                 f"(or {shape + ('r',)} for r responses)")
-        if response_names is None:
-            responses = ["y"] if r == 1 else [f"y{i + 1}" for i in range(r)]
-        else:
-            responses = _names(response_names, "response_names")
-            if len(responses) != r:
-                raise ValueError(f"{len(responses)} response names for {r} responses")
+        responses = _response_names(response_names, r)
         _check_finite(values, "response")
         flat = np.ascontiguousarray(values).reshape(-1)
         core = _geomkit.PointcalcModel.from_grid(
@@ -436,12 +441,7 @@ class PointModel(Drawable):
                  else [f"x{i + 1}" for i in range(k)])
         if len(names) != k:
             raise ValueError(f"{len(names)} factor names for {k} factor columns")
-        if response_names is None:
-            responses = ["y"] if r == 1 else [f"y{i + 1}" for i in range(r)]
-        else:
-            responses = _names(response_names, "response_names")
-            if len(responses) != r:
-                raise ValueError(f"{len(responses)} response names for {r} responses")
+        responses = _response_names(response_names, r)
         return cls._records(names, responses, np.hstack([xs, ys]), nodes, strict, lebesgue_limit)
 
     @classmethod
@@ -750,6 +750,160 @@ class PointModel(Drawable):
             bool(maximize), tol, boxes, min(work, 2**64 - 1))
         return Optimum(value=value, location=np.array(at), bound=bound, gap=gap,
                        certified=certified, boxes=examined, factors=self.factors)
+
+    # --- changing the model without a solve (spec §4) -----------------------------------
+
+    def _factor(self, name: str) -> int:
+        if not isinstance(name, str):
+            raise TypeError(f"factor must be a factor name (str), got {type(name).__name__}")
+        if name not in self.factors:
+            raise ValueError(f"{name!r} is not one of the factors ({', '.join(self.factors)})")
+        return self.factors.index(name)
+
+    def _level(self, name: str, level: int) -> int:
+        n = self.shape[self._factor(name)]
+        i = index(level, "level")
+        if not 0 <= i < n:
+            raise ValueError(f"level {i} of factor {name!r}: it has {n} levels (0 to {n - 1})")
+        return i
+
+    def fix(self, factor: str, value: float) -> PointModel:
+        """The model with one factor fixed at a value and removed: the section of the
+        hypersurface there, a model over the other factors (spec §4, fewer factors without
+        rebuilding the model).
+
+        Parameters
+        ----------
+        factor : str
+            The factor's name.
+        value : float
+            Its value (any, also between or outside its levels).
+
+        Returns
+        -------
+        PointModel
+            Over the other factors: ``fix(f, x).eval(rest) == eval(with f = x)``.
+
+        Raises
+        ------
+        ValueError
+            For an unknown factor, the only factor, a non-finite value, a section beyond
+            float64.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from geomkit import PointModel
+        >>> a, b = [0.0, 0.5, 1.0], [0.0, 1.0]
+        >>> m = PointModel.fit({"a": a, "b": b}, np.add.outer(np.square(a), b))
+        >>> m.fix("a", 0.25).factors, m.fix("a", 0.25).eval([[0.5]]).tolist()
+        (('b',), [[0.5625]])
+        """
+        f = self._factor(factor)
+        return PointModel(self._core.fix_factor(f, real_scalar(value, "value")))
+
+    def section(self, factor: str, level: int) -> PointModel:
+        """The model with one factor removed by keeping one of its levels (the experiments
+        at that level, as a model over the other factors).
+
+        Parameters
+        ----------
+        factor : str
+            The factor's name.
+        level : int
+            The index of the level kept (0 to ``shape[f] - 1``).
+
+        Returns
+        -------
+        PointModel
+
+        Raises
+        ------
+        ValueError
+            For an unknown factor or level, the only factor.
+
+        Examples
+        --------
+        >>> from geomkit import PointModel
+        >>> m = PointModel.fit({"a": [0.0, 1.0], "b": [0.0, 1.0]}, [[1.0, 2.0], [3.0, 4.0]])
+        >>> m.section("a", 1).values[..., 0].tolist()
+        [3.0, 4.0]
+        """
+        f = self._factor(factor)
+        return PointModel(self._core.remove_factor(f, self._level(factor, level)))
+
+    def without_level(self, factor: str, level: int) -> PointModel:
+        """The model without one level of a factor and its experiments (spec §4, fewer
+        points without rebuilding: only that factor's nodes change).
+
+        Parameters
+        ----------
+        factor : str
+            The factor's name.
+        level : int
+            The index of the level removed.
+
+        Returns
+        -------
+        PointModel
+
+        Raises
+        ------
+        ValueError
+            For an unknown factor or level, the factor's last level.
+
+        Examples
+        --------
+        >>> from geomkit import PointModel
+        >>> m = PointModel.fit({"t": [0.0, 0.5, 1.0]}, [0.0, 1.0, 0.0])
+        >>> m.without_level("t", 1).levels["t"].tolist()
+        [0.0, 1.0]
+        """
+        f = self._factor(factor)
+        return PointModel(self._core.remove_level(f, self._level(factor, level)))
+
+    def with_level(self, factor: str, value: float, responses: ArrayLike) -> PointModel:
+        """The model with a new level of a factor and the responses of its experiments
+        (spec §4, more points without rebuilding).
+
+        Parameters
+        ----------
+        factor : str
+            The factor's name.
+        value : float
+            The new level (not one of the factor's levels).
+        responses : array_like
+            The responses at the new level over the grid of the other factors: shape
+            (the other factors' level counts) for one response, plus a last axis of r.
+
+        Returns
+        -------
+        PointModel
+
+        Raises
+        ------
+        ValueError
+            For an unknown factor, a level already there, responses of another shape, NaN
+            or infinite values.
+
+        Examples
+        --------
+        >>> from geomkit import PointModel
+        >>> m = PointModel.fit({"t": [0.0, 1.0]}, [0.0, 1.0])
+        >>> m.with_level("t", 2.0, [4.0]).eval(1.5).tolist()
+        [2.25]
+        """
+        f = self._factor(factor)
+        rest = tuple(n for i, n in enumerate(self.shape) if i != f)
+        r = len(self.responses)
+        ys = real_array(responses, "responses")
+        if ys.shape not in (rest + (r,), rest if r == 1 else None):
+            want = rest + (r,) if r > 1 else rest
+            raise ValueError(f"responses has shape {ys.shape}; the other factors make a grid "
+                             f"of shape {want}")
+        _check_finite(ys, "responses")
+        return PointModel(self._core.add_level(f, real_scalar(value, "value"),
+                                               np.ascontiguousarray(ys).reshape(-1)))
 
     def formula(self, fmt: str = "numpy") -> str:
         """The model as one formula per response (``geomkit pointcalc formula``): the point

@@ -522,6 +522,10 @@ def test_compiled_module_refuses_what_it_cannot_read():
         m.eval_into(np.zeros((2, 2)), np.empty((2, 1)))
     with pytest.raises(ValueError, match="pointcalc-model"):
         _geomkit.PointcalcModel.from_model(curve.samples_model(5))
+    # A grid of 1.25 * 10^11 numbers is refused before anything is allocated.
+    big = _geomkit.PointNodes.preset("cheb1", 5000, 0.0, 1.0)
+    with pytest.raises(ValueError, match="10\\^8|100000000|at most"):
+        _geomkit.PointcalcModel.from_grid(["a", "b", "c"], [big] * 3, ["y"], np.ones(3))
 
 
 def test_docstring_examples_run():
@@ -538,3 +542,35 @@ def test_the_gil_is_released_during_evaluation():
     x = rng.uniform(0, 1, size=(300_000, 3))
     seen = _seen_inside(lambda: m.eval(x), geomkit.PointModel.eval, "eval_into(")
     assert seen > 20, seen
+
+
+def test_changing_factors_and_levels_without_a_solve():
+    m, (a, b, c), values = _model_3d()
+    rng = np.random.default_rng(9)
+    rest = rng.uniform(-1, 3, size=(10, 2))
+    # Fixing a factor: the section of the model there.
+    fixed = m.fix("b", 1.25)
+    assert fixed.factors == ("a", "c") and fixed.responses == ("y", "z")
+    full = np.column_stack([rest[:, 0], np.full(10, 1.25), rest[:, 1]])
+    np.testing.assert_allclose(fixed.eval(rest), m.eval(full), rtol=1e-12, atol=1e-12)
+    # Keeping one level: its experiments.
+    assert np.array_equal(m.section("a", 2).values, values[2])
+    # Removing a level: the model through the other experiments, as if fitted without it.
+    fewer = m.without_level("b", 1)
+    refit = geomkit.PointModel.fit({"a": a, "b": [b[0], b[2], b[3]], "c": "cheb2:3:0:2"},
+                                   values[:, [0, 2, 3]], response_names=["y", "z"])
+    assert fewer.to_json() == refit.to_json()
+    # Adding it back gives the model again.
+    again = fewer.with_level("b", b[1], values[:, 1])
+    x = rng.uniform(0, 2, size=(20, 3))
+    np.testing.assert_allclose(again.eval(x), m.eval(x), rtol=1e-12, atol=1e-12)
+    with pytest.raises(ValueError, match="not one of the factors"):
+        m.fix("d", 0.0)
+    with pytest.raises(ValueError, match="4 levels"):
+        m.without_level("b", 4)
+    with pytest.raises(ValueError, match="grid of shape"):
+        fewer.with_level("b", 0.0, np.ones((3, 3)))
+    with pytest.raises(ValueError):
+        fewer.with_level("b", 2.0, values[:, 1])  # a level already there
+    with pytest.raises(ValueError):
+        geomkit.PointModel.fit({"t": [0.0, 1.0]}, [0.0, 1.0]).fix("t", 0.5)  # the only factor

@@ -467,6 +467,34 @@ impl PcModel {
         ))
     }
 
+    /// The model with `factor` fixed at `x` and removed (the section there).
+    fn fix_factor(&self, py: Python<'_>, factor: usize, x: f64) -> PyResult<Self> {
+        self.derived(py.detach(|| self.inner.model.fix_factor(factor, x)))
+    }
+
+    /// The model with `factor` removed by keeping its level `level`.
+    fn remove_factor(&self, py: Python<'_>, factor: usize, level: usize) -> PyResult<Self> {
+        self.derived(py.detach(|| self.inner.model.remove_factor(factor, level)))
+    }
+
+    /// The model without level `level` of `factor` (nothing else changes).
+    fn remove_level(&self, py: Python<'_>, factor: usize, level: usize) -> PyResult<Self> {
+        self.derived(py.detach(|| self.inner.model.remove_level(factor, level)))
+    }
+
+    /// The model with a new level of `factor` at `value` whose responses are `slice` (the
+    /// grid of the other factors, row-major, `dim` per cell).
+    fn add_level(
+        &self,
+        py: Python<'_>,
+        factor: usize,
+        value: f64,
+        slice: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Self> {
+        let slice = slice.as_slice()?;
+        self.derived(py.detach(|| self.inner.model.add_level(factor, value, slice)))
+    }
+
     /// The model as one formula per response in the syntax `format` (`pointcalc formula`).
     fn formula(&self, py: Python<'_>, format: &str) -> PyResult<String> {
         let format = format_of(format)?;
@@ -482,6 +510,18 @@ impl PcModel {
             let params: Vec<&str> = names.iter().map(String::as_str).collect();
             let lines = self.inner.response.iter().cloned().zip(exprs).collect();
             print_formula(&g, &params, lines, format)
+        })
+    }
+}
+
+impl PcModel {
+    /// A model derived from this one, with its response names.
+    fn derived(&self, model: geomkit::Result<Hypersurface>) -> PyResult<Self> {
+        Ok(PcModel {
+            inner: PointcalcModel {
+                model: model.map_err(value_error)?,
+                response: self.inner.response.clone(),
+            },
         })
     }
 }
