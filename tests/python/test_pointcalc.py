@@ -574,3 +574,17 @@ def test_changing_factors_and_levels_without_a_solve():
         fewer.with_level("b", 2.0, values[:, 1])  # a level already there
     with pytest.raises(ValueError):
         geomkit.PointModel.fit({"t": [0.0, 1.0]}, [0.0, 1.0]).fix("t", 0.5)  # the only factor
+
+
+@given(st.integers(1, 12), st.integers(1, 3), st.integers(0, 2**32 - 1))
+def test_property_curves_pass_through_their_points_with_shares_summing_to_one(n, dim, seed):
+    rng = np.random.default_rng(seed)
+    points = rng.uniform(-10, 10, size=(n, dim))
+    nodes = np.sort(rng.choice(np.arange(-40, 40) / 8, n, replace=False))
+    curve = geomkit.point_curve(points, nodes=nodes)
+    assert np.array_equal(curve(nodes), points)
+    t = rng.uniform(nodes[0] - 0.5, nodes[-1] + 0.5, size=7)
+    shares = curve.shares(t)
+    np.testing.assert_allclose(shares.sum(axis=1), 1.0, atol=1e-9)
+    np.testing.assert_allclose(curve(t), shares @ points,
+                               atol=1e-9 * max(1.0, float(np.abs(shares).sum(axis=1).max()) * 10))
