@@ -41,6 +41,8 @@ from ._compose import *  # noqa: F403
 from ._compose import __all__ as _compose_all
 from ._model import Drawable, Mesh, MeshReport, Model, Polyline, load, loads
 from ._netsurface import BSplineSurface, make_interp_surface
+from ._pointcalc import *  # noqa: F403
+from ._pointcalc import __all__ as _pointcalc_all
 from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
 
@@ -61,5 +63,6 @@ __all__ = sorted(
         "make_splprep",
         *_bezier_all,
         *_compose_all,
+        *_pointcalc_all,
     ]
 )
