@@ -27,9 +27,10 @@
 //!   with SciPy), and the times of a few sub-steps.
 //! - `{"op": "curve_eval", "variant": "uniform" | "chord", "n": N, "check": K, "kinds": [..]}`:
 //!   builds the curve as `curve_build` does, then times each kind
-//!   `{"kind": "fd" | "par" | "seq" | "pp", "params": "uniform" | "sorted" | "unsorted",
+//!   `{"kind": "fd" | "par" | "par_new" | "seq" | "nu" | "pp", "params": "uniform" | "sorted" | "unsorted",
 //!   "count": M, "param_seed": s}`: `fd` = `sample_uniform_fd(M)` (uniform only), `par` =
-//!   `eval_many_par`, `seq` = `Curve::eval_batch` on the calling thread, bit exact (the B-spline kernels),
+//!   `eval_many_par`, `par_new` = `eval_many_par` into a new buffer each call (allocation and first-touch page faults
+//!   included, as in a call from Python), `seq` = `Curve::eval_batch` on the calling thread, bit exact (the B-spline kernels),
 //!   `nu` = `eval_nu_many(t, 0, Extrapolate::Extend, out)` (SciPy's algorithm: the kernel of
 //!   the Python package's `BSpline.__call__`, `bench/compare_python.sh`), `pp` = `PiecewiseCurve::eval_many_par`
 //!   of `to_piecewise()` (built once, untimed; its time is `piecewise_build`); parameters = `linspace` over the
@@ -520,6 +521,17 @@ fn curve_eval(case: &Case, timing: Timing) -> Value {
                 time_it(|| curve.sample_uniform_fd(m, &mut out).map(|_| ()), timing)
             }
             "par" => time_it(|| curve.eval_many_par(&ts, &mut out), timing),
+            "par_new" => {
+                // Into a new buffer each call, as a Python call returns a new array.
+                let timed = time_it(
+                    || {
+                        let mut fresh = vec![0.0; m * 3];
+                        curve.eval_many_par(&ts, &mut fresh).map(|()| drop(black_box(fresh)))
+                    },
+                    timing,
+                );
+                (timed.0.and_then(|()| curve.eval_many_par(&ts, &mut out)), timed.1)
+            }
             "nu" => time_it(
                 || curve.eval_nu_many(&ts, 0, Extrapolate::Extend, &mut out),
                 timing,
