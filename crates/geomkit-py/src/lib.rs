@@ -15,8 +15,8 @@
 
 use geomkit::bspline::{
     interpolate_surface_flat, make_interp_spline, make_interp_surface, BsplineCurve,
-    BsplineSurface, EndCondition, EndSpec, Extrapolate, Parametrization, SplineEnds,
-    SplineOptions, SurfaceInterpolationOptions,
+    BsplineSurface, EndCondition, EndSpec, Extrapolate, Parametrization, SplineEnds, SplineOptions,
+    SurfaceInterpolationOptions,
 };
 use geomkit_model::{AnyModel, BsplineCurveModel, BsplineSurfaceModel};
 use numpy::{
@@ -549,11 +549,7 @@ fn interpolate_grid(
     let fit = py
         .detach(|| interpolate_surface_flat(rows, cols, dim, flat, &options))
         .map_err(value_error)?;
-    Ok((
-        Surface { inner: fit.surface },
-        fit.params_u,
-        fit.params_v,
-    ))
+    Ok((Surface { inner: fit.surface }, fit.params_u, fit.params_v))
 }
 
 /// The parameters of the grid rows and columns a `bspline_surface` model passes through, if

@@ -526,11 +526,16 @@ fn curve_eval(case: &Case, timing: Timing) -> Value {
                 let timed = time_it(
                     || {
                         let mut fresh = vec![0.0; m * 3];
-                        curve.eval_many_par(&ts, &mut fresh).map(|()| drop(black_box(fresh)))
+                        curve
+                            .eval_many_par(&ts, &mut fresh)
+                            .map(|()| drop(black_box(fresh)))
                     },
                     timing,
                 );
-                (timed.0.and_then(|()| curve.eval_many_par(&ts, &mut out)), timed.1)
+                (
+                    timed.0.and_then(|()| curve.eval_many_par(&ts, &mut out)),
+                    timed.1,
+                )
             }
             "nu" => time_it(
                 || curve.eval_nu_many(&ts, 0, Extrapolate::Extend, &mut out),
