@@ -6,7 +6,7 @@ mod common;
 
 use common::{disagreement, Rng};
 use geomkit::bezier::BezierSurface;
-use geomkit::bspline::{interpolate_surface, SurfaceInterpolationOptions};
+use geomkit::bspline::{interpolate_surface, make_interp_surface, SurfaceInterpolationOptions};
 use geomkit::compose::{CompositeSurface, GridLine, PolyPatch, SurfaceKind};
 use geomkit::Error;
 use proptest::prelude::*;
@@ -99,6 +99,21 @@ fn continuous_patches_are_reproduced_and_discontinuous_ones_shifted() {
         }
     }
     assert!(worst < 1e-12, "{worst:e}");
+
+    // The cells of random bicubic height fields (SciPy's clamped not-a-knot form) meet within the rounding of their
+    // power-basis coefficients (jumps up to ~1.4x 64ε·max|z| were reported as gaps).
+    let mut rng = Rng(20261204);
+    for _ in 0..200 {
+        let z: Vec<f64> = (0..42).map(|_| rng.uniform()).collect();
+        let x: Vec<f64> = (0..7).map(f64::from).collect();
+        let s = make_interp_surface(&x, &x[..6], &z, (7, 6), (3, 3)).unwrap();
+        let c = CompositeSurface::from_bspline(&s)
+            .unwrap()
+            .continuity()
+            .clone();
+        assert!(c.is_continuous(), "{:e} > {:e}", c.max_jump, c.tolerance);
+        assert!(c.tolerance < 1e-11, "{:e}", c.tolerance);
+    }
 
     // Two flat patches that do not meet: z = 0 on [0,1], z = 1 + u-shaped on [1,2].
     let flat = |z0: f64, z1: f64| PolyPatch::new((1, 0), 1, vec![z0, z1 - z0]).unwrap();

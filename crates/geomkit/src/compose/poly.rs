@@ -120,6 +120,30 @@ impl PolyPatch {
         self.coef.iter().fold(0.0, |m, c| m.max(c.abs()))
     }
 
+    /// The largest Σ_ab |c_ab| over the coordinates: a bound of |r(s, t)| on the unit
+    /// square and the scale of the rounding of its evaluation there (Horner's error is at
+    /// most about (p + q + 2)·ε times it), which can be far above the values where the
+    /// power-basis coefficients cancel.
+    ///
+    /// ```
+    /// use geomkit::compose::PolyPatch;
+    /// // r = (1 + 2s - 3t, -4st): coefficients c_00, c_01, c_10, c_11 per coordinate.
+    /// let p = PolyPatch::new((1, 1), 2, vec![1.0, 0.0, -3.0, 0.0, 2.0, 0.0, 0.0, -4.0]).unwrap();
+    /// assert_eq!(p.abs_sum(), 6.0);
+    /// ```
+    pub fn abs_sum(&self) -> f64 {
+        (0..self.dim)
+            .map(|k| {
+                self.coef
+                    .iter()
+                    .skip(k)
+                    .step_by(self.dim)
+                    .map(|c| c.abs())
+                    .sum()
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// r(s, t) into `out` (length dim), Horner in t inside Horner in s.
     #[inline]
     pub fn eval_into(&self, s: f64, t: f64, out: &mut [f64]) {

@@ -931,6 +931,16 @@ impl CompositeSurface {
             });
         }
         let max_jump = jumps.iter().fold(0.0f64, |m, j| m.max(j.max_jump));
+        // Polynomial cells are evaluated from power-basis coefficients: each side of an edge
+        // is rounded by up to (p + q + 2)·ε·Σ|c_ab| (Horner), which is far above the values'
+        // rounding where the coefficients cancel (the cells of a B-spline surface differ by
+        // that much along edges where they are equal). 64·ε·scale covers both sides.
+        if let Cells::Poly { patches, .. } = &self.cells {
+            scale = patches.iter().fold(scale, |m, p| {
+                let (a, b) = p.degrees();
+                m.max(p.abs_sum() * (a + b + 2) as f64 / 32.0)
+            });
+        }
         Ok(ContinuityReport {
             jumps,
             max_jump,
