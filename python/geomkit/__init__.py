@@ -20,7 +20,8 @@ released during every computation over arrays:
 
 Every model object is `Drawable`: ``.mesh()``, ``.write("x.glb")`` (also .stl, .obj,
 .ply), ``.render("x.png")``, ``.svg()``, ``.png()``, its picture in Jupyter, and
-``.save(path)`` to the model files of the CLI, which `load` reads back.
+``.save(path)`` to the model files of the CLI, which `load` reads back. Long evaluations
+show a progress bar inside ``with geomkit.progress(): ...`` (tqdm's if installed).
 
 Examples
 --------
@@ -43,6 +44,7 @@ from ._model import Drawable, Mesh, MeshReport, Model, Polyline, load, loads
 from ._netsurface import BSplineSurface, make_interp_surface
 from ._pointcalc import *  # noqa: F403
 from ._pointcalc import __all__ as _pointcalc_all
+from ._progress import progress
 from ._splprep import make_splprep
 from ._surface import RectBivariateSpline
 
@@ -61,6 +63,7 @@ __all__ = sorted(
         "make_interp_spline",
         "make_interp_surface",
         "make_splprep",
+        "progress",
         *_bezier_all,
         *_compose_all,
         *_pointcalc_all,

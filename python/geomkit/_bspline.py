@@ -12,6 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import contiguous, extrapolate_value, index, mode, real_array, real_scalar
 from ._model import Drawable, register_kind
+from ._progress import chunked
 
 try:  # NumPy >= 2
     from numpy.lib.array_utils import normalize_axis_index
@@ -263,7 +264,9 @@ class BSpline(Drawable):
         xs = contiguous(x.reshape(-1), "x")
         values = np.empty((xs.shape[0], self._core.dim))
         # Orders above k + 1 all give 0 (no overflow of a huge nu on the way to Rust).
-        self._core.eval_into(xs, min(nu, self.k + 2), mode(ext), values)
+        nu_k, how, core = min(nu, self.k + 2), mode(ext), self._core
+        chunked(xs.shape[0], lambda a, b: core.eval_into(xs[a:b], nu_k, how, values[a:b]),
+                "BSpline")
         out: NDArray[np.float64] = values.reshape(x_shape + self._trailing)
         if self.axis != 0:
             order = list(range(out.ndim))

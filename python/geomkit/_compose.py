@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import contiguous, index, real_array
 from ._model import Drawable, Model, _write_atomic, register_kind
+from ._progress import chunked
 
 __all__ = [
     "Body",
@@ -195,10 +196,17 @@ class Evaluator:
         ]
         n = flat[0].size
         out = np.empty((self._dim, n), dtype=np.float64)
-        if self._method == "tape":
-            self._inner.eval_into(flat, out, self._threads)
-        else:
-            self._inner.eval_cells_into(flat, out, self._threads)
+        run = self._inner.eval_into if self._method == "tape" else self._inner.eval_cells_into
+
+        def step(a: int, b: int) -> None:
+            if (a, b) == (0, n):
+                run(flat, out, self._threads)
+                return
+            part = np.empty((self._dim, b - a))
+            run([x[a:b] for x in flat], part, self._threads)
+            out[:, a:b] = part
+
+        chunked(n, step, "Evaluator")
         results = tuple(out[k].reshape(shape) for k in range(self._dim))
         return results[0] if self._dim == 1 else results
 

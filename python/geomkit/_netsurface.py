@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import contiguous, real_array
 from ._model import Drawable, register_kind
+from ._progress import chunked
 
 __all__ = ["BSplineSurface", "make_interp_surface"]
 
@@ -135,13 +136,19 @@ class BSplineSurface(Drawable):
                 raise ValueError(f"a grid takes 1-D u and v: got shapes {us.shape} and "
                                  f"{vs.shape} (or pass grid=False)")
             out = np.empty((us.shape[0], vs.shape[0], self.dim))
-            self._core.eval_points_into(us, vs, True, out)
+            core = self._core
+            chunked(us.shape[0],
+                    lambda a, b: core.eval_points_into(us[a:b], vs, True, out[a:b]),
+                    "BSplineSurface", per=vs.shape[0])
             return out
         ub, vb = np.broadcast_arrays(real_array(u, "u"), real_array(v, "v"))
         shape = ub.shape
         us, vs = contiguous(ub.reshape(-1), "u"), contiguous(vb.reshape(-1), "v")
         out = np.empty((us.shape[0], self.dim))
-        self._core.eval_points_into(us, vs, False, out)
+        core = self._core
+        chunked(us.shape[0],
+                lambda a, b: core.eval_points_into(us[a:b], vs[a:b], False, out[a:b]),
+                "BSplineSurface")
         return out.reshape(shape + (self.dim,))
 
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:

@@ -32,6 +32,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import contiguous, index, real_array, real_scalar
 from ._model import Drawable, register_kind
+from ._progress import chunked
 
 __all__ = [
     "Optimum",
@@ -631,7 +632,8 @@ class PointModel(Drawable):
                              f"{', '.join(self.factors)}")
         _check_finite(xs, "x")
         out = np.empty((xs.shape[0], len(self.responses)))
-        self._core.eval_into(np.ascontiguousarray(xs), out)
+        rows, core = np.ascontiguousarray(xs), self._core
+        chunked(rows.shape[0], lambda a, b: core.eval_into(rows[a:b], out[a:b]), "PointModel")
         return out[0] if single else out
 
     def __call__(self, x: Any) -> F64:

@@ -11,6 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import contiguous, index, real_scalar
 from ._model import Drawable
+from ._progress import chunked
 
 __all__ = ["RectBivariateSpline"]
 
@@ -276,14 +277,20 @@ class RectBivariateSpline(Drawable):
             xs = contiguous(np.asarray(x).reshape(-1), "x")
             ys = contiguous(np.asarray(y).reshape(-1), "y")
             on_grid = np.empty((xs.shape[0], ys.shape[0]))
-            self._core.eval_into(xs, ys, dx, dy, True, on_grid)
+            core = self._core
+            chunked(xs.shape[0],
+                    lambda a, b: core.eval_into(xs[a:b], ys, dx, dy, True, on_grid[a:b]),
+                    "RectBivariateSpline", per=ys.shape[0])
             return on_grid
         xb, yb = np.broadcast_arrays(np.asarray(x), np.asarray(y))
         shape = xb.shape
         xs = contiguous(xb.reshape(-1), "x")
         ys = contiguous(yb.reshape(-1), "y")
         out = np.empty(xs.shape[0])
-        self._core.eval_into(xs, ys, dx, dy, False, out)
+        core = self._core
+        chunked(xs.shape[0],
+                lambda a, b: core.eval_into(xs[a:b], ys[a:b], dx, dy, False, out[a:b]),
+                "RectBivariateSpline")
         return out.reshape(shape)
 
     def ev(self, xi: ArrayLike, yi: ArrayLike, dx: int = 0, dy: int = 0) -> NDArray[np.float64]:

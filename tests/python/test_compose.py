@@ -584,7 +584,7 @@ def test_the_gil_is_released_during_evaluation():
     u, v = RNG.uniform(0, 4, 400_000), RNG.uniform(0, 4, 400_000)
     tape, cells = s.evaluator(threads=1), s.evaluator("cells", threads=1)
     seen = [_seen_inside(lambda: f(u, v), geomkit.Evaluator.__call__, marker)
-            for f, marker in ((tape, ".eval_into("), (cells, ".eval_cells_into("))]
+            for f, marker in ((tape, "run(flat, out"), (cells, "run(flat, out"))]
     assert min(seen) > 20, seen
 
 

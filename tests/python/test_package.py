@@ -194,21 +194,28 @@ def test_compiled_module_refuses_what_it_cannot_read():
 
 def _seen_inside(call, function, marker):
     """How often the main thread, polling while `call` runs in another thread, finds that
-    thread's innermost Python frame in `function` at the line holding `marker` (the call
-    into the compiled module). With the GIL held there the main thread could not run at all
-    while the compiled code does (a count of about 0); released, it polls all along."""
+    thread's innermost Python frame in `function` (or a function or lambda defined in it) at
+    a line holding `marker` (the call into the compiled module). With the GIL held there the
+    main thread could not run at all while the compiled code does (a count of about 0);
+    released, it polls all along."""
+    import linecache
     import sys
     import threading
+    import types
 
-    lines = inspect.getsourcelines(function)
-    line = next(lines[1] + i for i, text in enumerate(lines[0]) if marker in text)
+    codes, todo = set(), [function.__code__]
+    while todo:
+        code = todo.pop()
+        codes.add(code)
+        todo.extend(c for c in code.co_consts if isinstance(c, types.CodeType))
     done = threading.Event()
     worker = threading.Thread(target=lambda: (call(), done.set()))
     seen = 0
     worker.start()
     while not done.is_set():
         frame = sys._current_frames().get(worker.ident)
-        if frame is not None and frame.f_code is function.__code__ and frame.f_lineno == line:
+        if frame is not None and frame.f_code in codes and \
+                marker in linecache.getline(frame.f_code.co_filename, frame.f_lineno):
             seen += 1
     worker.join()
     return seen
@@ -227,5 +234,5 @@ def test_the_gil_is_released_during_computations():
                                           rng.normal(size=(300, 200)))
     grid = np.linspace(0, 299, 2000)
     on_grid = _seen_inside(lambda: surface(grid, grid[:1500]),
-                           geomkit.RectBivariateSpline.__call__, "True, on_grid)")
+                           geomkit.RectBivariateSpline.__call__, "True, on_grid")
     assert min(build, evaluate, on_grid) > 20, (build, evaluate, on_grid)

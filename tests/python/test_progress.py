@@ -1,0 +1,121 @@
+"""geomkit.progress(): bars for long evaluations only when asked, with the same bits."""
+
+from __future__ import annotations
+
+import sys
+import threading
+from typing import Any
+
+import numpy as np
+import pytest
+
+import geomkit
+
+
+class Recorder:
+    """A bar factory that records what the evaluations report."""
+
+    def __init__(self) -> None:
+        self.bars: list[dict[str, Any]] = []
+
+    def __call__(self, total: int, desc: str, unit: str) -> Recorder:
+        self.bars.append(dict(total=total, desc=desc, unit=unit, updates=[], closed=False))
+        return self
+
+    def update(self, k: int) -> None:
+        self.bars[-1]["updates"].append(k)
+
+    def close(self) -> None:
+        self.bars[-1]["closed"] = True
+
+
+def check_bar(rec: Recorder, total: int, desc: str) -> None:
+    assert len(rec.bars) == 1
+    bar = rec.bars[0]
+    assert (bar["total"], bar["desc"], bar["unit"], bar["closed"]) == (total, desc, "pt", True)
+    assert sum(bar["updates"]) == total and len(bar["updates"]) > 1
+
+
+RNG = np.random.default_rng(23)
+
+
+def same_with_bar(call: Any, total: int, desc: str) -> None:
+    plain = call()
+    rec = Recorder()
+    with geomkit.progress(rec, min_points=1):
+        shown = call()
+    check_bar(rec, total, desc)
+    for a, b in zip(plain if isinstance(plain, tuple) else (plain,),
+                    shown if isinstance(shown, tuple) else (shown,)):
+        assert np.array_equal(a, b)
+
+
+def test_bspline_values_and_derivatives() -> None:
+    x = np.linspace(0, 10, 50)
+    s = geomkit.make_interp_spline(x, np.c_[np.sin(x), np.cos(x)], k=5)
+    t = np.sort(RNG.uniform(-1, 11, 300_000))
+    same_with_bar(lambda: s(t), 300_000, "BSpline")
+    same_with_bar(lambda: s(t, nu=2), 300_000, "BSpline")
+
+
+def test_rect_bivariate_spline_grid_and_points() -> None:
+    x, y = np.linspace(0, 1, 30), np.linspace(0, 2, 40)
+    s = geomkit.RectBivariateSpline(x, y, np.add.outer(np.sin(5 * x), np.cos(3 * y)))
+    xs, ys = np.linspace(0, 1, 700), np.linspace(0, 2, 300)
+    same_with_bar(lambda: s(xs, ys), 700 * 300, "RectBivariateSpline")
+    px, py = RNG.uniform(0, 1, 200_000), RNG.uniform(0, 2, 200_000)
+    same_with_bar(lambda: s.ev(px, py), 200_000, "RectBivariateSpline")
+
+
+def test_parametric_surface_composite_formula_and_point_model() -> None:
+    u, v = np.meshgrid(np.arange(5.0), np.arange(6.0), indexing="ij")
+    s = geomkit.make_interp_surface(np.stack([u, v, np.sin(u + v)], axis=-1))
+    same_with_bar(lambda: s(np.linspace(0, 4, 500), np.linspace(0, 5, 400)), 200_000,
+                  "BSplineSurface")
+    f = geomkit.body("cube").evaluator()
+    uu, vv = RNG.uniform(0, 4, 250_000), RNG.uniform(0, 3, 250_000)
+    same_with_bar(lambda: f(uu, vv), 250_000, "Evaluator")
+    m = geomkit.PointModel.fit({"a": [0.0, 0.5, 1.0], "b": [0.0, 1.0]},
+                               np.array([[1.0, 2.0], [3.0, 5.0], [4.0, 4.0]]))
+    xs = RNG.uniform(0, 1, (150_000, 2))
+    same_with_bar(lambda: m.eval(xs), 150_000, "PointModel")
+
+
+def test_no_bar_outside_the_block_below_the_threshold_or_in_other_threads() -> None:
+    s = geomkit.make_interp_spline(np.arange(10.0), np.arange(10.0) ** 2)
+    t = np.linspace(0, 9, 200_000)
+    rec = Recorder()
+    s(t)
+    with geomkit.progress(rec, min_points=300_000):
+        s(t)
+        other = threading.Thread(target=lambda: s(np.linspace(0, 9, 400_000)))
+        other.start()
+        other.join()
+    with geomkit.progress(rec, min_points=1):
+        s(t[:1])
+    assert rec.bars == []
+
+
+def test_tqdm_when_installed_else_a_line_on_stderr(capsys: pytest.CaptureFixture[str],
+                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    pytest.importorskip("tqdm")
+    s = geomkit.make_interp_spline(np.arange(10.0), np.arange(10.0) ** 2)
+    t = np.linspace(0, 9, 300_000)
+    with geomkit.progress(min_points=1):
+        s(t)
+    err = capsys.readouterr().err
+    assert "BSpline" in err and "300k/300k" in err
+    monkeypatch.setitem(sys.modules, "tqdm.auto", None)  # import fails: the text bar
+    with geomkit.progress(min_points=1):
+        s(t)
+    err = capsys.readouterr().err
+    assert "BSpline: 100% of 300,000 points" in err
+
+
+def test_bad_arguments() -> None:
+    with pytest.raises(ValueError, match="min_points"):
+        with geomkit.progress(min_points=-1):
+            pass
+    with pytest.raises(TypeError, match="callable"):
+        with geomkit.progress("tqdm"):  # type: ignore[arg-type]
+            pass
