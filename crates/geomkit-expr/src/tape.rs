@@ -24,6 +24,8 @@ enum Op {
     MulC(u32, u32, f64),
     /// d = c / a.
     RDivC(u32, u32, f64),
+    /// d = a / c.
+    DivC(u32, u32, f64),
     Neg(u32, u32),
     Square(u32, u32),
     Cube(u32, u32),
@@ -187,6 +189,10 @@ impl Tape {
                         ops: &mut ops,
                         alloc: &mut alloc,
                     };
+                    // Constant divisors whose reciprocal overflows (subnormal, or a power
+                    // that underflows): divided by, as Graph::eval and the printed code do
+                    // (v·(1/1e-320) is 0·inf = NaN at v = 0, v/1e-320 is 0).
+                    let mut kden = 1.0;
                     let mut num: Option<Owned> = None;
                     let mut den: Option<Owned> = None;
                     for &(b, e) in fs.iter() {
@@ -197,7 +203,12 @@ impl Tape {
                                 if e < 0 && matches!(g.node(b), Node::Const(z) if z.is_zero()) {
                                     return Err(ExprError::DivisionByZero);
                                 }
-                                coef *= x.powi(e);
+                                let r = x.powi(e);
+                                if e < 0 && !r.is_finite() {
+                                    kden *= x.powi(-e);
+                                } else {
+                                    coef *= r;
+                                }
                             }
                             Val::Reg(r) => {
                                 let n = e.unsigned_abs();
@@ -242,6 +253,11 @@ impl Tape {
                         em.un(Op::Neg, acc)
                     } else {
                         em.un(|d, a| Op::MulC(d, a, coef), acc)
+                    };
+                    let acc = if kden == 1.0 {
+                        acc
+                    } else {
+                        em.un(|d, a| Op::DivC(d, a, kden), acc)
                     };
                     Val::Reg(em.finish(acc))
                 }
@@ -370,6 +386,7 @@ impl Tape {
                 Op::AddC(d, a, c) => un(regs, d, a, len, |x| x + c),
                 Op::MulC(d, a, c) => un(regs, d, a, len, |x| c * x),
                 Op::RDivC(d, a, c) => un(regs, d, a, len, |x| c / x),
+                Op::DivC(d, a, c) => un(regs, d, a, len, |x| x / c),
                 Op::Neg(d, a) => un(regs, d, a, len, |x| -x),
                 Op::Square(d, a) => un(regs, d, a, len, |x| x * x),
                 Op::Cube(d, a) => un(regs, d, a, len, |x| x * x * x),

@@ -150,6 +150,26 @@ fn exact_constants_outside_f64_are_refused_where_f64_computes() {
     assert_eq!(g.print(e, Format::C).unwrap(), "1.0*x + 0.3333333333333333");
 }
 
+/// Division by a folded constant whose reciprocal overflows (atan(1e-320) is subnormal):
+/// the tape divides, as `Graph::eval` and the printed code do (v·(1/x) gave 0·inf = NaN at
+/// v = 0 where they give 0; found by fuzz_formulas_from_the_grammar).
+#[test]
+fn tapes_divide_by_constants_whose_reciprocal_overflows() {
+    let mut g = Graph::new();
+    for text in ["v/atan(1.0e-320) + u", "u - 2*v/atan(1.0e-160)^2"] {
+        let e = parse(&mut g, text).unwrap();
+        let tape = Tape::new(&g, &[e], &["u", "v"]).unwrap();
+        let (u, v) = ([-2.0, -2.0, 1.0], [0.0, 1.0, -1e-300]);
+        let mut out = [0.0; 3];
+        tape.eval_batch(&[&u, &v], &mut [&mut out]).unwrap();
+        for i in 0..3 {
+            let want = g.eval(e, &[("u", u[i]), ("v", v[i])]).unwrap();
+            assert_eq!(out[i].to_bits(), want.to_bits(), "{text} at v = {}", v[i]);
+        }
+        assert_eq!(out[0], -2.0, "{text}");
+    }
+}
+
 /// Printers never write NaN or infinity as a number (`pointcalc formula` printed
 /// `INFINITY`): every printer refuses a non-finite constant, wherever it stands.
 #[test]

@@ -185,8 +185,8 @@ impl<'a> Tck<'a> {
         }
     }
 
-    /// [`Tck::eval_into`] over a batch (rows of d numbers in `out`). Degrees 1 to 5 and
-    /// dimensions 1 to 3 run a copy of the loop compiled for them (loops unrolled, the same
+    /// [`Tck::eval_into`] over a batch (rows of d numbers in `out`). Degrees 1, 2, 3 and 5
+    /// in dimensions 1 to 3 run a copy of the loop compiled for them (loops unrolled, the same
     /// operations in the same order: the same bits).
     fn eval_batch(&self, xs: &[f64], nu: usize, mode: Extrapolate, out: &mut [f64]) {
         match (self.k, self.d) {
