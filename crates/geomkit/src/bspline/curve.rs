@@ -316,6 +316,11 @@ pub(crate) fn detect_uniform_step(knots: &[f64]) -> Option<f64> {
 }
 
 impl BsplineCurve {
+    /// The knots and the control points (row-major), moved out.
+    pub(crate) fn into_parts(self) -> (Vec<f64>, Vec<f64>) {
+        (self.knots, self.control)
+    }
+
     /// The highest degree a curve may have. Degree 0 (piecewise constant: SciPy's `k = 0`,
     /// and what [`BsplineCurve::derivative_nu`] gives for the degree-th derivative) is the
     /// lowest; [`BsplineCurve::antiderivative`] raises the degree by one per order, up to
