@@ -389,7 +389,7 @@ fn solve_along_rows(y: &[f64], k: usize, mut net: Vec<f64>) -> Result<AlongRows>
     let lu = a.factor_below(0.0).map_err(|_| singular())?;
     let scale = max_abs(&net);
     net.par_chunks_mut(n).for_each(|row| lu.solve(row, 1));
-    if !(max_abs(&net) <= AMPLIFIED * scale) {
+    if max_abs(&net) > AMPLIFIED * scale {
         return Ok(AlongRows::Refine);
     }
     Ok(AlongRows::Solved(t, net))
