@@ -35,13 +35,7 @@ venv_with "$venv" "$root/tests/python/requirements.txt" "$venv/.requirements.ins
 target_dir="$(cargo metadata --format-version 1 --no-deps |
     "$venv/bin/python" -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')"
 wheels=$target_dir/wheels-bench
-rm -f "$wheels"/geomkit-*.whl
-say "maturin build --release (python/, crates/geomkit-py)"
-(cd "$root/python" && "$venv/bin/maturin" build --release --quiet --out "$wheels") ||
-    die "maturin build --release failed"
-wheel=$(ls "$wheels"/geomkit-*-abi3-*.whl) || die "no abi3 wheel in $wheels"
-"$venv/bin/python" -m pip install --disable-pip-version-check -q --force-reinstall --no-deps \
-    "$wheel" || die "pip install $wheel failed"
+install_wheel "$venv" "$wheels"
 
 # --- 3. the comparison ---------------------------------------------------------------------
 # From bench/, so that `import geomkit` is the installed wheel, never the source tree.

@@ -54,3 +54,17 @@ venv_with() {
         cp "$requirements" "$stamp"
     fi
 }
+
+# Builds the release abi3 wheel of the Python package (python/, crates/geomkit-py) into the
+# directory $2 with the venv $1's maturin and installs it into that venv (--force-reinstall
+# --no-deps: the package as a user installs it, never the source tree). Needs $root.
+install_wheel() {
+    local venv=$1 wheels=$2 wheel
+    rm -f "$wheels"/geomkit-*.whl
+    say "maturin build --release (python/, crates/geomkit-py)"
+    (cd "$root/python" && "$venv/bin/maturin" build --release --quiet --out "$wheels") ||
+        die "maturin build --release failed"
+    wheel=$(ls "$wheels"/geomkit-*-abi3-*.whl) || die "no abi3 wheel in $wheels"
+    "$venv/bin/python" -m pip install --disable-pip-version-check -q --force-reinstall --no-deps \
+        "$wheel" || die "pip install $wheel failed"
+}

@@ -35,15 +35,8 @@ venv_with "$venv" "$here/requirements.txt" "$venv/.requirements.installed"
 
 # --- 2. the wheel -------------------------------------------------------------------------
 wheels=$root/target/wheels
-rm -f "$wheels"/geomkit-*.whl
-say "maturin build --release (python/, crates/geomkit-py)"
-(cd "$root/python" && "$venv/bin/maturin" build --release --quiet --out "$wheels") ||
-    die "maturin build --release failed"
-built=$SECONDS
-wheel=$(ls "$wheels"/geomkit-*-abi3-*.whl) || die "no abi3 wheel in $wheels"
-"$venv/bin/python" -m pip install --disable-pip-version-check -q --force-reinstall --no-deps \
-    "$wheel" || die "pip install $wheel failed"
-say "built and installed $(basename "$wheel") in $((built - start)) s"
+install_wheel "$venv" "$wheels"
+say "built and installed the wheel in $((SECONDS - start)) s"
 
 # --- 3. the tests -------------------------------------------------------------------------
 # The annotations of python/geomkit against the stub of the compiled module, and NumPy's.

@@ -16,6 +16,7 @@
 //! - `continuity()` and `ruled_report()`: the continuity and consistency reports.
 
 use crate::model::{model_error, Model};
+use crate::value_error;
 use geomkit::compose::{
     bodies, CompositeSurface, Formula, GridLine, Piecewise, RuledCurve, RuledSurface, SurfaceKind,
 };
@@ -25,11 +26,6 @@ use numpy::{PyReadonlyArray1, PyReadwriteArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::sync::OnceLock;
-
-/// The library's error as a `ValueError` with its message.
-fn value_error(e: geomkit::Error) -> PyErr {
-    PyValueError::new_err(e.to_string())
-}
 
 /// The geometry of a `Composite`.
 #[derive(Debug, Clone)]
@@ -333,12 +329,7 @@ impl Composite {
     /// javascript, wolfram, tex); `program`: with common subexpressions in temporaries.
     #[pyo3(signature = (fmt, program=false))]
     fn print(&self, py: Python<'_>, fmt: &str, program: bool) -> PyResult<String> {
-        let format = Format::from_name(fmt).ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "unknown formula format {fmt:?}: expected one of {}",
-                Format::ALL.map(Format::name).join(", ")
-            ))
-        })?;
+        let format = crate::formula_format(fmt)?;
         let f = self.formula_ref()?;
         py.detach(|| {
             if program {

@@ -228,6 +228,18 @@ fn cubic_kernel_applies(curve: &BsplineCurve) -> bool {
     curve.degree() == 3 && (1..=3).contains(&curve.dim()) && t[3] < t[4] && t[n - 1] < t[n]
 }
 
+/// A formula syntax by its geomkit-expr name ("sympy", "mathematica", "c", ...); an unknown
+/// name is a `ValueError` listing them.
+fn formula_format(name: &str) -> PyResult<geomkit::expr::Format> {
+    use geomkit::expr::Format;
+    Format::from_name(name).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "unknown formula format {name:?}: expected one of {}",
+            Format::ALL.map(Format::name).join(", ")
+        ))
+    })
+}
+
 /// `src` into `out` of the same length (a `ValueError` otherwise). The callers release the
 /// GIL around copies that can be large (coefficients: a 10^7-point curve's are 240 MB).
 fn copy_into(src: &[f64], out: &mut [f64]) -> PyResult<()> {

@@ -39,17 +39,6 @@ fn warning_texts(warnings: &[Warning]) -> Vec<String> {
     warnings.iter().map(ToString::to_string).collect()
 }
 
-/// The target syntax called `name` (the CLI's `--format`).
-fn format_of(name: &str) -> PyResult<Format> {
-    Format::from_name(name).ok_or_else(|| {
-        let names: Vec<&str> = Format::ALL.iter().map(|f| f.name()).collect();
-        PyValueError::new_err(format!(
-            "unknown formula format {name:?}: expected one of {}",
-            names.join(", ")
-        ))
-    })
-}
-
 /// The program text of `pointcalc formula`: the preamble, then one definition per
 /// (name, expression) in the parameters `params`.
 fn print_formula(
@@ -497,7 +486,7 @@ impl PcModel {
 
     /// The model as one formula per response in the syntax `format` (`pointcalc formula`).
     fn formula(&self, py: Python<'_>, format: &str) -> PyResult<String> {
-        let format = format_of(format)?;
+        let format = crate::formula_format(format)?;
         let names = self.factor_names();
         py.detach(|| {
             let mut g = Graph::new();
@@ -644,7 +633,7 @@ impl PointCurve {
 
     /// The curve as one formula per coordinate in the parameter t (`pointcalc formula`).
     fn formula(&self, py: Python<'_>, format: &str) -> PyResult<String> {
-        let format = format_of(format)?;
+        let format = crate::formula_format(format)?;
         py.detach(|| {
             let mut g = Graph::new();
             let t = g.var("t");
@@ -816,7 +805,7 @@ impl PointSurface {
 
     /// The surface as one formula per coordinate in (u, v): M(u, v) = Σ_i L_i(v) M_i(u).
     fn formula(&self, py: Python<'_>, format: &str) -> PyResult<String> {
-        let format = format_of(format)?;
+        let format = crate::formula_format(format)?;
         let AnySurface::Rows(s) = &self.inner else {
             return Err(PyValueError::new_err(
                 "the printed geomatrix (9) has no formula here: build the surface rows first \
