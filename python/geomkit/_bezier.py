@@ -1167,23 +1167,34 @@ def _curve_from_json(text: str) -> BezierCurve:
 
 
 class BezierSurface(Drawable):
-    """A tensor-product Bézier surface over an (n+1)×(m+1) net of points in any dimension.
+    """A tensor-product Bézier surface over an (n+1)×(m+1) net of points in any dimension,
+    polynomial or rational.
 
     .. math:: p(u, v) = \\sum_{i=0}^{n} \\sum_{j=0}^{m} b_{n,i}(u)\\, b_{m,j}(v)\\, u_{ij},
               \\quad (u, v) \\in [0, 1]^2
 
-    (formula (11) of spec/bezier-order.md; the paper's (t, τ) are (u, v)). The library has
-    no rational surfaces, so there are no weights.
+    (formula (11) of spec/bezier-order.md; the paper's (t, τ) are (u, v)). With weights
+    w_ij the surface is rational,
+    p = Σ Σ w_ij b_{n,i}(u) b_{m,j}(v) u_ij / Σ Σ w_ij b_{n,i}(u) b_{m,j}(v); its degree
+    changes through the homogeneous net (w_ij u_ij, w_ij), where it is polynomial, so the
+    shape is kept exactly as for polynomial surfaces (quadrics such as spheres and
+    cylinders stay exact).
 
     Parameters
     ----------
     net : array_like, shape (n + 1, m + 1, dim)
         The control net, ``net[i, j]`` the point u_ij (row i along u, column j along v).
+    weights : array_like, shape (n + 1, m + 1), optional
+        The weights w_ij of a rational surface (finite, > 0).
 
     Attributes
     ----------
     net : ndarray, shape (n + 1, m + 1, dim)
         The net (read-only).
+    weights : ndarray, shape (n + 1, m + 1), or None
+        The weights of a rational surface (read-only); None for a polynomial one.
+    is_rational : bool
+        Whether the surface has weights.
     degree : (int, int)
         The formal degrees (n, m).
     dim : int
@@ -1206,16 +1217,38 @@ class BezierSurface(Drawable):
     >>> e = s.elevate((3, 2))
     >>> e.degree, e.degree_report().real_degree
     ((3, 2), (1, 1))
+
+    A quarter cylinder of radius 1 (a rational quadratic in u) stays on the cylinder when
+    its degrees change:
+
+    >>> h = np.sqrt(0.5)
+    >>> c = BezierSurface([[[1, 0, 0], [1, 0, 2]], [[1, 1, 0], [1, 1, 2]], [[0, 1, 0], [0, 1, 2]]],
+    ...                   weights=[[1, 1], [h, h], [1, 1]])
+    >>> p = c.elevate((5, 3))(np.linspace(0, 1, 7), [0.5])
+    >>> bool(np.allclose(np.hypot(p[..., 0], p[..., 1]), 1.0, rtol=0, atol=1e-15))
+    True
+    >>> c.elevate((5, 3)).degree_report().real_degree
+    (2, 1)
     """
 
-    __slots__ = ("_core", "_net")
+    __slots__ = ("_core", "_net", "_weights")
 
-    def __init__(self, net: ArrayLike) -> None:
-        self._init(_geomkit.BezierSurfaceCore(_points(net, "net", 3)))
+    def __init__(self, net: ArrayLike, weights: ArrayLike | None = None) -> None:
+        pts = _points(net, "net", 3)
+        w = None
+        if weights is not None:
+            w = contiguous(weights, "weights")
+            if w.shape != pts.shape[:2]:
+                raise ValueError(
+                    f"weights of shape {w.shape} for a net of shape {pts.shape[:2]} "
+                    "(give one weight per point)"
+                )
+        self._init(_geomkit.BezierSurfaceCore(pts, w))
 
     def _init(self, core: _geomkit.BezierSurfaceCore) -> None:
         self._core = core
         self._net: NDArray[np.float64] | None = None
+        self._weights: NDArray[np.float64] | None = None
 
     @classmethod
     def _wrap(cls, core: _geomkit.BezierSurfaceCore) -> BezierSurface:
@@ -1242,6 +1275,24 @@ class BezierSurface(Drawable):
         return self._net
 
     @property
+    def weights(self) -> NDArray[np.float64] | None:
+        """The weights of a rational surface, shape (n + 1, m + 1), read-only; None
+        otherwise."""
+        if not self._core.is_rational:
+            return None
+        if self._weights is None:
+            n, m = self._core.degrees
+            w = np.empty((n + 1, m + 1))
+            self._core.weights_into(w)
+            self._weights = _frozen(w)
+        return self._weights
+
+    @property
+    def is_rational(self) -> bool:
+        """Whether the surface has weights."""
+        return self._core.is_rational
+
+    @property
     def degree(self) -> tuple[int, int]:
         """The formal degrees (n, m)."""
         return self._core.degrees
@@ -1264,8 +1315,10 @@ class BezierSurface(Drawable):
                  dv: int = 0) -> NDArray[np.float64]:
         """The points (or partial derivatives ∂^(du+dv) p / ∂u^du ∂v^dv) of the surface.
 
-        De Casteljau in u then in v (formula (11)), with the GIL released; outside [0, 1]²
-        the polynomial extrapolates.
+        De Casteljau in u then in v (formula (11); on the homogeneous net, then divided by
+        the weight, for a rational surface), with the GIL released; outside [0, 1]² the
+        polynomial (or rational function) extrapolates. Derivatives of a rational surface
+        by the quotient rule on the homogeneous partial derivatives.
 
         Parameters
         ----------
@@ -1303,9 +1356,13 @@ class BezierSurface(Drawable):
         >>> float(s(0.3, 0.6, du=1)[0, 0, 0])
         2.0
         """
-        core = self._derived(_order(du, "du"), _order(dv, "dv"))
+        du, dv = _order(du, "du"), _order(dv, "dv")
         us, vs, shape = _surface_parameters(u, v, grid)
         out = np.empty(shape + (self._core.dim,))
+        if self._core.is_rational and du + dv > 0:
+            self._core.partials_into(us, vs, grid, du, dv, out)
+            return out
+        core = self._derived(du, dv)
         if grid:
             core.eval_grid_into(us, vs, out)
         else:
@@ -1350,7 +1407,9 @@ class BezierSurface(Drawable):
 
     def derivative(self, du: int = 1, dv: int = 0) -> BezierSurface:
         """The partial-derivative surface ∂^(du+dv) p / ∂u^du ∂v^dv, of degrees
-        (n - du, m - dv) (zero above the degrees).
+        (n - du, m - dv) (zero above the degrees), of a polynomial surface (that of a
+        rational one is not a Bézier surface of this kind: evaluate it with
+        ``s(u, v, du=..., dv=...)``).
 
         Parameters
         ----------
@@ -1360,6 +1419,11 @@ class BezierSurface(Drawable):
         Returns
         -------
         BezierSurface
+
+        Raises
+        ------
+        ValueError
+            For a rational surface.
 
         Examples
         --------
@@ -1550,7 +1614,8 @@ class BezierSurface(Drawable):
         Raises
         ------
         ValueError
-            For surfaces of different dimensions.
+            For surfaces of different dimensions, or rational ones (polynomial surfaces
+            only).
         TypeError
             When `other` is not a `BezierSurface`.
 
@@ -1570,7 +1635,16 @@ class BezierSurface(Drawable):
     def _line(self, points: ArrayLike) -> NDArray[np.float64]:
         return _points(points, "points", 2)
 
-    def insert_row(self, index: int, points: ArrayLike) -> BezierSurface:
+    def _line_weights(self, weights: ArrayLike | None) -> NDArray[np.float64] | None:
+        if weights is None:
+            return None
+        w = contiguous(weights, "weights")
+        if w.ndim != 1:
+            raise ValueError(f"weights must be 1-D, got an array of shape {w.shape}")
+        return w
+
+    def insert_row(self, index: int, points: ArrayLike, weights: ArrayLike | None = None
+                   ) -> BezierSurface:
         """Inserts a row of the net (m + 1 points, along v) before row `index` (manual
         change (13): the degree in u rises by one and the shape changes).
 
@@ -1580,6 +1654,9 @@ class BezierSurface(Drawable):
             0 to n + 1.
         points : array_like, shape (m + 1, dim)
             The new row.
+        weights : array_like, shape (m + 1,), optional
+            Its weights: a polynomial surface given weights becomes rational (its own
+            weights 1); a rational one given none takes weights 1.
 
         Returns
         -------
@@ -1598,10 +1675,13 @@ class BezierSurface(Drawable):
         (2, 1)
         """
         return BezierSurface._wrap(
-            self._core.insert_line("u", _degree(index, "index"), self._line(points))
+            self._core.insert_line(
+                "u", _degree(index, "index"), self._line(points), self._line_weights(weights)
+            )
         )
 
-    def insert_column(self, index: int, points: ArrayLike) -> BezierSurface:
+    def insert_column(self, index: int, points: ArrayLike, weights: ArrayLike | None = None
+                      ) -> BezierSurface:
         """Inserts a column of the net (n + 1 points, along u) before column `index`
         (manual change (13): the degree in v rises by one and the shape changes).
 
@@ -1611,6 +1691,8 @@ class BezierSurface(Drawable):
             0 to m + 1.
         points : array_like, shape (n + 1, dim)
             The new column.
+        weights : array_like, shape (n + 1,), optional
+            Its weights, as for `insert_row`.
 
         Returns
         -------
@@ -1629,7 +1711,9 @@ class BezierSurface(Drawable):
         [[0.0, 1.0, 4.0], [2.0, 3.0, 4.0]]
         """
         return BezierSurface._wrap(
-            self._core.insert_line("v", _degree(index, "index"), self._line(points))
+            self._core.insert_line(
+                "v", _degree(index, "index"), self._line(points), self._line_weights(weights)
+            )
         )
 
     def remove_row(self, index: int) -> BezierSurface:
@@ -1690,14 +1774,23 @@ class BezierSurface(Drawable):
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, BezierSurface):
             return NotImplemented
-        return self.net.shape == other.net.shape and bool(np.array_equal(self.net, other.net))
+        if self.is_rational != other.is_rational:
+            return False
+        sw, ow = self.weights, other.weights
+        same_weights = sw is None or (ow is not None and bool(np.array_equal(sw, ow)))
+        return (
+            self.net.shape == other.net.shape
+            and bool(np.array_equal(self.net, other.net))
+            and same_weights
+        )
 
     __hash__ = None  # type: ignore[assignment]
 
     def __repr__(self) -> str:
         n, m = self.degree
+        kind = "rational, " if self.is_rational else ""
         return (
-            f"<geomkit.BezierSurface: degrees ({n}, {m}) in R^{self.dim} "
+            f"<geomkit.BezierSurface: {kind}degrees ({n}, {m}) in R^{self.dim} "
             f"({n + 1}×{m + 1} net)>"
         )
 

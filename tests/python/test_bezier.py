@@ -799,3 +799,159 @@ def test_the_gil_is_released_during_evaluation():
     u = np.linspace(0, 1, 1200)
     grid = _seen_inside(lambda: s(u, u), BezierSurface.__call__, "eval_grid_into(")
     assert min(curve, grid) > 20, (curve, grid)
+
+
+# --- rational surfaces --------------------------------------------------------------------
+
+
+def sphere_octant():
+    """An octant of the unit sphere: the meridian's quarter circle (weights 1, 1/√2, 1)
+    turned through 90° about z (the same weights), w_ij = w_i w_j."""
+    h = np.sqrt(0.5)
+    turn = [(1, 0), (1, 1), (0, 1)]
+    meridian = [(1, 0), (1, 1), (0, 1)]
+    net = [[[r * c, r * s, z] for r, z in meridian] for c, s in turn]
+    w = np.array([1.0, h, 1.0])
+    return BezierSurface(net, weights=np.outer(w, w))
+
+
+def rational_surface_exact(net, weights, u, v):
+    """Σ Σ w_ij b_i(u) b_j(v) u_ij / Σ Σ w_ij b_i(u) b_j(v) in exact rationals."""
+    n, m = len(net) - 1, len(net[0]) - 1
+    u, v = Fraction(u), Fraction(v)
+    num = [Fraction(0)] * len(net[0][0])
+    den = Fraction(0)
+    for i in range(n + 1):
+        for j in range(m + 1):
+            b = (comb(n, i) * u**i * (1 - u) ** (n - i) * comb(m, j) * v**j * (1 - v) ** (m - j)
+                 * Fraction(weights[i][j]))
+            den += b
+            num = [a + b * Fraction(x) for a, x in zip(num, net[i][j])]
+    return [a / den for a in num]
+
+
+def test_rational_surface_is_the_exact_quotient():
+    rng = np.random.default_rng(5)
+    net = rng.integers(-9, 10, size=(4, 3, 3)).astype(float)
+    weights = rng.integers(1, 6, size=(4, 3)).astype(float) / 4
+    s = BezierSurface(net, weights=weights)
+    assert s.is_rational and s.degree == (3, 2)
+    assert np.array_equal(s.weights, weights) and np.array_equal(s.net, net)
+    us, vs = [0, 0.25, 0.625, 1], [0, 0.5, 0.875]
+    got = s(us, vs)
+    for a, u in enumerate(us):
+        for b, v in enumerate(vs):
+            want = np.array([float(x) for x in rational_surface_exact(net, weights, u, v)])
+            assert np.allclose(got[a, b], want, rtol=0, atol=4 * EPS * np.abs(net).max())
+    # Pairs give the grid's values.
+    pairs = s([0.25, 0.625], [0.5, 0.875], grid=False)
+    assert np.allclose(pairs, [got[1, 1], got[2, 2]], rtol=0, atol=1e-15)
+
+
+def test_rational_surface_elevation_is_formula_8_on_the_homogeneous_net():
+    rng = np.random.default_rng(8)
+    net = rng.integers(-9, 10, size=(3, 2, 2)).astype(float)
+    weights = rng.integers(1, 5, size=(3, 2)).astype(float)
+    e = BezierSurface(net, weights=weights).elevate((4, 3))
+    # Formula (8) in u on every column of the homogeneous net, then in v on every row.
+    h = [[[Fraction(x) * Fraction(w) for x in p] + [Fraction(w)] for p, w in zip(row, wr)]
+         for row, wr in zip(net.tolist(), weights.tolist())]
+    cols = [elevate_exact([h[i][j] for i in range(3)], 4) for j in range(2)]
+    rows = [elevate_exact([cols[j][i] for j in range(2)], 3) for i in range(5)]
+    want_w = np.array([[float(p[-1]) for p in row] for row in rows])
+    want_p = np.array([[[float(x / p[-1]) for x in p[:-1]] for p in row] for row in rows])
+    assert np.allclose(e.weights, want_w, rtol=4 * EPS, atol=0)
+    assert np.allclose(e.net, want_p, rtol=0, atol=16 * EPS * np.abs(net).max())
+    assert e.degree_report().real_degree == (2, 1)
+    back = e.reduce((2, 1))
+    assert np.allclose(back.weights, weights, rtol=1e-13, atol=0)
+    assert np.allclose(back.net, net, rtol=0, atol=1e-12)
+
+
+def test_rational_surface_keeps_the_sphere_and_refuses_below_its_degree():
+    octant = sphere_octant()
+    t = np.linspace(0.0, 1.0, 33)
+    for degrees in [(2, 2), (3, 5), (7, 4), (12, 12)]:
+        e = octant.change_degree(degrees)
+        assert e.degree == degrees
+        p = e(t, t)
+        assert np.abs(np.linalg.norm(p, axis=-1) - 1).max() < 4 * EPS
+        # The normal is the radius, except at the pole v = 1 (a collapsed edge: NaN).
+        n = e.normal(t, t)
+        assert np.abs(np.abs(np.sum(n * p, axis=-1)[:, :-1]) - 1).max() < 1e-13
+        assert np.isnan(n[:, -1]).all()
+    with pytest.raises(ValueError, match="degree 1 in u: the real u-degree is 2"):
+        octant.elevate((4, 4)).reduce((1, 4))
+    with pytest.raises(ValueError, match="has weights"):
+        octant.derivative()
+    with pytest.raises(ValueError, match="polynomial"):
+        octant.deviation_from(octant)
+
+
+def test_rational_surface_partial_derivatives_are_sympys():
+    sympy = pytest.importorskip("sympy")
+    rng = np.random.default_rng(13)
+    net = rng.integers(-5, 6, size=(3, 3, 2)).astype(float)
+    weights = rng.integers(1, 5, size=(3, 3)).astype(float)
+    s = BezierSurface(net, weights=weights)
+    u, v = sympy.symbols("u v")
+    b = [[sympy.binomial(2, i) * u**i * (1 - u) ** (2 - i) * sympy.binomial(2, j) * v**j
+          * (1 - v) ** (2 - j) * sympy.Integer(int(weights[i, j])) for j in range(3)]
+         for i in range(3)]
+    den = sum(sum(row) for row in b)
+    p = [sum(b[i][j] * sympy.Integer(int(net[i, j, k])) for i in range(3) for j in range(3))
+         / den for k in range(2)]
+    at = {u: sympy.Rational(3, 10), v: sympy.Rational(7, 10)}
+    for du, dv in [(1, 0), (0, 1), (1, 1), (2, 0), (2, 3)]:
+        want = np.array([float(sympy.diff(pk, u, du, v, dv).subs(at)) for pk in p])
+        got = s(0.3, 0.7, du=du, dv=dv)[0, 0]
+        assert np.allclose(got, want, rtol=1e-12, atol=1e-12), (du, dv)
+        pairs = s([0.3], [0.7], grid=False, du=du, dv=dv)[0]
+        assert np.array_equal(pairs, got)
+
+
+def test_rational_surface_edits_files_and_the_cli(tmp_path):
+    octant = sphere_octant()
+    h = np.sqrt(0.5)
+    t = octant.insert_column(1, [[2, 0, 1], [2, 2, 1], [0, 2, 1]], weights=[1, 0.5, 1])
+    assert t.degree == (2, 3)
+    assert np.array_equal(t.weights[:, 1], [1, 0.5, 1])
+    assert t.remove_column(1) == octant
+    # A polynomial surface given weights becomes rational, its own weights 1.
+    p = BezierSurface(np.arange(12.0).reshape(2, 2, 3)).insert_row(1, [[0, 0, 0], [1, 1, 1]],
+                                                                 weights=[2, 3])
+    assert p.is_rational and np.array_equal(p.weights, [[1, 1], [2, 3], [1, 1]])
+    # The file: net and weights; the CLI reads it and changes its degree as the package does.
+    path = tmp_path / "octant.json"
+    octant.save(path)
+    data = json.loads(path.read_text())
+    assert data["type"] == "bezier_surface"
+    assert data["weights"] == octant.weights.tolist() and data["net"] == octant.net.tolist()
+    assert np.allclose(data["weights"], [[1, h, 1], [h, 0.5, h], [1, h, 1]], rtol=EPS, atol=0)
+    back = geomkit.load(path)
+    assert back == octant
+    out = tmp_path / "e.json"
+    subprocess.run([str(CLI), "bezier", "elevate", "--to", "4,3", str(path), "-o", str(out)],
+                   check=True, capture_output=True)
+    assert geomkit.load(out) == octant.elevate((4, 3))
+    degree = subprocess.run([str(CLI), "bezier", "degree", "--json", str(out)], check=True,
+                            capture_output=True, text=True).stdout
+    assert json.loads(degree) == {"degree": [4, 3], "real_degree": [2, 2], "defect": [2, 1]}
+    # The mesh lies on the sphere.
+    mesh = octant.mesh(tolerance=1e-4)
+    r = np.linalg.norm(mesh.vertices, axis=1)
+    assert mesh.faces.shape[0] > 8 and np.abs(r - 1).max() < 1e-14
+    back = pickle.loads(pickle.dumps(octant))
+    assert back == octant and "rational" in repr(back)
+
+
+@pytest.mark.parametrize("weights, message", [
+    ([[1, 1, 1], [1, -1, 1], [1, 1, 1]], r"weight \(1, 1\) of the net is -1"),
+    ([[1, 1, 1], [1, 1, 1], [1, 1, np.nan]], r"weight \(2, 2\)"),
+    ([[1, 1], [1, 1], [1, 1]], "shape"),
+    ([1, 1, 1], "shape"),
+])
+def test_rational_surface_bad_weights(weights, message):
+    net = np.zeros((3, 3, 3))
+    with pytest.raises(ValueError, match=message):
+        BezierSurface(net, weights=weights)

@@ -215,3 +215,45 @@ fn results_that_overflow_are_refused_not_written_as_null() {
     assert!(err.contains("a result is not a finite number"), "{err}");
     assert!(err.contains("(in \"error\")"), "{err}");
 }
+
+#[test]
+fn rational_bezier_surfaces_evaluate_mesh_and_change_degree() {
+    // A quarter of the cylinder x² + y² = 1, 0 <= z <= 2 (rational quadratic in u).
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    write(
+        d,
+        "cyl.json",
+        &format!(
+            "{{\"type\": \"bezier_surface\", \"net\": [[[1,0,0],[1,0,2]],[[1,1,0],[1,1,2]],\
+             [[0,1,0],[0,1,2]]], \"weights\": [[1,1],[{h},{h}],[1,1]]}}"
+        ),
+    );
+    run_ok(
+        d,
+        &[
+            "bezier", "change", "--to", "4,3", "cyl.json", "-o", "e.json",
+        ],
+    );
+    for file in ["cyl.json", "e.json"] {
+        let (header, rows) = csv(&ok(d, &["eval", file, "--samples", "7x5"]));
+        assert_eq!(header, "u,v,x,y,z");
+        assert_eq!(rows.len(), 35);
+        for r in rows {
+            assert!((r[2].hypot(r[3]) - 1.0).abs() < 1e-15, "{file}: {r:?}");
+            assert!((r[4] - 2.0 * r[1]).abs() < 1e-15, "{file}: {r:?}");
+        }
+    }
+    let degree = ok(d, &["bezier", "degree", "--json", "e.json"]);
+    assert_eq!(
+        degree.trim(),
+        "{\"degree\":[4,3],\"real_degree\":[2,1],\"defect\":[2,2]}"
+    );
+    run_ok(d, &["mesh", "e.json", "-o", "e.obj"]);
+    let obj = std::fs::read_to_string(d.join("e.obj")).unwrap();
+    for line in obj.lines().filter(|l| l.starts_with("v ")) {
+        let v: Vec<f64> = line[2..].split(' ').map(|x| x.parse().unwrap()).collect();
+        assert!((v[0].hypot(v[1]) - 1.0).abs() < 1e-14, "{line}");
+    }
+}

@@ -5,7 +5,7 @@ use crate::error::{Error, Result};
 use crate::numbers::{count, Net, Points};
 use crate::sampled::{SampledCurve, SampledSurface};
 use crate::schema::*;
-use geomkit::bezier::{BezierCurve, BezierSurface, RationalBezierCurve};
+use geomkit::bezier::{BezierCurve, BezierSurface, RationalBezierCurve, RationalBezierSurface};
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
 use geomkit::compose::{
     CompositeSurface, ExprPatch, Piecewise, PolyPatch, RuledCurve, RuledSurface, SurfaceKind,
@@ -22,6 +22,8 @@ pub enum BezierModel {
     Rational(RationalBezierCurve),
     /// A tensor-product Bézier surface.
     Surface(BezierSurface),
+    /// A rational tensor-product Bézier surface.
+    RationalSurface(RationalBezierSurface),
 }
 
 /// A B-spline curve and, for an interpolating curve, the parameters of its reference points.
@@ -104,14 +106,9 @@ impl BezierModel {
                 r.points().first().map_or(0, Vec::len),
                 r.degree() + 1
             ),
-            BezierModel::Surface(s) => {
-                let (n, m) = s.degrees();
-                format!(
-                    "Bézier surface of degrees ({n}, {m}) in R^{} ({}×{} net)",
-                    s.dim(),
-                    n + 1,
-                    m + 1
-                )
+            BezierModel::Surface(s) => surface_description("", s.degrees(), s.dim()),
+            BezierModel::RationalSurface(s) => {
+                surface_description("rational ", s.degrees(), s.dim())
             }
         }
     }
@@ -132,18 +129,34 @@ impl BezierModel {
                 weights: Some(r.weights()),
                 error,
             }),
-            BezierModel::Surface(s) => {
-                let (n, m) = s.degrees();
-                ModelFile::BezierSurface(BezierSurfaceFile {
-                    net: Net {
-                        rows: n + 1,
-                        cols: m + 1,
-                        dim: s.dim(),
-                        flat: s.net_flat().to_vec(),
-                    },
-                })
-            }
+            BezierModel::Surface(s) => ModelFile::BezierSurface(BezierSurfaceFile {
+                net: net_file(s.degrees(), s.dim(), s.net_flat()),
+                weights: None,
+            }),
+            BezierModel::RationalSurface(s) => ModelFile::BezierSurface(BezierSurfaceFile {
+                net: net_file(s.degrees(), s.dim(), s.net_flat()),
+                weights: Some(s.weights()),
+            }),
         }
+    }
+}
+
+/// "Bézier surface of degrees (3, 2) in R^3 (4×3 net)", `kind` before it.
+fn surface_description(kind: &str, (n, m): (usize, usize), dim: usize) -> String {
+    format!(
+        "{kind}Bézier surface of degrees ({n}, {m}) in R^{dim} ({}×{} net)",
+        n + 1,
+        m + 1
+    )
+}
+
+/// The file form of a net of degrees (n, m).
+fn net_file((n, m): (usize, usize), dim: usize, flat: &[f64]) -> Net {
+    Net {
+        rows: n + 1,
+        cols: m + 1,
+        dim,
+        flat: flat.to_vec(),
     }
 }
 
@@ -390,9 +403,37 @@ fn check_net(net: &Net) -> Result<()> {
 fn bezier_surface(f: BezierSurfaceFile) -> Result<BezierModel> {
     let n = f.net;
     check_net(&n)?;
-    BezierSurface::from_flat(n.rows, n.cols, n.dim, n.flat)
-        .map(BezierModel::Surface)
-        .map_err(|e| Error::geometry("net", e))
+    let Some(w) = f.weights else {
+        return BezierSurface::from_flat(n.rows, n.cols, n.dim, n.flat)
+            .map(BezierModel::Surface)
+            .map_err(|e| Error::geometry("net", e));
+    };
+    if w.len() != n.rows {
+        return Err(Error::model(
+            "weights",
+            format!(
+                "has {} for a net of {} (give one row of weights per row of the net)",
+                count(w.len(), "row"),
+                count(n.rows, "row")
+            ),
+        ));
+    }
+    if let Some(i) = w.iter().position(|r| r.len() != n.cols) {
+        return Err(Error::model(
+            format!("weights[{i}]"),
+            format!(
+                "has {} for a net of {} per row (give one weight per control point)",
+                count(w[i].len(), "weight"),
+                count(n.cols, "point")
+            ),
+        ));
+    }
+    // Check the net first, so that its errors say "net".
+    BezierSurface::from_flat(n.rows, n.cols, n.dim, n.flat.clone())
+        .map_err(|e| Error::geometry("net", e))?;
+    RationalBezierSurface::from_flat(n.rows, n.cols, n.dim, n.flat, w.concat())
+        .map(BezierModel::RationalSurface)
+        .map_err(|e| Error::geometry("weights", e))
 }
 
 /// A B-spline surface degree (1..=7) at `path`.

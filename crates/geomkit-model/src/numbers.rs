@@ -68,6 +68,17 @@ pub(crate) fn optional_numbers<'de, D: Deserializer<'de>>(
     Ok(Option::<Vec<Finite>>::deserialize(d)?.map(|v| v.into_iter().map(|x| x.0).collect()))
 }
 
+/// `deserialize_with` of an optional list of rows of finite numbers (`null` = absent).
+pub(crate) fn optional_number_rows<'de, D: Deserializer<'de>>(
+    d: D,
+) -> Result<Option<Vec<Vec<f64>>>, D::Error> {
+    Ok(Option::<Vec<Vec<Finite>>>::deserialize(d)?.map(|v| {
+        v.into_iter()
+            .map(|r| r.into_iter().map(|x| x.0).collect())
+            .collect()
+    }))
+}
+
 /// `deserialize_with` of one finite number.
 pub(crate) fn number<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     Ok(Finite::deserialize(d)?.0)

@@ -52,13 +52,22 @@ pub struct ReductionError {
     pub linf_bound: f64,
 }
 
-/// `{"type": "bezier_surface", "net": [[[x, y, z], ...], ...]}`: a tensor-product Bézier
-/// surface, `net[i][j]` the control point u_ij (row i along u, column j along v).
+/// `{"type": "bezier_surface", "net": [[[x, y, z], ...], ...], "weights": [[w, ...], ...]}`:
+/// a tensor-product Bézier surface, `net[i][j]` the control point u_ij (row i along u, column
+/// j along v); with `weights` (optional, the net's shape, each finite and > 0) a rational
+/// surface.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BezierSurfaceFile {
     /// The control net.
     pub net: Net,
+    /// Weights w_ij of a rational surface, `weights[i][j]` that of `net[i][j]`.
+    #[serde(
+        default,
+        deserialize_with = "numbers::optional_number_rows",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub weights: Option<Vec<Vec<f64>>>,
 }
 
 /// `{"type": "bspline_curve", "degree": 3, "knots": [...], "control_points": [[x, y], ...],

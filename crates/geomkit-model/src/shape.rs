@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::model::{AnyModel, BezierModel, PointcalcModel};
-use geomkit::bezier::BezierSurface;
+use geomkit::bezier::{BezierSurface, RationalBezierSurface};
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
 use geomkit::geom::{Curve, Surface};
 use geomkit::mesh::{
@@ -91,20 +91,27 @@ fn uniform(n: usize) -> Vec<f64> {
 
 /// The shape of a Bézier surface: the surface and its net.
 pub fn bezier_surface(s: BezierSurface) -> Shape {
-    let (n, m) = s.degrees();
-    let net = net3(
-        s.net_flat(),
-        s.dim(),
-        n + 1,
-        m + 1,
-        &uniform(n + 1),
-        &uniform(m + 1),
-    );
+    let net = bezier_net(s.net_flat(), s.dim(), s.degrees());
     Shape::Surface {
         surface: Box::new(s),
         net: Some(net),
         references: Vec::new(),
     }
+}
+
+/// The shape of a rational Bézier surface: the surface and its (Cartesian) net.
+pub fn rational_bezier_surface(s: RationalBezierSurface) -> Shape {
+    let net = bezier_net(s.net_flat(), s.dim(), s.degrees());
+    Shape::Surface {
+        surface: Box::new(s),
+        net: Some(net),
+        references: Vec::new(),
+    }
+}
+
+/// A Bézier net of degrees (n, m) drawn at uniform parameters.
+fn bezier_net(flat: &[f64], dim: usize, (n, m): (usize, usize)) -> Net {
+    net3(flat, dim, n + 1, m + 1, &uniform(n + 1), &uniform(m + 1))
 }
 
 /// The shape of a B-spline surface: the surface, its net (heights at Greville abscissae)
@@ -177,6 +184,7 @@ impl Loaded {
             AnyModel::Bezier(BezierModel::Curve(c)) => bezier_curve(c.points(), Box::new(c)),
             AnyModel::Bezier(BezierModel::Rational(c)) => bezier_curve(c.points(), Box::new(c)),
             AnyModel::Bezier(BezierModel::Surface(s)) => bezier_surface(s),
+            AnyModel::Bezier(BezierModel::RationalSurface(s)) => rational_bezier_surface(s),
             AnyModel::BsplineCurve(m) => bspline_curve(m.curve, m.parameters),
             AnyModel::BsplineSurface(m) => bspline_surface(m.surface, m.parameters),
             AnyModel::Composite(s) => plain_surface(Box::new(s)),

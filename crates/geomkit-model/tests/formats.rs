@@ -245,7 +245,12 @@ fn simple_file() -> impl Strategy<Value = ModelFile> {
                     error: error.map(|(l2, linf_bound)| ReductionError { l2, linf_bound }),
                 })
             ),
-        net().prop_map(|net| ModelFile::BezierSurface(BezierSurfaceFile { net })),
+        (net(), prop::option::of(0.1..10.0f64)).prop_map(|(net, w)| {
+            ModelFile::BezierSurface(BezierSurfaceFile {
+                weights: w.map(|w| vec![vec![w; net.cols]; net.rows]),
+                net,
+            })
+        }),
         (
             0..9usize,
             reals(0..12),
@@ -504,6 +509,18 @@ fn bad_files_are_refused_with_clear_messages() {
             "ragged net: row 1 has 1 point but row 0 has 2",
         ),
         (r#"{"type":"bezier_surface","net":[]}"#, "\"net\" is empty"),
+        (
+            r#"{"type":"bezier_surface","net":[[[0],[1]],[[2],[3]]],"weights":[[1,1]]}"#,
+            "\"weights\" has 1 row for a net of 2 rows",
+        ),
+        (
+            r#"{"type":"bezier_surface","net":[[[0],[1]],[[2],[3]]],"weights":[[1,1],[1]]}"#,
+            "weights[1] has 1 weight for a net of 2 points per row",
+        ),
+        (
+            r#"{"type":"bezier_surface","net":[[[0],[1]],[[2],[3]]],"weights":[[1,1],[1,-1]]}"#,
+            "weight (1, 1) of the net is -1",
+        ),
         (r#"{"type":"bezier_surface","net":[[]]}"#, "net[0] is empty"),
         ("{", "invalid JSON"),
         (
@@ -595,6 +612,7 @@ fn the_layout_is_one_point_per_line_and_one_net_row_per_line() {
                 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 1e-300,
             ],
         },
+        weights: None,
     });
     assert_eq!(
         to_json(&file).unwrap(),

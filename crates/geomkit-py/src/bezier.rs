@@ -13,7 +13,7 @@ use crate::model::Model;
 use crate::{copy_into, matrix, value_error};
 use geomkit::bezier::{
     ApproxOptions, BezierCurve, BezierSurface, DegreeReport, DeviationBound, Direction,
-    RationalBezierCurve, ReductionNorm,
+    RationalBezierCurve, RationalBezierSurface, ReductionNorm,
 };
 use geomkit::exact::{self, ExactBezierCurve, ExactMatrix, Rational};
 use geomkit::geom::{BatchOptions, Curve, Surface};
@@ -626,46 +626,160 @@ impl BezierCurveCore {
     }
 }
 
+enum SurfaceKind {
+    Polynomial(BezierSurface),
+    Rational(RationalBezierSurface),
+}
+
 /// A tensor-product Bézier surface (formula (11)) over an (n+1)×(m+1) net of points in any
-/// dimension. Immutable.
+/// dimension, polynomial or rational (weights on the net). Immutable.
 #[pyclass(frozen, module = "geomkit._geomkit")]
 pub(crate) struct BezierSurfaceCore {
-    inner: BezierSurface,
+    inner: SurfaceKind,
 }
 
 fn surface(inner: BezierSurface) -> BezierSurfaceCore {
-    BezierSurfaceCore { inner }
+    BezierSurfaceCore {
+        inner: SurfaceKind::Polynomial(inner),
+    }
+}
+
+fn rational_surface(inner: RationalBezierSurface) -> BezierSurfaceCore {
+    BezierSurfaceCore {
+        inner: SurfaceKind::Rational(inner),
+    }
+}
+
+impl BezierSurfaceCore {
+    fn as_surface(&self) -> &(dyn Surface + Sync) {
+        match &self.inner {
+            SurfaceKind::Polynomial(s) => s,
+            SurfaceKind::Rational(s) => s,
+        }
+    }
+
+    fn degrees_of(&self) -> (usize, usize) {
+        match &self.inner {
+            SurfaceKind::Polynomial(s) => s.degrees(),
+            SurfaceKind::Rational(s) => s.degrees(),
+        }
+    }
+
+    /// The polynomial surface, or a `ValueError` saying that `operation` needs one.
+    fn require_polynomial(&self, operation: &str) -> PyResult<&BezierSurface> {
+        match &self.inner {
+            SurfaceKind::Polynomial(s) => Ok(s),
+            SurfaceKind::Rational(_) => Err(PyValueError::new_err(format!(
+                "{operation} is available for polynomial Bézier surfaces only (this surface \
+                 has weights)"
+            ))),
+        }
+    }
+
+    /// Refuses degrees (n, m) whose net would be too many numbers.
+    fn check_target(&self, n: usize, m: usize) -> PyResult<()> {
+        let dim = self.as_surface().dim();
+        let per_point = dim + usize::from(matches!(self.inner, SurfaceKind::Rational(_)));
+        check_result_size(
+            (n as u128 + 1) * (m as u128 + 1) * per_point as u128,
+            || format!("a surface of degrees ({n}, {m}) in R^{dim}"),
+        )
+    }
+
+    fn model(&self) -> BezierModel {
+        match &self.inner {
+            SurfaceKind::Polynomial(s) => BezierModel::Surface(s.clone()),
+            SurfaceKind::Rational(s) => BezierModel::RationalSurface(s.clone()),
+        }
+    }
+
+    /// The same surface as a rational one (weights 1 for a polynomial surface).
+    fn to_rational(&self) -> geomkit::Result<RationalBezierSurface> {
+        match &self.inner {
+            SurfaceKind::Polynomial(s) => {
+                let (n, m) = s.degrees();
+                let w = vec![1.0; (n + 1) * (m + 1)];
+                RationalBezierSurface::from_flat(n + 1, m + 1, s.dim(), s.net_flat().to_vec(), w)
+            }
+            SurfaceKind::Rational(s) => Ok(s.clone()),
+        }
+    }
 }
 
 #[pymethods]
 impl BezierSurfaceCore {
-    /// Checks and copies the net (shape (n+1, m+1, dim)).
+    /// Checks and copies the net (shape (n+1, m+1, dim)) and, for a rational surface, the
+    /// weights (shape (n+1, m+1), each finite and > 0).
     #[new]
-    fn new(py: Python<'_>, net: PyReadonlyArray3<'_, f64>) -> PyResult<Self> {
+    #[pyo3(signature = (net, weights=None))]
+    fn new(
+        py: Python<'_>,
+        net: PyReadonlyArray3<'_, f64>,
+        weights: Option<PyReadonlyArray2<'_, f64>>,
+    ) -> PyResult<Self> {
         let shape = net.shape();
         let (rows, cols, dim) = (shape[0], shape[1], shape[2]);
         let flat = net.as_slice()?;
-        py.detach(|| BezierSurface::from_flat(rows, cols, dim, flat.to_vec()))
-            .map(surface)
-            .map_err(value_error)
+        match weights {
+            None => py
+                .detach(|| BezierSurface::from_flat(rows, cols, dim, flat.to_vec()))
+                .map(surface)
+                .map_err(value_error),
+            Some(w) => {
+                if w.shape() != [rows, cols] {
+                    return Err(PyValueError::new_err(format!(
+                        "weights of shape {:?} for a net of {rows}×{cols} points (give one \
+                         weight per point: shape ({rows}, {cols}))",
+                        w.shape()
+                    )));
+                }
+                let w = w.as_slice()?;
+                py.detach(|| {
+                    RationalBezierSurface::from_flat(rows, cols, dim, flat.to_vec(), w.to_vec())
+                })
+                .map(rational_surface)
+                .map_err(value_error)
+            }
+        }
     }
 
     /// The formal degrees (n, m).
     #[getter]
     fn degrees(&self) -> (usize, usize) {
-        self.inner.degrees()
+        self.degrees_of()
     }
 
     /// The dimension of the net points.
     #[getter]
     fn dim(&self) -> usize {
-        self.inner.dim()
+        self.as_surface().dim()
     }
 
-    /// Copies the net into `out` (shape (n+1, m+1, dim)).
+    /// Whether the surface has weights.
+    #[getter]
+    fn is_rational(&self) -> bool {
+        matches!(self.inner, SurfaceKind::Rational(_))
+    }
+
+    /// Copies the (Cartesian) net into `out` (shape (n+1, m+1, dim)).
     fn net_into(&self, py: Python<'_>, mut out: PyReadwriteArray3<'_, f64>) -> PyResult<()> {
         let out = out.as_slice_mut()?;
-        py.detach(|| copy_into(self.inner.net_flat(), out))
+        let net = match &self.inner {
+            SurfaceKind::Polynomial(s) => s.net_flat(),
+            SurfaceKind::Rational(s) => s.net_flat(),
+        };
+        py.detach(|| copy_into(net, out))
+    }
+
+    /// Copies the weights of a rational surface into `out` (shape (n+1, m+1)).
+    fn weights_into(&self, py: Python<'_>, mut out: PyReadwriteArray2<'_, f64>) -> PyResult<()> {
+        let out = out.as_slice_mut()?;
+        match &self.inner {
+            SurfaceKind::Rational(s) => py.detach(|| copy_into(s.weights_flat(), out)),
+            SurfaceKind::Polynomial(_) => {
+                Err(PyValueError::new_err("a polynomial surface has no weights"))
+            }
+        }
     }
 
     /// p(u[a], v[b]) into `out[a, b]` (shape (len(u), len(v), dim)).
@@ -678,7 +792,7 @@ impl BezierSurfaceCore {
     ) -> PyResult<()> {
         let (u, v) = (u.as_slice()?, v.as_slice()?);
         let out = out.as_slice_mut()?;
-        py.detach(|| self.inner.eval_grid(u, v, out))
+        py.detach(|| self.as_surface().eval_grid(u, v, out))
             .map_err(value_error)
     }
 
@@ -695,7 +809,36 @@ impl BezierSurfaceCore {
         let out = out.as_slice_mut()?;
         py.detach(|| {
             let uv: Vec<f64> = u.iter().zip(v).flat_map(|(&a, &b)| [a, b]).collect();
-            self.inner.eval_batch(&uv, out, &BatchOptions::default())
+            self.as_surface()
+                .eval_batch(&uv, out, &BatchOptions::default())
+        })
+        .map_err(value_error)
+    }
+
+    /// The partial derivative ∂^(du+dv) p / ∂u^du ∂v^dv into `out`: on the grid u × v
+    /// (`grid`, shape (len(u), len(v), dim)) or at the pairs (u[k], v[k]) (shape (len(u),
+    /// dim)). For rational surfaces by the quotient rule; for polynomial ones the hodographs
+    /// of formula (11).
+    #[allow(clippy::too_many_arguments)]
+    fn partials_into(
+        &self,
+        py: Python<'_>,
+        u: PyReadonlyArray1<'_, f64>,
+        v: PyReadonlyArray1<'_, f64>,
+        grid: bool,
+        du: usize,
+        dv: usize,
+        mut out: PyReadwriteArrayDyn<'_, f64>,
+    ) -> PyResult<()> {
+        let (u, v) = (u.as_slice()?, v.as_slice()?);
+        let out = out.as_slice_mut()?;
+        let s = self.as_surface();
+        let pairs = parameter_pairs(u, v, grid, s.dim(), out.len())?;
+        py.detach(|| {
+            for (&(a, b), o) in pairs.iter().zip(out.chunks_exact_mut(s.dim())) {
+                s.derivative_into(a, b, (du, dv), o)?;
+            }
+            Ok(())
         })
         .map_err(value_error)
     }
@@ -713,32 +856,13 @@ impl BezierSurfaceCore {
     ) -> PyResult<()> {
         let (u, v) = (u.as_slice()?, v.as_slice()?);
         let out = out.as_slice_mut()?;
-        let pairs: Vec<(f64, f64)> = if grid {
-            u.iter()
-                .flat_map(|&a| v.iter().map(move |&b| (a, b)))
-                .collect()
-        } else {
-            same_length(u, v)?;
-            u.iter().copied().zip(v.iter().copied()).collect()
-        };
-        if out.len() != pairs.len() * 3 {
-            return Err(value_error(geomkit::Error::BufferSize {
-                expected: pairs.len() * 3,
-                got: out.len(),
-            }));
-        }
-        if let Some(k) = pairs
-            .iter()
-            .position(|(a, b)| !(a.is_finite() && b.is_finite()))
-        {
-            return Err(value_error(geomkit::Error::NonFinite {
-                what: "parameter pair",
-                index: k,
-            }));
-        }
+        let pairs = parameter_pairs(u, v, grid, 3, out.len())?;
         py.detach(|| {
             for (&(a, b), o) in pairs.iter().zip(out.chunks_exact_mut(3)) {
-                let n = self.inner.normal(a, b)?;
+                let n = match &self.inner {
+                    SurfaceKind::Polynomial(s) => s.normal(a, b),
+                    SurfaceKind::Rational(s) => s.normal(a, b),
+                }?;
                 o.copy_from_slice(&n.unwrap_or([f64::NAN; 3]));
             }
             Ok(())
@@ -746,25 +870,31 @@ impl BezierSurfaceCore {
         .map_err(value_error)
     }
 
-    /// The partial-derivative surface ∂p/∂u ("u", degree n-1 in u) or ∂p/∂v ("v").
+    /// The partial-derivative surface ∂p/∂u ("u", degree n-1 in u) or ∂p/∂v ("v") of a
+    /// polynomial surface.
     fn derivative(&self, direction_name: &str) -> PyResult<Self> {
-        Ok(surface(self.inner.derivative(direction(direction_name)?)))
+        let s = self.require_polynomial("the derivative surface")?;
+        Ok(surface(s.derivative(direction(direction_name)?)))
     }
 
-    /// Real degrees and defects in u and v (16): two degree-report tuples.
+    /// Real degrees and defects in u and v (16): two degree-report tuples (of the homogeneous
+    /// surface for a rational one).
     #[pyo3(signature = (tolerance=None))]
     fn degree_report(
         &self,
         py: Python<'_>,
         tolerance: Option<f64>,
     ) -> PyResult<(ReportTuple, ReportTuple)> {
-        py.detach(|| self.inner.degree_report(tolerance))
-            .map(|r| (report_tuple(&r.u), report_tuple(&r.v)))
-            .map_err(value_error)
+        py.detach(|| match &self.inner {
+            SurfaceKind::Polynomial(s) => s.degree_report(tolerance),
+            SurfaceKind::Rational(s) => s.degree_report(tolerance),
+        })
+        .map(|r| (report_tuple(&r.u), report_tuple(&r.v)))
+        .map_err(value_error)
     }
 
     /// Formula (14) done stably: the same surface with degrees (n', m'), each direction
-    /// elevated or exactly reduced.
+    /// elevated or exactly reduced (through homogeneous coordinates for a rational surface).
     #[pyo3(signature = (n, m, tolerance=None))]
     fn change_degree(
         &self,
@@ -773,70 +903,89 @@ impl BezierSurfaceCore {
         m: usize,
         tolerance: Option<f64>,
     ) -> PyResult<Self> {
-        check_result_size(
-            (n as u128 + 1) * (m as u128 + 1) * self.inner.dim() as u128,
-            || format!("a surface of degrees ({n}, {m}) in R^{}", self.inner.dim()),
-        )?;
-        py.detach(|| self.inner.change_degree(n, m, tolerance))
-            .map(surface)
-            .map_err(value_error)
+        self.check_target(n, m)?;
+        py.detach(|| match &self.inner {
+            SurfaceKind::Polynomial(s) => s.change_degree(n, m, tolerance).map(surface),
+            SurfaceKind::Rational(s) => s.change_degree(n, m, tolerance).map(rational_surface),
+        })
+        .map_err(value_error)
     }
 
-    /// Formula (14) exactly as the paper writes it (exact matrices rounded once).
+    /// Formula (14) exactly as the paper writes it (exact matrices rounded once; on the
+    /// homogeneous net for a rational surface).
     fn change_degree_paper(&self, py: Python<'_>, n: usize, m: usize) -> PyResult<Self> {
-        let (a, b) = self.inner.degrees();
+        let (a, b) = self.degrees_of();
         check_paper_degree(a, n, "the paper's formula (14) in u")?;
         check_paper_degree(b, m, "the paper's formula (14) in v")?;
-        check_result_size(
-            (n as u128 + 1) * (m as u128 + 1) * self.inner.dim() as u128,
-            || format!("a surface of degrees ({n}, {m}) in R^{}", self.inner.dim()),
-        )?;
-        py.detach(|| self.inner.change_degree_paper(n, m))
-            .map(surface)
-            .map_err(value_error)
+        self.check_target(n, m)?;
+        py.detach(|| match &self.inner {
+            SurfaceKind::Polynomial(s) => s.change_degree_paper(n, m).map(surface),
+            SurfaceKind::Rational(s) => s
+                .homogeneous()
+                .change_degree_paper(n, m)
+                .and_then(RationalBezierSurface::from_homogeneous)
+                .map(rational_surface),
+        })
+        .map_err(value_error)
     }
 
-    /// Inserts a row ("u", m+1 points) or column ("v", n+1 points) before `index` (13).
+    /// Inserts a row ("u", m+1 points) or column ("v", n+1 points) before `index` (13), with
+    /// their weights (a polynomial surface given weights becomes rational, its own weights 1;
+    /// a rational one given none takes weights 1).
+    #[pyo3(signature = (direction_name, index, line, weights=None))]
     fn insert_line(
         &self,
         py: Python<'_>,
         direction_name: &str,
         index: usize,
         line: PyReadonlyArray2<'_, f64>,
+        weights: Option<PyReadonlyArray1<'_, f64>>,
     ) -> PyResult<Self> {
         let d = direction(direction_name)?;
-        let (_, dim, flat) = matrix(&line)?;
+        let (count, dim, flat) = matrix(&line)?;
+        let weights = weights
+            .map(|w| w.as_slice().map(<[f64]>::to_vec))
+            .transpose()?;
         py.detach(|| {
             let rows: Vec<Vec<f64>> = flat.chunks_exact(dim.max(1)).map(<[f64]>::to_vec).collect();
-            self.inner.insert_line(d, index, &rows)
+            match (&self.inner, weights) {
+                (SurfaceKind::Polynomial(s), None) => s.insert_line(d, index, &rows).map(surface),
+                (_, w) => self
+                    .to_rational()?
+                    .insert_line(d, index, &rows, &w.unwrap_or_else(|| vec![1.0; count]))
+                    .map(rational_surface),
+            }
         })
-        .map(surface)
         .map_err(value_error)
     }
 
     /// Removes row ("u") or column ("v") `index` (13).
     fn remove_line(&self, py: Python<'_>, direction_name: &str, index: usize) -> PyResult<Self> {
         let d = direction(direction_name)?;
-        py.detach(|| self.inner.remove_line(d, index))
-            .map(surface)
-            .map_err(value_error)
+        py.detach(|| match &self.inner {
+            SurfaceKind::Polynomial(s) => s.remove_line(d, index).map(surface),
+            SurfaceKind::Rational(s) => s.remove_line(d, index).map(rational_surface),
+        })
+        .map_err(value_error)
     }
 
-    /// The distance between two surfaces over [0,1]²: (largest found on a 65×65 grid, its u,
-    /// guaranteed upper bound).
+    /// The distance between two polynomial surfaces over [0,1]²: (largest found on a 65×65
+    /// grid, its u, guaranteed upper bound).
     fn deviation_from(
         &self,
         py: Python<'_>,
         other: &BezierSurfaceCore,
     ) -> PyResult<DeviationTuple> {
-        py.detach(|| self.inner.deviation_from(&other.inner))
+        let a = self.require_polynomial("deviation_from")?;
+        let b = other.require_polynomial("deviation_from")?;
+        py.detach(|| a.deviation_from(b))
             .map(|d| deviation_tuple(&d))
             .map_err(value_error)
     }
 
     /// The model file of the surface (`BezierModel::to_file`).
     fn to_model(&self) -> PyResult<Model> {
-        Model::from_file(BezierModel::Surface(self.inner.clone()).to_file(None))
+        Model::from_file(self.model().to_file(None))
     }
 
     /// The surface of a model of kind "bezier_surface".
@@ -844,12 +993,48 @@ impl BezierSurfaceCore {
     fn from_model(_cls: &Bound<'_, PyType>, model: &Model) -> PyResult<Self> {
         match &model.model {
             AnyModel::Bezier(BezierModel::Surface(s)) => Ok(surface(s.clone())),
+            AnyModel::Bezier(BezierModel::RationalSurface(s)) => Ok(rational_surface(s.clone())),
             _ => Err(PyTypeError::new_err(format!(
                 "a model of kind {:?} is not a Bézier surface",
                 model.file.type_name()
             ))),
         }
     }
+}
+
+/// The parameter pairs of a grid u × v (`grid`) or of the pairs (u[k], v[k]), checked
+/// (finite; the same length for pairs) against an output of `out_len` numbers of `dim` each.
+fn parameter_pairs(
+    u: &[f64],
+    v: &[f64],
+    grid: bool,
+    dim: usize,
+    out_len: usize,
+) -> PyResult<Vec<(f64, f64)>> {
+    let pairs: Vec<(f64, f64)> = if grid {
+        u.iter()
+            .flat_map(|&a| v.iter().map(move |&b| (a, b)))
+            .collect()
+    } else {
+        same_length(u, v)?;
+        u.iter().copied().zip(v.iter().copied()).collect()
+    };
+    if out_len != pairs.len() * dim {
+        return Err(value_error(geomkit::Error::BufferSize {
+            expected: pairs.len() * dim,
+            got: out_len,
+        }));
+    }
+    if let Some(k) = pairs
+        .iter()
+        .position(|(a, b)| !(a.is_finite() && b.is_finite()))
+    {
+        return Err(value_error(geomkit::Error::NonFinite {
+            what: "parameter pair",
+            index: k,
+        }));
+    }
+    Ok(pairs)
 }
 
 /// The paper's unified degree-change matrix H_n E_(n+1,n'+1) H_(n')^-1 (formula (10); for

@@ -97,6 +97,16 @@ pub enum Error {
         /// Why it is invalid.
         reason: &'static str,
     },
+    /// A weight of a rational surface's net that is not strictly positive.
+    #[error("weight ({row}, {col}) of the net is {value}; weights must be finite and > 0")]
+    InvalidNetWeight {
+        /// Its row i.
+        row: usize,
+        /// Its column j.
+        col: usize,
+        /// Its value.
+        value: f64,
+    },
     /// A weight of a rational curve that is not strictly positive.
     #[error("weight {index} is {value}; weights must be finite and > 0")]
     InvalidWeight {

@@ -1,5 +1,8 @@
 //! The worked examples of Nikulin (2011), spec/bezier-order.md, reproduced exactly.
 
+mod common;
+
+use common::bernstein;
 use geomkit::bezier::{BezierCurve, BezierSurface, Direction};
 use geomkit::exact::{
     degree_change_matrix, elevation_matrix, h_inverse, h_matrix, ExactBezierCurve, ExactMatrix,
@@ -257,12 +260,6 @@ fn fig4_manual_changes_change_the_shape() {
             ..
         })
     ));
-}
-
-/// b_ni(t), straight from the definition (independent of the library's evaluators).
-fn bernstein(n: usize, i: usize, t: f64) -> f64 {
-    let binom = (0..i).fold(1.0, |acc, k| acc * (n - k) as f64 / (k + 1) as f64);
-    binom * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32)
 }
 
 /// Σ_k b_nk(t) P_k by brute force.

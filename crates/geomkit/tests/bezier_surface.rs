@@ -2,9 +2,9 @@
 
 mod common;
 
-use common::Rng;
-use geomkit::bezier::{BezierSurface, Direction, RationalBezierCurve};
-use geomkit::geom::Curve;
+use common::{bernstein, Rng};
+use geomkit::bezier::{BezierSurface, Direction, RationalBezierCurve, RationalBezierSurface};
+use geomkit::geom::{Curve, Surface};
 use geomkit::Error;
 
 fn random_surface(n: usize, m: usize, seed: u64) -> BezierSurface {
@@ -198,4 +198,155 @@ fn rational_curves_change_order_through_homogeneous_coordinates() {
             ..
         })
     ));
+}
+
+/// An octant of the unit sphere as a rational biquadratic: the quarter circle of the meridian
+/// (weights 1, 1/√2, 1) turned through 90° about z (the same weights), w_ij = w_i w_j.
+fn sphere_octant() -> RationalBezierSurface {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let turn = [(1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+    let meridian = [(1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+    let w = [1.0, h, 1.0];
+    let net = turn
+        .iter()
+        .map(|&(c, s)| {
+            meridian
+                .iter()
+                .map(|&(r, z)| vec![r * c, r * s, z])
+                .collect()
+        })
+        .collect();
+    let weights = w
+        .iter()
+        .map(|a| w.iter().map(|b| a * b).collect())
+        .collect();
+    RationalBezierSurface::new(net, weights).unwrap()
+}
+
+#[test]
+fn rational_surfaces_change_order_keeping_the_sphere() {
+    let octant = sphere_octant();
+    let ts: Vec<f64> = (0..=20).map(|k| k as f64 / 20.0).collect();
+    for (n, m) in [(2, 2), (5, 2), (3, 7), (9, 9)] {
+        let e = octant.change_degree(n, m, None).unwrap();
+        assert_eq!(e.degrees(), (n, m));
+        assert_eq!(e.degree_report(None).unwrap().real_degrees(), (2, 2));
+        let mut grid = vec![0.0; 21 * 21 * 3];
+        e.eval_grid(&ts, &ts, &mut grid).unwrap();
+        for p in grid.chunks_exact(3) {
+            let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            assert!((r - 1.0).abs() < 2e-15, "({n}, {m}): |p| = {r}");
+        }
+        // Exactly back to the biquadratic: the same weights and net.
+        let back = e.change_degree(2, 2, None).unwrap();
+        let scale = back.weights()[0][0];
+        for (a, b) in back
+            .weights()
+            .iter()
+            .flatten()
+            .zip(octant.weights().iter().flatten())
+        {
+            assert!((a / scale - b).abs() < 1e-14, "({n}, {m})");
+        }
+        for (a, b) in back
+            .net()
+            .iter()
+            .flatten()
+            .flatten()
+            .zip(octant.net().iter().flatten().flatten())
+        {
+            assert!((a - b).abs() < 1e-13, "({n}, {m})");
+        }
+    }
+    assert!(matches!(
+        octant
+            .change_degree(2, 9, None)
+            .unwrap()
+            .change_degree(1, 9, None),
+        Err(Error::SurfaceDefectTooSmall {
+            direction: "u",
+            real_degree: 2,
+            requested: 1,
+            ..
+        })
+    ));
+}
+
+/// Direct double sum Σ w b b u / Σ w b b with binomials (not de Casteljau).
+fn rational_sum(net: &[Vec<Vec<f64>>], w: &[Vec<f64>], u: f64, v: f64) -> Vec<f64> {
+    let (n, m) = (net.len() - 1, net[0].len() - 1);
+    let dim = net[0][0].len();
+    let mut num = vec![0.0; dim];
+    let mut den = 0.0;
+    for i in 0..=n {
+        for j in 0..=m {
+            let b = bernstein(n, i, u) * bernstein(m, j, v) * w[i][j];
+            den += b;
+            for (x, p) in num.iter_mut().zip(&net[i][j]) {
+                *x += b * p;
+            }
+        }
+    }
+    num.iter().map(|x| x / den).collect()
+}
+
+#[test]
+fn rational_surface_values_and_derivatives_against_the_sums() {
+    let mut rng = common::Rng(77);
+    let (n, m) = (4, 3);
+    let net: Vec<Vec<Vec<f64>>> = (0..=n)
+        .map(|i| {
+            (0..=m)
+                .map(|j| vec![i as f64, j as f64, rng.uniform()])
+                .collect()
+        })
+        .collect();
+    let w: Vec<Vec<f64>> = (0..=n)
+        .map(|_| (0..=m).map(|_| 0.2 + 3.0 * rng.uniform().abs()).collect())
+        .collect();
+    let s = RationalBezierSurface::new(net.clone(), w.clone()).unwrap();
+    assert_eq!(s.net(), net);
+    assert_eq!(s.weights(), w);
+    let d = 1e-4;
+    for &(u, v) in &[(0.0, 0.0), (0.25, 0.8), (0.6, 0.1), (1.0, 1.0), (0.5, 0.5)] {
+        let p = Surface::eval(&s, u, v);
+        let q = rational_sum(&net, &w, u, v);
+        assert!(common::max_abs_diff(&p, &q) < 1e-14, "value at ({u}, {v})");
+        // First and mixed derivatives against fourth-order central differences of the sums.
+        let f = |a: f64, b: f64| rational_sum(&net, &w, a, b);
+        let diff = |g: &dyn Fn(f64) -> Vec<f64>| -> Vec<f64> {
+            let (a, b, c, e) = (g(-2.0 * d), g(-d), g(d), g(2.0 * d));
+            (0..3)
+                .map(|k| (a[k] - 8.0 * b[k] + 8.0 * c[k] - e[k]) / (12.0 * d))
+                .collect()
+        };
+        let du = diff(&|h| f(u + h, v));
+        let dv = diff(&|h| f(u, v + h));
+        let duv = diff(&|h| diff(&|k| f(u + h, v + k)));
+        for (order, want) in [((1, 0), du), ((0, 1), dv), ((1, 1), duv)] {
+            let mut got = [0.0; 3];
+            s.derivative_into(u, v, order, &mut got).unwrap();
+            assert!(
+                common::max_abs_diff(&got, &want) < 1e-6,
+                "{order:?} at ({u}, {v}): {got:?} vs {want:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn rational_surface_with_huge_points_and_weights_stays_finite() {
+    // w_ij u_ij overflows f64 unscaled: the homogeneous net holds the weights scaled.
+    let big = 1.0e300;
+    let s = RationalBezierSurface::new(
+        vec![
+            vec![vec![big, 0.0], vec![big, big]],
+            vec![vec![-big, 0.0], vec![-big, big]],
+        ],
+        vec![vec![1e10, 1.0], vec![1.0, 1e10]],
+    )
+    .unwrap();
+    let p = Surface::eval(&s, 0.5, 0.5);
+    assert!(p.iter().all(|x| x.is_finite() && x.abs() <= big));
+    assert_eq!(s.weights()[0][0], 1e10);
 }

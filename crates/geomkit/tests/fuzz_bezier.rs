@@ -1,5 +1,5 @@
 //! Fuzzing of the Bézier operations (issue 21): random curves, rational curves and
-//! surfaces with coordinates from 1e-300 to f64::MAX, through every operation. Property: no
+//! surfaces (polynomial and rational) with coordinates from 1e-300 to f64::MAX, through every operation. Property: no
 //! panic; each result is an error or finite; the real-degree test and the exact reduction
 //! agree; evaluation on [0, 1] stays within the control points' bounding box (convex hull).
 
@@ -7,9 +7,10 @@
 mod fuzz;
 
 use geomkit::bezier::{
-    ApproxOptions, BezierCurve, BezierSurface, RationalBezierCurve, ReductionNorm,
+    ApproxOptions, BezierCurve, BezierSurface, Direction, RationalBezierCurve,
+    RationalBezierSurface, ReductionNorm,
 };
-use geomkit::geom::Curve;
+use geomkit::geom::{Curve, Surface};
 use proptest::prelude::*;
 
 /// Coordinates at every magnitude: ordinary, tiny, huge, near f64::MAX, zeros and repeats.
@@ -156,5 +157,38 @@ proptest! {
             prop_assert!(c.net_flat().iter().all(|x| x.is_finite()));
         }
         let _ = s.normal(u, v);
+    }
+
+    #[test]
+    fn fuzz_rational_surfaces(
+        (rows, cols, dim) in (1usize..4, 1usize..4, 1usize..4),
+        values in prop::collection::vec(coord(), 27),
+        weights in prop::collection::vec(
+            prop_oneof![0.01..100.0f64, Just(1e-300), Just(1e300), Just(f64::MAX), Just(0.0), Just(-1.0), Just(f64::NAN)],
+            1..10,
+        ),
+        (u, v) in (0.0..=1.0f64, 0.0..=1.0f64),
+        targets in (0usize..6, 0usize..6),
+        orders in (0usize..3, 0usize..3),
+    ) {
+        let net: Vec<f64> = (0..rows * cols * dim).map(|i| values[i % values.len()]).collect();
+        let w: Vec<f64> = (0..rows * cols).map(|i| weights[i % weights.len()]).collect();
+        if let Ok(s) = RationalBezierSurface::from_flat(rows, cols, dim, net.clone(), w) {
+            let points: Vec<Vec<f64>> = net.chunks_exact(dim).map(<[f64]>::to_vec).collect();
+            let p = s.eval(u, v);
+            prop_assert!(p.iter().all(|x| x.is_finite()), "eval({u}, {v}) = {p:?}");
+            prop_assert!(contains(&points, &p), "eval({u}, {v}) = {p:?} outside the hull");
+            let mut d = vec![0.0; dim];
+            let _ = s.derivative_into(u, v, orders, &mut d);
+            let _ = s.degree_report(None);
+            if let Ok(c) = s.change_degree(targets.0, targets.1, None) {
+                prop_assert!(c.weights_flat().iter().all(|w| w.is_finite() && *w > 0.0));
+                prop_assert!(c.net_flat().iter().all(|x| x.is_finite()));
+            }
+            if let Ok(r) = s.remove_line(Direction::U, 0) {
+                prop_assert_eq!(r.degrees().0 + 1, s.degrees().0);
+            }
+            let _ = s.normal(u, v);
+        }
     }
 }

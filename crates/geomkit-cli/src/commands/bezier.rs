@@ -12,8 +12,11 @@ use crate::model::{read_model, to_json, BezierModel, ErrorReport};
 use crate::output::coordinate_names;
 use crate::output::{write_stdout, Destination};
 use anyhow::{bail, Context, Result};
-use geomkit::bezier::{ApproxOptions, BezierSurface, DegreeReport, ReductionNorm};
-use geomkit::geom::Curve;
+use geomkit::bezier::{
+    ApproxOptions, BezierSurface, DegreeReport, RationalBezierSurface, ReductionNorm,
+    SurfaceDegreeReport,
+};
+use geomkit::geom::{Curve, Surface};
 use geomkit_plot::figures::{curve_change_svg, surface_svg, Layer};
 use geomkit_plot::svg::{palette, Stroke};
 use std::path::{Path, PathBuf};
@@ -52,47 +55,67 @@ fn degree(args: DegreeArgs) -> Result<()> {
             let report = r.degree_report(tol).with_context(ctx)?;
             curve_degree_text(&args, &model, &report, r.homogeneous().scale())
         }
-        BezierModel::Surface(s) => {
+        BezierModel::Surface(s) => surface_degree_text(
+            &args,
+            &model,
+            &s.degree_report(tol).with_context(ctx)?,
+            s.scale(),
+        ),
+        BezierModel::RationalSurface(s) => {
             let report = s.degree_report(tol).with_context(ctx)?;
-            let (u, v) = (report.u, report.v);
-            if args.json {
-                format!(
-                    "{{\"degree\":[{},{}],\"real_degree\":[{},{}],\"defect\":[{},{}]}}\n",
-                    u.degree, v.degree, u.real_degree, v.real_degree, u.defect, v.defect
-                )
-            } else {
-                let row = |name: &str, a: String, b: String| {
-                    format!("{name:<20}{a:<12}{b}").trim_end().to_string() + "\n"
-                };
-                let mut t = format!("{}: {}\n", args.input.display(), model.describe());
-                t += &row("", "u".into(), "v".into());
-                t += &row("formal degree", u.degree.to_string(), v.degree.to_string());
-                t += &row(
-                    "real degree",
-                    u.real_degree.to_string(),
-                    v.real_degree.to_string(),
-                );
-                t += &row("degree defect", u.defect.to_string(), v.defect.to_string());
-                t += &row("residual", sci(u.residual), sci(v.residual));
-                t += &row(
-                    "rejected residual",
-                    u.rejected_residual.map_or("-".into(), sci),
-                    v.rejected_residual.map_or("-".into(), sci),
-                );
-                t += &format!(
-                    "{:<20}{} (relative to max|u_ij| = {})\n",
-                    "tolerance",
-                    short(u.tolerance),
-                    short(s.scale())
-                );
-                t += "residual: largest net-point distance after reducing to the real degree and \
-                      elevating back, relative to max|u_ij|; rejected residual: the same one \
-                      degree lower.\n";
-                t
-            }
+            surface_degree_text(&args, &model, &report, s.homogeneous().scale())
         }
     };
     write_stdout(text.as_bytes())
+}
+
+/// The report of `bezier degree` for a surface (`scale`: max|u_ij| of the net the residuals
+/// are relative to).
+fn surface_degree_text(
+    args: &DegreeArgs,
+    model: &BezierModel,
+    report: &SurfaceDegreeReport,
+    scale: f64,
+) -> String {
+    let (u, v) = (report.u, report.v);
+    if args.json {
+        format!(
+            "{{\"degree\":[{},{}],\"real_degree\":[{},{}],\"defect\":[{},{}]}}\n",
+            u.degree, v.degree, u.real_degree, v.real_degree, u.defect, v.defect
+        )
+    } else {
+        let row = |name: &str, a: String, b: String| {
+            format!("{name:<20}{a:<12}{b}").trim_end().to_string() + "\n"
+        };
+        let mut t = format!("{}: {}\n", args.input.display(), model.describe());
+        if matches!(model, BezierModel::RationalSurface(_)) {
+            t += "(degrees of the homogeneous surface (w·u, w))\n";
+        }
+        t += &row("", "u".into(), "v".into());
+        t += &row("formal degree", u.degree.to_string(), v.degree.to_string());
+        t += &row(
+            "real degree",
+            u.real_degree.to_string(),
+            v.real_degree.to_string(),
+        );
+        t += &row("degree defect", u.defect.to_string(), v.defect.to_string());
+        t += &row("residual", sci(u.residual), sci(v.residual));
+        t += &row(
+            "rejected residual",
+            u.rejected_residual.map_or("-".into(), sci),
+            v.rejected_residual.map_or("-".into(), sci),
+        );
+        t += &format!(
+            "{:<20}{} (relative to max|u_ij| = {})\n",
+            "tolerance",
+            short(u.tolerance),
+            short(scale)
+        );
+        t += "residual: largest net-point distance after reducing to the real degree and \
+              elevating back, relative to max|u_ij|; rejected residual: the same one \
+              degree lower.\n";
+        t
+    }
 }
 
 fn curve_degree_text(
@@ -223,7 +246,7 @@ fn check_size(to: Degrees) -> Result<()> {
 
 fn wrong_arity(model: &BezierModel, to: Degrees) -> anyhow::Error {
     match (model, to) {
-        (BezierModel::Surface(_), _) => anyhow::anyhow!(
+        (BezierModel::Surface(_) | BezierModel::RationalSurface(_), _) => anyhow::anyhow!(
             "a surface needs a target degree per direction: --to N,M (got --to {to})"
         ),
         _ => anyhow::anyhow!("a curve takes one target degree: --to N (got --to {to})"),
@@ -242,8 +265,8 @@ fn elevate(args: ElevateArgs) -> Result<()> {
         (BezierModel::Rational(r), Degrees::One(n)) => {
             BezierModel::Rational(r.elevate_degree(n).with_context(ctx)?)
         }
-        (BezierModel::Surface(s), Degrees::Two(n, m)) => {
-            let (a, b) = s.degrees();
+        (BezierModel::Surface(_) | BezierModel::RationalSurface(_), Degrees::Two(n, m)) => {
+            let (a, b) = surface_degrees(&old);
             if n < a || m < b {
                 bail!(
                     "{}: cannot elevate a surface of degrees ({a}, {b}) to ({n}, {m}): elevation \
@@ -251,7 +274,7 @@ fn elevate(args: ElevateArgs) -> Result<()> {
                     args.input.display()
                 );
             }
-            BezierModel::Surface(s.change_degree(n, m, None).with_context(ctx)?)
+            change_surface(&old, n, m, None).with_context(ctx)?
         }
         (model, to) => return Err(wrong_arity(model, to)),
     };
@@ -321,7 +344,7 @@ fn reduce(args: ReduceArgs) -> Result<()> {
              weights); reduce it exactly, down to its real degree",
             input.display()
         ),
-        (BezierModel::Surface(_), _) if args.approx => bail!(
+        (BezierModel::Surface(_) | BezierModel::RationalSurface(_), _) if args.approx => bail!(
             "{}: approximate reduction is available for curves only; surfaces reduce exactly \
              (drop --approx)",
             input.display()
@@ -340,8 +363,8 @@ fn reduce(args: ReduceArgs) -> Result<()> {
             ),
             None,
         ),
-        (BezierModel::Surface(s), Degrees::Two(n, m)) => {
-            let (a, b) = s.degrees();
+        (BezierModel::Surface(_) | BezierModel::RationalSurface(_), Degrees::Two(n, m)) => {
+            let (a, b) = surface_degrees(&old);
             if n > a || m > b {
                 bail!(
                     "{}: cannot reduce a surface of degrees ({a}, {b}) to ({n}, {m}): reduction \
@@ -350,10 +373,7 @@ fn reduce(args: ReduceArgs) -> Result<()> {
                 );
             }
             (
-                BezierModel::Surface(
-                    s.change_degree(n, m, args.tolerance)
-                        .with_context(file_context(input))?,
-                ),
+                change_surface(&old, n, m, args.tolerance).with_context(file_context(input))?,
                 None,
             )
         }
@@ -396,10 +416,9 @@ fn change(args: ChangeArgs) -> Result<()> {
             }
             .map_err(|e| explain_reduction(e, input, false))?,
         ),
-        (BezierModel::Surface(s), Degrees::Two(n, m)) => BezierModel::Surface(
-            s.change_degree(n, m, tol)
-                .with_context(file_context(input))?,
-        ),
+        (BezierModel::Surface(_) | BezierModel::RationalSurface(_), Degrees::Two(n, m)) => {
+            change_surface(&old, n, m, tol).with_context(file_context(input))?
+        }
         (model, to) => return Err(wrong_arity(model, to)),
     };
     write_change(
@@ -419,7 +438,37 @@ fn degrees_of(model: &BezierModel) -> String {
     match model {
         BezierModel::Curve(c) => c.degree().to_string(),
         BezierModel::Rational(r) => r.degree().to_string(),
-        BezierModel::Surface(s) => format!("{:?}", s.degrees()),
+        BezierModel::Surface(_) | BezierModel::RationalSurface(_) => {
+            format!("{:?}", surface_degrees(model))
+        }
+    }
+}
+
+/// The degrees (n, m) of a (rational) surface; (0, 0) for curves.
+fn surface_degrees(model: &BezierModel) -> (usize, usize) {
+    match model {
+        BezierModel::Surface(s) => s.degrees(),
+        BezierModel::RationalSurface(s) => s.degrees(),
+        BezierModel::Curve(_) | BezierModel::Rational(_) => (0, 0),
+    }
+}
+
+/// Formula (14) on a (rational) surface: degrees (n, m), each direction elevated or exactly
+/// reduced (with `tolerance`).
+fn change_surface(
+    model: &BezierModel,
+    n: usize,
+    m: usize,
+    tolerance: Option<f64>,
+) -> geomkit::Result<BezierModel> {
+    match model {
+        BezierModel::Surface(s) => s.change_degree(n, m, tolerance).map(BezierModel::Surface),
+        BezierModel::RationalSurface(s) => s
+            .change_degree(n, m, tolerance)
+            .map(BezierModel::RationalSurface),
+        BezierModel::Curve(_) | BezierModel::Rational(_) => {
+            unreachable!("called for surfaces only")
+        }
     }
 }
 
@@ -468,15 +517,32 @@ fn change_svg(change: &Change) -> Result<String> {
             (None, &b.points()),
         )?),
         (BezierModel::Surface(a), BezierModel::Surface(b)) => {
-            surface_change_svg(&title, &subtitle, a, b)
+            surface_change_svg(&title, &subtitle, b, a, b)
+        }
+        (BezierModel::RationalSurface(a), BezierModel::RationalSurface(b)) => {
+            surface_change_svg(&title, &subtitle, b, &net_of(a)?, &net_of(b)?)
         }
         _ => bail!("internal error: the model kind changed"),
     }
 }
 
+/// The net of a rational surface for drawing (its Cartesian points; the layer draws points
+/// and lines only).
+fn net_of(s: &RationalBezierSurface) -> Result<BezierSurface> {
+    let (n, m) = s.degrees();
+    Ok(BezierSurface::from_flat(
+        n + 1,
+        m + 1,
+        s.dim(),
+        s.net_flat().to_vec(),
+    )?)
+}
+
+/// The surface `surface` with its old and new nets.
 fn surface_change_svg(
     title: &str,
     subtitle: &str,
+    surface: &dyn Surface,
     old: &BezierSurface,
     new: &BezierSurface,
 ) -> Result<String> {
@@ -487,7 +553,7 @@ fn surface_change_svg(
         subtitle,
         &[
             Layer::Wireframe {
-                surface: new,
+                surface,
                 count: 16,
                 stroke: Stroke::solid(palette::CURVE.color, 1.0),
                 legend: "surface (unchanged)".into(),
@@ -525,7 +591,7 @@ fn eval(args: EvalArgs) -> Result<()> {
     let model = read_model(&args.input)?;
     let k = args.samples;
     let most = match model {
-        BezierModel::Surface(_) => MAX_SURFACE_SAMPLES,
+        BezierModel::Surface(_) | BezierModel::RationalSurface(_) => MAX_SURFACE_SAMPLES,
         _ => MAX_CURVE_SAMPLES,
     };
     if k > most {
@@ -538,7 +604,9 @@ fn eval(args: EvalArgs) -> Result<()> {
             let curve: &dyn Curve = match &model {
                 BezierModel::Curve(c) => c,
                 BezierModel::Rational(r) => r,
-                BezierModel::Surface(_) => unreachable!("matched above"),
+                BezierModel::Surface(_) | BezierModel::RationalSurface(_) => {
+                    unreachable!("matched above")
+                }
             };
             let d = curve.dim();
             dest.write_with(|w| {
@@ -552,7 +620,12 @@ fn eval(args: EvalArgs) -> Result<()> {
                 Ok(())
             })
         }
-        BezierModel::Surface(s) => {
+        BezierModel::Surface(_) | BezierModel::RationalSurface(_) => {
+            let s: &dyn Surface = match &model {
+                BezierModel::Surface(s) => s,
+                BezierModel::RationalSurface(s) => s,
+                BezierModel::Curve(_) | BezierModel::Rational(_) => unreachable!("matched above"),
+            };
             let d = s.dim();
             let mut row_buf = vec![0.0; k * d];
             dest.write_with(|w| {

@@ -70,6 +70,7 @@ fn target(model: &AnyModel) -> Result<Target<'_>> {
         AnyModel::Bezier(BezierModel::Curve(c)) => plain_curve(c),
         AnyModel::Bezier(BezierModel::Rational(r)) => plain_curve(r),
         AnyModel::Bezier(BezierModel::Surface(s)) => plain_surface(s, true),
+        AnyModel::Bezier(BezierModel::RationalSurface(s)) => plain_surface(s, true),
         AnyModel::BsplineCurve(m) => plain_curve(&m.curve),
         AnyModel::BsplineSurface(m) => plain_surface(&m.surface, true),
         AnyModel::Composite(s) if s.kind() == SurfaceKind::Explicit => Target::Surface {

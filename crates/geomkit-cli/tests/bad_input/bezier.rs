@@ -8,6 +8,9 @@ const SURFACE: &str =
     "{\"type\": \"bezier_surface\", \"net\": [[[0,0,0],[1,0,1]],[[0,1,0],[1,1,1]]]}";
 const RATIONAL: &str =
     "{\"type\": \"bezier_curve\", \"points\": [[1,0],[1,1],[0,1]], \"weights\": [1, 0, 1]}";
+const RATIONAL_SURFACE: &str = "{\"type\": \"bezier_surface\", \"net\": [[[1,0,0],[1,0,2]],[[1,1,0],[1,1,2]],[[0,1,0],[0,1,2]]], \"weights\": [[1,1],[0.7,0.7],[1,1]]}";
+const BAD_SURFACE_WEIGHT: &str =
+    "{\"type\": \"bezier_surface\", \"net\": [[[0],[1]],[[2],[3]]], \"weights\": [[1,1],[1,-2]]}";
 const NAN_POINT: &str = "{\"type\": \"bezier_curve\", \"points\": [[0,0],[1,NaN]]}";
 const HUGE_POINT: &str = "{\"type\": \"bezier_curve\", \"points\": [[0,0],[1,1e999]]}";
 const NO_POINTS: &str = "{\"type\": \"bezier_curve\", \"points\": []}";
@@ -216,6 +219,30 @@ pub const CASES: &[Case] = &[
         &[("c.json", CUBIC)],
         &["bezier", "eval", "c.json", "--samples", "1e3"],
         &["--samples", "1e3"],
+    ),
+    case(
+        &[("s.json", BAD_SURFACE_WEIGHT)],
+        &["bezier", "degree", "s.json"],
+        &["s.json", "weight (1, 1)", "-2"],
+    ),
+    case(
+        &[("s.json", RATIONAL_SURFACE)],
+        &[
+            "bezier", "reduce", "--to", "1,1", "s.json", "-o", "out.json",
+        ],
+        &["s.json", "degree 1 in u", "real u-degree is 2"],
+    ),
+    case(
+        &[("s.json", RATIONAL_SURFACE)],
+        &[
+            "bezier", "reduce", "--to", "2,1", "--approx", "s.json", "-o", "out.json",
+        ],
+        &["s.json", "approximate reduction", "curves only"],
+    ),
+    case(
+        &[("s.json", RATIONAL_SURFACE)],
+        &["bezier", "elevate", "--to", "3", "s.json", "-o", "out.json"],
+        &["--to N,M", "--to 3"],
     ),
 ];
 

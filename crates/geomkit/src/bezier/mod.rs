@@ -6,6 +6,7 @@
 //!   (9), the unified formula (10).
 //! - [`RationalBezierCurve`]: weights; order change through homogeneous coordinates.
 //! - [`BezierSurface`]: formulas (11)-(16), the eight order-change problems of (14).
+//! - [`RationalBezierSurface`]: weights; order change (14) through homogeneous coordinates.
 //! - [`edit`]: the paper's hand edits of control points (they change the shape; we say how much).
 
 mod bound;
@@ -13,6 +14,7 @@ mod curve;
 pub mod degree;
 pub mod edit;
 mod rational;
+mod rational_surface;
 mod surface;
 
 pub use bound::DeviationBound;
@@ -22,4 +24,5 @@ pub use degree::{
     DEFAULT_TOLERANCE, MAX_ELEVATION_WEIGHTS, MAX_REDUCTION_DEGREE,
 };
 pub use rational::RationalBezierCurve;
+pub use rational_surface::RationalBezierSurface;
 pub use surface::{BezierSurface, Direction, SurfaceDegreeReport};

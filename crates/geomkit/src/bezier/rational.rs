@@ -42,6 +42,83 @@ fn check_weights(weights: &[f64]) -> Result<()> {
     }
 }
 
+/// The homogeneous points (w_i u_i, w_i) of Cartesian points `flat` (dimension `dim`) and
+/// their weights (checked finite and positive; one per point, the count is the caller's). When some
+/// w_i·u_i would overflow or underflow f64, the weights are first scaled by the power of two
+/// that brings the largest into (1/2, 1] (exact; a common factor does not change a rational
+/// curve or surface), so that every w_i u_i is at most |u_i| and the largest products keep
+/// their digits.
+pub(super) fn homogeneous_flat(flat: &[f64], dim: usize, weights: &[f64]) -> Result<Vec<f64>> {
+    check_weights(weights)?;
+    let lost = flat.chunks_exact(dim).zip(weights).any(|(p, w)| {
+        p.iter().any(|x| {
+            let y = (x * w).abs();
+            !y.is_finite() || (*x != 0.0 && y < f64::MIN_POSITIVE)
+        })
+    });
+    let largest_weight = weights.iter().fold(0.0f64, |m, &w| m.max(w));
+    let factor = if lost {
+        2f64.powi(-(largest_weight.log2().ceil() as i32))
+    } else {
+        1.0
+    };
+    let mut h = Vec::with_capacity(weights.len() * (dim + 1));
+    for (p, w) in flat.chunks_exact(dim).zip(weights) {
+        let w = w * factor;
+        if w == 0.0 {
+            return Err(Error::Numerical {
+                operation: "rational Bézier weights",
+                reason: "the weights span too many orders of magnitude for control points \
+                         this large (some w_i·u_i overflows f64, and scaling the weights \
+                         down makes the smallest 0)",
+            });
+        }
+        h.extend(p.iter().map(|x| x * w));
+        h.push(w);
+    }
+    Ok(h)
+}
+
+/// The Cartesian points and weights of homogeneous points (last coordinate the weight, checked
+/// positive): (points (w u)/w row-major, weights). A quotient past f64::MAX by rounding only (a
+/// point of f64::MAX itself, w·u rounded) is f64::MAX; one that truly exceeds f64 is an
+/// error.
+pub(super) fn split_homogeneous(h: &[f64], d: usize) -> Result<(Vec<f64>, Vec<f64>)> {
+    let weights: Vec<f64> = h.chunks_exact(d).map(|p| p[d - 1]).collect();
+    check_weights(&weights)?;
+    let mut points = Vec::with_capacity(weights.len() * (d - 1));
+    for p in h.chunks_exact(d) {
+        let w = p[d - 1];
+        for x in &p[..d - 1] {
+            let mut q = x / w;
+            if q.is_infinite() {
+                if (x * 0.5 / w).abs() > f64::MAX * 0.5 * (1.0 + 8.0 * f64::EPSILON) {
+                    return Err(Error::Numerical {
+                        operation: "rational Bézier control points",
+                        reason: "a control point (w·u)/w overflows f64",
+                    });
+                }
+                q = f64::MAX.copysign(*x);
+            }
+            points.push(q);
+        }
+    }
+    Ok((points, weights))
+}
+
+/// Writes the Cartesian point of the homogeneous point `h` (last coordinate the weight w > 0)
+/// into `out`: x / w, where a quotient past f64::MAX of a point inside its control points'
+/// hull is rounding at coordinates of f64::MAX itself and is clamped there.
+pub(super) fn project(h: &[f64], out: &mut [f64]) {
+    let d = h.len();
+    for (o, x) in out.iter_mut().zip(&h[..d - 1]) {
+        *o = x / h[d - 1];
+        if o.is_infinite() && x.is_finite() && h[d - 1] > 0.0 {
+            *o = f64::MAX.copysign(*o);
+        }
+    }
+}
+
 impl RationalBezierCurve {
     /// A curve from control points and weights (finite, > 0, one per point). When some
     /// w_i·u_i would overflow or underflow f64, the homogeneous points hold the weights
@@ -54,38 +131,7 @@ impl RationalBezierCurve {
                 got: weights.len(),
             });
         }
-        check_weights(&weights)?;
-        // A common factor of the weights does not change the curve: when some w_i u_i
-        // overflows (coordinates near f64::MAX) or underflows (tiny weights and points), the
-        // weights are scaled by the power of two that brings the largest into (1/2, 1]
-        // (exact), so that every w_i u_i is at most |u_i| and the largest products keep
-        // their digits.
-        let lost = flat.chunks_exact(dim).zip(&weights).any(|(p, w)| {
-            p.iter().any(|x| {
-                let y = (x * w).abs();
-                !y.is_finite() || (*x != 0.0 && y < f64::MIN_POSITIVE)
-            })
-        });
-        let largest_weight = weights.iter().fold(0.0f64, |m, &w| m.max(w));
-        let factor = if lost {
-            2f64.powi(-(largest_weight.log2().ceil() as i32))
-        } else {
-            1.0
-        };
-        let mut h = Vec::with_capacity(weights.len() * (dim + 1));
-        for (p, w) in flat.chunks_exact(dim).zip(&weights) {
-            let w = w * factor;
-            if w == 0.0 {
-                return Err(Error::Numerical {
-                    operation: "rational curve",
-                    reason: "the weights span too many orders of magnitude for control points \
-                             this large (some w_i·u_i overflows f64, and scaling the weights \
-                             down makes the smallest 0)",
-                });
-            }
-            h.extend(p.iter().map(|x| x * w));
-            h.push(w);
-        }
+        let h = homogeneous_flat(&flat, dim, &weights)?;
         Ok(RationalBezierCurve {
             homogeneous: BezierCurve::from_flat(dim + 1, h)?,
             points: flat,
@@ -103,14 +149,7 @@ impl RationalBezierCurve {
                 got: h.dim(),
             });
         }
-        let d = h.dim();
-        let weights: Vec<f64> = h.points_flat().chunks_exact(d).map(|p| p[d - 1]).collect();
-        check_weights(&weights)?;
-        let points = h
-            .points_flat()
-            .chunks_exact(d)
-            .flat_map(|p| p[..d - 1].iter().map(move |x| x / p[d - 1]))
-            .collect();
+        let (points, weights) = split_homogeneous(h.points_flat(), h.dim())?;
         Ok(RationalBezierCurve {
             homogeneous: h,
             points,
@@ -177,14 +216,7 @@ impl Curve for RationalBezierCurve {
         let d = self.homogeneous.dim();
         let mut h = vec![0.0; d];
         eval_accurate(self.homogeneous.points_flat(), d, t, &mut h);
-        for (o, x) in out.iter_mut().zip(&h[..d - 1]) {
-            *o = x / h[d - 1];
-            if o.is_infinite() && x.is_finite() && h[d - 1] > 0.0 {
-                // The point lies in the control points' hull: a quotient past f64::MAX is
-                // rounding at coordinates of f64::MAX itself.
-                *o = f64::MAX.copysign(*o);
-            }
-        }
+        project(&h, out);
     }
 
     /// Every order: with A(t) = Σ w_i b_ni(t) u_i and w(t) = Σ w_i b_ni(t) (the

@@ -17,6 +17,12 @@ pub const PARAMETRIZATIONS: [Parametrization; 3] = [
     Parametrization::Centripetal,
 ];
 
+/// b_ni(t), straight from the definition (independent of the library's evaluators).
+pub fn bernstein(n: usize, i: usize, t: f64) -> f64 {
+    let binom = (0..i).fold(1.0, |acc, k| acc * (n - k) as f64 / (k + 1) as f64);
+    binom * t.powi(i as i32) * (1.0 - t).powi((n - i) as i32)
+}
+
 /// Deterministic xorshift generator of numbers in [-1, 1).
 pub struct Rng(pub u64);
 
