@@ -363,3 +363,46 @@ fn obj_normal_layouts() {
     ok_stderr(d, &["mesh", "s.json", "-o", "s.obj", "--samples", "5x4"]);
     assert_eq!((count("s.obj", "v "), count("s.obj", "vn ")), (20, 20));
 }
+
+/// Pictures of models whose coordinates reach f64::MAX: drawn scaled (tick labels with the
+/// exponent), never a NaN or inf coordinate in the SVG; an approximate reduction whose
+/// error overflows is refused, the picture not written.
+#[test]
+fn pictures_of_coordinates_near_f64_max_hold_finite_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    common::write(
+        d,
+        "c.json",
+        r#"{"type":"bezier_curve","points":[[0,0],[1.7e308,1.7e308],[-1.7e308,-1.7e308]]}"#,
+    );
+    common::write(
+        d,
+        "s.json",
+        r#"{"type":"bezier_surface","net":[[[0,0,0],[1.7e308,1,0]],[[0,1,-1.7e308],[1,1,1]]]}"#,
+    );
+    for args in [
+        &["render", "c.json", "-o", "c.svg"][..],
+        &["bezier", "elevate", "--to", "4", "c.json", "-o", "c4.svg"],
+        &["render", "s.json", "-o", "s.svg"],
+        &["bezier", "elevate", "--to", "3,3", "s.json", "-o", "s3.svg"],
+    ] {
+        ok_stderr(d, args);
+        let svg = std::fs::read_to_string(d.join(args[args.len() - 1])).unwrap();
+        let lower = svg.to_lowercase();
+        assert!(!lower.contains("nan") && !lower.contains("inf"), "{args:?}");
+    }
+    let svg = std::fs::read_to_string(d.join("c.svg")).unwrap();
+    assert!(
+        svg.contains(">1.0e308<") || svg.contains(">1e308<"),
+        "{svg}"
+    );
+    let e = fails(
+        d,
+        &[
+            "bezier", "reduce", "--to", "1", "--approx", "c.json", "-o", "r.svg",
+        ],
+        Some("r.svg"),
+    );
+    assert!(e.contains("c.json") && e.contains("overflows f64"), "{e}");
+}

@@ -259,9 +259,13 @@ impl Figure {
         b
     }
 
-    /// The SVG document.
+    /// The SVG document. Data near the ends of f64 (beyond 1e300 or below 1e-300 in
+    /// magnitude) is drawn scaled by a power of ten, its tick labels carrying the exponent
+    /// ("1.5e308"), so that no layout quantity overflows or loses its digits.
     pub fn render(&self) -> String {
-        let [mut x0, mut y0, mut x1, mut y1] = self.bounds();
+        let bounds = self.bounds();
+        let scale = Scale::of(&bounds);
+        let [mut x0, mut y0, mut x1, mut y1] = bounds.map(|v| scale.apply(v));
         let ticks = !matches!(self.axes, Axes::Bare);
         let chart = matches!(self.axes, Axes::Chart { .. });
         let ml = if chart {
@@ -270,6 +274,10 @@ impl Figure {
             48.0
         } else {
             18.0
+        } + if ticks && scale.exponent != 0 {
+            30.0
+        } else {
+            0.0
         };
         let mr = 18.0;
         let mt = if self.subtitle.is_some() { 52.0 } else { 34.0 };
@@ -314,7 +322,10 @@ impl Figure {
         }
         let sx = plot_w / (x1 - x0);
         let sy = plot_h / (y1 - y0);
-        let map = |p: &[f64; 2]| [ml + (p[0] - x0) * sx, mt + plot_h - (p[1] - y0) * sy];
+        let map = |p: &[f64; 2]| {
+            let (x, y) = (scale.apply(p[0]), scale.apply(p[1]));
+            [ml + (x - x0) * sx, mt + plot_h - (y - y0) * sy]
+        };
 
         // Legend layout below the plot, flowing in rows.
         let legend_top =
@@ -393,7 +404,7 @@ impl Figure {
                     s,
                     r#"<text x="{px:.2}" y="{:.2}" text-anchor="middle">{}</text>"#,
                     mt + plot_h + 14.0,
-                    tick_label(x, stx)
+                    scale.label(tick_label(x, stx))
                 );
             }
             for y in tick_values(y0, y1, sty) {
@@ -403,7 +414,7 @@ impl Figure {
                     r#"<text x="{:.2}" y="{:.2}" text-anchor="end">{}</text>"#,
                     ml - 6.0,
                     py + 3.5,
-                    tick_label(y, sty)
+                    scale.label(tick_label(y, sty))
                 );
             }
             let _ = writeln!(s, "</g>");
@@ -453,6 +464,9 @@ impl Figure {
                     );
                     for p in points {
                         let q = map(p);
+                        if !(q[0].is_finite() && q[1].is_finite()) {
+                            continue;
+                        }
                         let _ = writeln!(
                             s,
                             r#"<circle cx="{:.2}" cy="{:.2}" r="{radius}"/>"#,
@@ -500,13 +514,18 @@ impl Figure {
                     );
                     for (p, label) in items {
                         let q = map(p);
+                        if !(q[0].is_finite() && q[1].is_finite()) {
+                            continue;
+                        }
                         let (c, sign) = match placement {
                             Placement::Away(c) => (map(c), 1.0),
                             Placement::Toward(c) => (map(c), -1.0),
                         };
                         let (vx, vy) = (q[0] - c[0], q[1] - c[1]);
                         let len = vx.hypot(vy);
-                        let (vx, vy) = if len < 1e-9 {
+                        // Coincident with the centre, or a centre that overflowed (the mean
+                        // of points near f64::MAX): above the point.
+                        let (vx, vy) = if !(len >= 1e-9 && len.is_finite()) {
                             (0.0, -1.0)
                         } else {
                             (vx / len, vy / len)
@@ -581,6 +600,49 @@ pub fn escape(text: &str) -> String {
 }
 
 /// A "nice" tick step (1, 2 or 5 times a power of ten) giving about `target` ticks.
+/// The power of ten that brings a figure's data into a safe range: 10^-exponent applied as
+/// two factors (each a normal f64 even where 10^-exponent alone would not be).
+#[derive(Debug, Clone, Copy)]
+struct Scale {
+    exponent: i32,
+    factors: [f64; 2],
+}
+
+impl Scale {
+    /// The scale of data within `bounds` ([x0, y0, x1, y1]): 1 unless the largest magnitude
+    /// is beyond 1e300 or (nonzero) below 1e-300.
+    fn of(bounds: &[f64; 4]) -> Scale {
+        let m = bounds.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let exponent = if m > 1e300 || (m > 0.0 && m < 1e-300) {
+            m.log10().floor() as i32
+        } else {
+            0
+        };
+        let half = -exponent / 2;
+        Scale {
+            exponent,
+            factors: [10f64.powi(half), 10f64.powi(-exponent - half)],
+        }
+    }
+
+    fn apply(&self, v: f64) -> f64 {
+        if self.exponent == 0 {
+            v
+        } else {
+            v * self.factors[0] * self.factors[1]
+        }
+    }
+
+    /// A tick label of a scaled value, with the exponent.
+    fn label(&self, text: String) -> String {
+        if self.exponent == 0 || text == "0" {
+            text
+        } else {
+            format!("{text}e{}", self.exponent)
+        }
+    }
+}
+
 fn nice_step(range: f64, target: f64) -> f64 {
     if !range.is_finite() || range <= 0.0 {
         return 1.0;
@@ -633,6 +695,28 @@ mod tests {
         assert_eq!(nice_step(30.0, 7.0), 5.0);
         assert_eq!(tick_label(-0.0000001, 0.1), "0");
         assert_eq!(tick_label(2.5, 0.5), "2.5");
+    }
+
+    #[test]
+    fn data_at_the_ends_of_f64_is_drawn_scaled() {
+        for (big, exponent) in [(1.7e308, "e308"), (3e-310, "e-310"), (f64::MAX, "e308")] {
+            let mut f = Figure::new("extreme", Axes::Equal);
+            f.line(vec![[-big, 0.0], [big, big], [0.0, -big]], palette::CURVE);
+            f.dots(vec![[big, big]], 3.0, palette::OLD_VERTEX);
+            let svg = f.render();
+            assert!(!svg.contains("NaN") && !svg.contains("inf"), "{big}: {svg}");
+            assert!(svg.contains(exponent), "{big}: no {exponent} tick label");
+            // The polyline spans the plot: its x coordinates differ by hundreds of pixels.
+            let line = svg.lines().find(|l| l.starts_with("<polyline")).unwrap();
+            let xs: Vec<f64> = line
+                .split('"')
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .map(|p| p.split(',').next().unwrap().parse().unwrap())
+                .collect();
+            assert!(xs[1] - xs[0] > 300.0, "{big}: {xs:?}");
+        }
     }
 
     #[test]

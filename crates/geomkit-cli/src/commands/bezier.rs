@@ -473,6 +473,20 @@ fn change_surface(
 }
 
 fn write_change(change: Change, format: Format, output: Option<&Path>) -> Result<()> {
+    if let Some(e) = &change.error {
+        // The JSON writer refuses non-finite numbers; the picture's caption must not print
+        // them either.
+        if !(e.l2.is_finite() && e.linf_bound.is_finite()) {
+            bail!(
+                "{}: the error of the approximate reduction overflows f64 (L2 error {}, bound \
+                 {}): control points this large cannot be reduced approximately; scale the \
+                 curve down first",
+                change.input.display(),
+                e.l2,
+                e.linf_bound
+            );
+        }
+    }
     let contents = match format {
         Format::Json => to_json(&change.new, change.error.as_ref())?,
         Format::Svg => change_svg(&change)?,
