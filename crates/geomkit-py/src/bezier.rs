@@ -13,7 +13,7 @@ use crate::model::Model;
 use crate::{copy_into, matrix, value_error};
 use geomkit::bezier::{
     ApproxOptions, BezierCurve, BezierSurface, DegreeReport, DeviationBound, Direction,
-    RationalBezierCurve, RationalBezierSurface, ReductionNorm,
+    RationalBezierCurve, RationalBezierSurface, ReductionNorm, MAX_PAPER_DEGREE,
 };
 use geomkit::exact::{self, ExactBezierCurve, ExactMatrix, Rational};
 use geomkit::geom::{BatchOptions, Curve, Surface};
@@ -27,26 +27,10 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyType;
 
-/// Highest degree (current or requested) of the paper's formula (10) evaluated with exact
-/// rational matrices (`change_degree_paper`, `degree_change_matrix`, the exact curve
-/// operations) and of its naive f64 program. The exact product H_n E H_(n')^-1 takes O(n^3)
-/// operations on big rationals of O(n) digits: about 1 s at degree 100 on the project's
-/// machine, 2 s at 128, 45 s at 256. The library sets no limit there; without one a typo
-/// such as `to=10**7` would run for ever or exhaust memory.
-const MAX_PAPER_DEGREE: usize = 100;
-
-/// Refuses the paper's exact formula (or its naive program) beyond [`MAX_PAPER_DEGREE`].
+/// Refuses the paper's exact formula (or its naive program) beyond the library's
+/// [`MAX_PAPER_DEGREE`].
 fn check_paper_degree(n: usize, n_new: usize, what: &str) -> PyResult<()> {
-    let largest = n.max(n_new);
-    if largest > MAX_PAPER_DEGREE {
-        return Err(value_error(geomkit::Error::TooLarge {
-            what: format!("{what} from degree {n} to {n_new}"),
-            size: largest as u128,
-            unit: "degree",
-            limit: MAX_PAPER_DEGREE as u128,
-        }));
-    }
-    Ok(())
+    geomkit::bezier::degree::check_paper_degree(n, n_new, what).map_err(value_error)
 }
 
 /// Most numbers (f64) of a curve or net a change of degree may create: 2^27, 1 GiB. The
@@ -366,11 +350,11 @@ impl BezierCurveCore {
         }
         py.detach(|| match &self.inner {
             CurveKind::Polynomial(c) => {
-                let (a, b) = c.split(t);
+                let (a, b) = c.split(t)?;
                 Ok((Self::polynomial(a), Self::polynomial(b)))
             }
             CurveKind::Rational(r) => {
-                let (a, b) = r.homogeneous().split(t);
+                let (a, b) = r.homogeneous().split(t)?;
                 Ok((
                     Self::rational(RationalBezierCurve::from_homogeneous(a)?),
                     Self::rational(RationalBezierCurve::from_homogeneous(b)?),

@@ -462,3 +462,30 @@ fn removing_a_vertex_moves_the_curve_by_at_most_the_largest_delta() {
     assert_eq!(&rounded[4..=6], &[0.30, 0.61, 0.34], "{measured:?}");
     assert!(measured[5] > measured[4] && measured[5] > measured[6]);
 }
+
+/// The paper's exact formula refuses degrees whose exact matrices would take minutes (or
+/// for ever) before starting, naming the degree and the limit.
+#[test]
+fn paper_formula_has_a_degree_limit() {
+    let c = example2();
+    let limit = geomkit::bezier::MAX_PAPER_DEGREE;
+    assert_eq!(c.change_degree_paper(limit).unwrap().degree(), limit);
+    let e = c.change_degree_paper(10_000_000).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::TooLarge {
+                size: 10_000_000,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("above the limit of 100"), "{e}");
+    let s =
+        BezierSurface::new(vec![vec![vec![0.0], vec![1.0]], vec![vec![2.0], vec![3.0]]]).unwrap();
+    assert!(matches!(
+        s.change_degree_paper(2, limit + 1),
+        Err(Error::TooLarge { .. })
+    ));
+}

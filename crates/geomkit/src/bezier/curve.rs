@@ -357,19 +357,31 @@ impl BezierCurve {
         ExactBezierCurve::from_f64(self.dim, &self.points).expect("control points are finite")
     }
 
-    /// Splits the curve at `t` into two Bézier curves of the same degree (de Casteljau).
-    pub fn split(&self, t: f64) -> (BezierCurve, BezierCurve) {
+    /// Splits the curve at `t` into two Bézier curves of the same degree (de Casteljau): the
+    /// pieces over [0, t] and [t, 1], each reparametrized to [0, 1] (for t outside [0, 1],
+    /// the extrapolated pieces). Errors: [`crate::Error::NonFinite`] for a `t` that is not
+    /// finite or control points that overflow (t far outside [0, 1]).
+    ///
+    /// ```
+    /// use geomkit::bezier::BezierCurve;
+    /// let c = BezierCurve::new(vec![vec![0.0], vec![2.0], vec![4.0]]).unwrap();
+    /// let (a, b) = c.split(0.25).unwrap();
+    /// assert_eq!(a.points(), vec![vec![0.0], vec![0.5], vec![1.0]]);
+    /// assert_eq!(b.points(), vec![vec![1.0], vec![2.5], vec![4.0]]);
+    /// assert!(c.split(f64::NAN).is_err());
+    /// ```
+    pub fn split(&self, t: f64) -> Result<(BezierCurve, BezierCurve)> {
+        if !t.is_finite() {
+            return Err(crate::Error::NonFinite {
+                what: "split parameter",
+                index: 0,
+            });
+        }
         let (l, r) = split_flat(&self.points, self.dim, t);
-        (
-            BezierCurve {
-                dim: self.dim,
-                points: l,
-            },
-            BezierCurve {
-                dim: self.dim,
-                points: r,
-            },
-        )
+        Ok((
+            BezierCurve::from_flat(self.dim, l)?,
+            BezierCurve::from_flat(self.dim, r)?,
+        ))
     }
 }
 
@@ -599,7 +611,7 @@ mod tests {
             vec![4.0, 0.5],
         ])
         .unwrap();
-        let (l, r) = c.split(0.3);
+        let (l, r) = c.split(0.3).unwrap();
         for k in 0..=10 {
             let s = k as f64 / 10.0;
             let a = l.eval(s);

@@ -21,7 +21,7 @@ pub use bound::DeviationBound;
 pub use curve::BezierCurve;
 pub use degree::{
     paper_formula_f64, ApproxOptions, ApproxReduction, DegreeReport, ReductionNorm,
-    DEFAULT_TOLERANCE, MAX_ELEVATION_WEIGHTS, MAX_REDUCTION_DEGREE,
+    DEFAULT_TOLERANCE, MAX_ELEVATION_WEIGHTS, MAX_PAPER_DEGREE, MAX_REDUCTION_DEGREE,
 };
 pub use rational::RationalBezierCurve;
 pub use rational_surface::RationalBezierSurface;

@@ -322,12 +322,21 @@ impl BezierSurface {
 
     /// Formula (14) exactly as the paper writes it, with the exact matrices
     /// H_n E H_(n')^-1 rounded once to f64: for a reduction below the real degree it
-    /// truncates the power form at (0, 0). Errors only if the result overflows.
+    /// truncates the power form at (0, 0). Errors if the result overflows, and with
+    /// [`Error::TooLarge`] for degrees above [`super::MAX_PAPER_DEGREE`].
     pub fn change_degree_paper(&self, n_new: usize, m_new: usize) -> Result<Self> {
         let (pts, pd) = self.as_curve(Direction::U);
-        let s = self.rebuild(Direction::U, &paper_change_flat(&pts, pd, n_new), n_new + 1)?;
+        let s = self.rebuild(
+            Direction::U,
+            &paper_change_flat(&pts, pd, n_new)?,
+            n_new + 1,
+        )?;
         let (pts, pd) = s.as_curve(Direction::V);
-        s.rebuild(Direction::V, &paper_change_flat(&pts, pd, m_new), m_new + 1)
+        s.rebuild(
+            Direction::V,
+            &paper_change_flat(&pts, pd, m_new)?,
+            m_new + 1,
+        )
     }
 
     /// Manual change (13): inserts a whole row (direction U, a polyline of m+1 points) or
