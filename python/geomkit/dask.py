@@ -19,8 +19,9 @@ neighbours on each side, with the true end conditions (not-a-knot, natural, clam
 periodic) at the true ends of the array only and a natural end at the artificial ends, and
 keeps the coefficients of its own points. Before building the graph, the decay over every
 halo is bounded from the coordinates themselves (the Thomas recursion of the collocation
-system, started from the worst case): when it does not reach 2**-56 (the coefficients then
-equal the global solve's within 4 eps max|z|), the call raises a ValueError that names the
+system, started from the worst case): when it does not reach 2**-53 = eps / 2 (a wrong end
+value, at most the size of the coefficients, then reaches the kept ones below half a unit
+of rounding), the call raises a ValueError that names the
 depth needed, or takes it with ``depth="auto"``. Chunks smaller than the halo are fine: a
 task reads as many neighbouring chunks as its halo covers (no rechunking).
 
@@ -83,9 +84,11 @@ __all__ = [
 
 # The degree: exact-through-data cubic splines.
 _K = 3
-# The certified decay over a halo: 2**-56 leaves the coefficients within eps / 12 of the
-# global solve's relative to max|c| (|c| <= 3 max|z| for cubic interpolation at knots).
-_DECAY = 2.0**-56
+# The certified decay over a halo: 2**-53 = eps / 2. The error an artificial end makes in
+# its first coefficient is at most about the size of the coefficients (|c| <= 1.5 max|z|
+# for cubic interpolation at knots), so the kept ones are off by less than eps max|z|, on
+# top of the solve's own rounding (both well inside the 4 eps max|z| promised).
+_DECAY = 2.0**-53
 # Iterations of the bound of the decay ratios (each a valid bound; converged after ~20).
 _BOUND_STEPS = 24
 _ENDS = ("not-a-knot", "natural", "clamped", "periodic")
@@ -465,7 +468,8 @@ class _Local:
 
     def solve(self, w: NDArray[np.float64], keep: tuple[int, int]) -> NDArray[np.float64]:
         t, x = self.arrays if self.arrays is not None else self._arrays(self.plan)  # type: ignore[arg-type]
-        spline = _solve(x, w, k=_K, t=t, bc_type=(self.left, self.right), axis=self.axis)
+        spline = _solve(_aligned(x), w, k=_K, t=_aligned(t), bc_type=(self.left, self.right),
+                        axis=self.axis)
         c = np.moveaxis(spline.c, 0, self.axis)
         take = [slice(None)] * c.ndim
         take[self.axis] = slice(keep[0] - self.offset, keep[1] - self.offset)
@@ -520,9 +524,18 @@ def _assemble(pieces: list[NDArray[Any]],
 
 # -- the solve --------------------------------------------------------------------------------
 def _solve_block(window: NDArray[np.float64], locals_: list[_Local],
-                 keeps: list[tuple[int, int]], where: Any) -> NDArray[np.float64]:
+                 keeps: list[tuple[int, int]], where: _Where,
+                 ends: list[NDArray[np.float64]], checks: list[tuple[int, int]]
+                 ) -> NDArray[np.float64]:
     if not np.isfinite(window).all():
         raise ValueError(_nonfinite_message(window, where))
+    for j, (axis, last) in enumerate(checks):
+        # A periodic axis: the first and the last data (SciPy's test and words).
+        first_, last_ = np.take(ends[2 * j], 0, axis), np.take(ends[2 * j + 1], last, axis)
+        if not np.allclose(first_, last_, atol=1e-15):
+            raise ValueError(f"{where.name}: first and last points does not match while "
+                             f"periodic case expected (axis {axis}, largest difference "
+                             f"{float(np.max(np.abs(first_ - last_)))})")
     w = window
     for loc, keep in zip(locals_, keeps):
         w = loc.solve(w, keep)
@@ -580,8 +593,16 @@ class _EvalAxis:
         xs = (self.new if self.new is not None
               else self.new_regular.at(np.arange(self.u, self.v, dtype=np.int64)))  # type: ignore[union-attr]
         out: NDArray[np.float64] = BSpline.construct_fast(
-            t, np.moveaxis(c, self.axis, 0), _K, True, self.axis)(xs)
+            _aligned(t), np.moveaxis(c, self.axis, 0), _K, True, self.axis)(_aligned(xs))
         return out
+
+
+def _aligned(a: NDArray[np.float64]) -> NDArray[np.float64]:
+    """`a` C-contiguous and aligned: arrays a task receives from another process may be
+    views of unaligned buffers, which the compiled module refuses."""
+    if a.flags.aligned and a.flags.c_contiguous:
+        return a
+    return np.array(a, order="C")
 
 
 def _light(ax: _Axis) -> _Axis:
@@ -591,6 +612,13 @@ def _light(ax: _Axis) -> _Axis:
                            if k not in ("owned", "data_bounds", "data_chunks", "coef_chunks",
                                         "_ratios")})
     return light
+
+
+def _knot_block(m: NDArray[np.int64], plan: _Axis) -> NDArray[np.float64]:
+    """The global knots of the indices `m` (consecutive) of a `Regular` axis."""
+    if m.size == 0:
+        return np.empty(0)
+    return plan.knots(None, int(m[0]), int(m[-1]) + 1)
 
 
 def _evaluate_block(c: NDArray[np.float64], evals: list[_EvalAxis]) -> NDArray[np.float64]:
@@ -642,11 +670,9 @@ class ChunkedSpline:
             if p.coords.regular is None:
                 out.append(p.knots(None, 0, p.nc + _K + 1))
             else:
-                light = _light(p)
                 m = _da.arange(p.nc + _K + 1, chunks=1 << 22, dtype=np.int64)
-                out.append(m.map_blocks(lambda b, a=light: a.knots(None, int(b[0]),
-                                                                   int(b[-1]) + 1)
-                                        if b.size else np.empty(0), dtype=np.float64))
+                out.append(_da.map_blocks(_knot_block, m, _light(p), dtype=np.float64,
+                                          meta=np.empty((0,))))
         return tuple(out)
 
     def __call__(self, *xi: Coordinates, chunks: int | Sequence[int | None] | None = None,
@@ -928,8 +954,19 @@ def make_interp_grid(points: Sequence[Coordinates], values: Any,
             else:
                 per_axis.append([(b, 0, values.chunks[d][b])])
         where = _Where(name, bounds, tuple(tuple(s) for s in per_axis))
+        ends, checks = [], []
+        for p in plans:
+            last = len(p.data_chunks) - 1
+            if p.period and out_index[p.axis] == last:
+                # The block at the end of a periodic axis checks y[0] == y[-1] over its slab.
+                at = list(out_index)
+                at[p.axis] = 0
+                ends.append((values.name, *at))
+                at[p.axis] = last
+                ends.append((values.name, *at))
+                checks.append((p.axis, p.data_chunks[-1] - 1))
         key, task = _gather_layer(out_name, values, out_index, per_axis, _solve_block,
-                                  locals_, keeps, where)
+                                  locals_, keeps, where, ends, checks)
         layer[key] = task
     chunks = tuple(by_axis[d].coef_chunks if d in by_axis else ch
                    for d, ch in enumerate(values.chunks))
@@ -1043,7 +1080,7 @@ def required_depth(points: Sequence[Coordinates], chunks: Sequence[int | Sequenc
     Returns
     -------
     int
-        31 for uniform coordinates split in chunks (0.268^30 < 2**-56 over the 30 rows
+        29 for uniform coordinates split in chunks (0.268^28 < 2**-53 over the 28 rows
         between an artificial end and the first kept coefficient; depth 32 has margin),
         more for irregular ones; 1 when nothing is split.
 
@@ -1051,7 +1088,7 @@ def required_depth(points: Sequence[Coordinates], chunks: Sequence[int | Sequenc
     --------
     >>> from geomkit.dask import Regular, required_depth
     >>> required_depth([Regular(0.0, 1.0, 10_000)], [1000])
-    31
+    29
     """
     if len(chunks) != len(points):
         raise ValueError(f"chunks: one entry per coordinate array, got {len(chunks)}")
