@@ -116,24 +116,34 @@ def window_reference_1d(x: np.ndarray, y_of, lo: int, hi: int, new: np.ndarray) 
     return si.make_interp_spline(x[a:b], y_of(a, b), k=3, axis=0)(new)
 
 
+def make_input(shape: tuple[int, ...], chunk: int, src: Path) -> float:
+    """The synthetic input written to Zarr chunk by chunk; the seconds it took."""
+    t0 = time.perf_counter()
+    data = da.map_blocks(field, da.empty(shape, chunks=chunk, dtype=np.float64),
+                         dtype=np.float64)
+    da.to_zarr(data, str(src), overwrite=True)
+    return time.perf_counter() - t0
+
+
+def timed_write(client: distributed.Client, out: da.Array, dst: Path
+                ) -> tuple[float, MemorySampler]:
+    """The whole job (read, solve, evaluate, write) timed, the workers' memory sampled."""
+    with MemorySampler(client) as mem:
+        t0 = time.perf_counter()
+        gd.to_zarr(out, str(dst), overwrite=True)
+        wall = time.perf_counter() - t0
+    return wall, mem
+
+
 # -- the grid ---------------------------------------------------------------------------------
 def grid_job(args: argparse.Namespace, client: distributed.Client, work: Path) -> dict:
     n, chunk, m = args.n, args.chunk, args.factor * args.n
     x = np.arange(n, dtype=np.float64)
     new = np.linspace(0.0, n - 1.0, m)
     src, dst = work / "grid-in.zarr", work / "grid-out.zarr"
-    t0 = time.perf_counter()
-    heights = da.map_blocks(field, da.empty((n, n), chunks=chunk, dtype=np.float64),
-                            dtype=np.float64)
-    da.to_zarr(heights, str(src), overwrite=True)
-    generate = time.perf_counter() - t0
-
-    z = da.from_zarr(str(src))
-    out = gd.resample(z, (x, x), (new, new), chunks=args.factor * chunk)
-    with MemorySampler(client) as mem:
-        t0 = time.perf_counter()
-        gd.to_zarr(out, str(dst), overwrite=True)
-        wall = time.perf_counter() - t0
+    generate = make_input((n, n), chunk, src)
+    out = gd.resample(da.from_zarr(str(src)), (x, x), (new, new), chunks=args.factor * chunk)
+    wall, mem = timed_write(client, out, dst)
 
     # Windows across chunk seams against SciPy in memory over their neighbourhood.
     zin, zout = zarr.open_array(str(src), mode="r"), zarr.open_array(str(dst), mode="r")
@@ -168,16 +178,9 @@ def series_job(args: argparse.Namespace, client: distributed.Client, work: Path)
     xs = gd.Regular(0.0, 1.0, n)
     new = gd.Regular(0.0, 0.5, 2 * n - 1)
     src, dst = work / "series-in.zarr", work / "series-out.zarr"
-    t0 = time.perf_counter()
-    y = da.map_blocks(field, da.empty((n,), chunks=chunk, dtype=np.float64), dtype=np.float64)
-    da.to_zarr(y, str(src), overwrite=True)
-    generate = time.perf_counter() - t0
-
+    generate = make_input((n,), chunk, src)
     out = gd.resample(da.from_zarr(str(src)), [xs], [new], chunks=2 * chunk)
-    with MemorySampler(client) as mem:
-        t0 = time.perf_counter()
-        gd.to_zarr(out, str(dst), overwrite=True)
-        wall = time.perf_counter() - t0
+    wall, mem = timed_write(client, out, dst)
 
     yin, yout = zarr.open_array(str(src), mode="r"), zarr.open_array(str(dst), mode="r")
     rng = np.random.default_rng(24)
