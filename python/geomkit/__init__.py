@@ -73,6 +73,12 @@ __all__ = sorted(
 
 # --- geomkit.dask and geomkit.xarray (issue 24): submodules imported on first use, so that
 # `import geomkit` never imports dask or xarray.
+from typing import TYPE_CHECKING  # noqa: E402
+
+if TYPE_CHECKING:
+    from . import dask, xarray  # noqa: F401
+
+
 def __getattr__(name: str) -> object:
     if name in ("dask", "xarray"):
         import importlib

@@ -578,10 +578,12 @@ class _EvalAxis:
     """One output block's evaluation along one axis (small and picklable: the knots and new
     coordinates are computed in the task for `Regular` axes, sliced here otherwise)."""
 
-    __slots__ = ("axis", "t", "coords", "plan", "m0", "m1", "new", "new_regular", "u", "v")
+    __slots__ = ("axis", "t", "plan", "m0", "m1", "new", "new_regular", "u", "v", "nu")
 
-    def __init__(self, ax: _Axis, r0: int, r1: int, new: _Coords, u: int, v: int) -> None:
+    def __init__(self, ax: _Axis, r0: int, r1: int, new: _Coords, u: int, v: int,
+                 nu: int) -> None:
         self.axis, self.m0, self.m1, self.u, self.v = ax.axis, r0, r1 + _K + 1, u, v
+        self.nu = nu
         regular = ax.coords.regular is not None
         self.t = None if regular else ax.knots(None, self.m0, self.m1)
         self.plan = _light(ax) if regular else None
@@ -593,7 +595,8 @@ class _EvalAxis:
         xs = (self.new if self.new is not None
               else self.new_regular.at(np.arange(self.u, self.v, dtype=np.int64)))  # type: ignore[union-attr]
         out: NDArray[np.float64] = BSpline.construct_fast(
-            _aligned(t), np.moveaxis(c, self.axis, 0), _K, True, self.axis)(_aligned(xs))
+            _aligned(t), np.moveaxis(c, self.axis, 0), _K, True, self.axis)(_aligned(xs),
+                                                                            nu=self.nu)
         return out
 
 
@@ -676,7 +679,7 @@ class ChunkedSpline:
         return tuple(out)
 
     def __call__(self, *xi: Coordinates, chunks: int | Sequence[int | None] | None = None,
-                 name: str | None = None) -> da.Array:
+                 nu: int | Sequence[int] = 0, name: str | None = None) -> da.Array:
         """The spline on the rectilinear grid ``xi[0] x xi[1] x ...``, lazily, chunk by chunk.
 
         Each output block reads only the coefficients of the knot spans its coordinates fall
@@ -692,6 +695,9 @@ class ChunkedSpline:
         chunks : int or sequence of int, optional
             The output chunk size along each interpolated axis (one int for all). Default:
             as many chunks as the coefficients have along that axis, of equal size.
+        nu : int or sequence of int, optional
+            The order of the partial derivative along each interpolated axis (one int for
+            all; default 0: values). Slopes of a terrain: ``nu=(1, 0)`` and ``nu=(0, 1)``.
         name : str, optional
             The dask name prefix of the result.
 
@@ -705,7 +711,8 @@ class ChunkedSpline:
         ------
         ValueError
             The wrong number of coordinate arrays, coordinates that are not strictly
-            increasing or finite, periodic coordinates outside the period, bad chunks.
+            increasing or finite, periodic coordinates outside the period, bad chunks,
+            negative derivative orders.
         TypeError
             Coordinates that are not real numbers.
         """
@@ -718,10 +725,16 @@ class ChunkedSpline:
             sizes = list(chunks)
             if len(sizes) != len(xi):
                 raise ValueError(f"chunks: one size per interpolated axis, got {chunks!r}")
+        orders = [nu] * len(xi) if isinstance(nu, int) else list(nu)
+        if len(orders) != len(xi):
+            raise ValueError(f"nu: one derivative order per interpolated axis, got {nu!r}")
+        orders = [index(o, "nu") for o in orders]
+        if any(o < 0 for o in orders):
+            raise ValueError(f"nu: derivative orders must be >= 0, got {nu!r}")
         c = self.c
         out_chunks = list(c.chunks)
         segs: dict[int, list[tuple[list[Segment], _EvalAxis]]] = {}
-        for d, (plan, coords, size) in enumerate(zip(self._plans, xi, sizes)):
+        for d, (plan, coords, size, order) in enumerate(zip(self._plans, xi, sizes, orders)):
             new = _Coords(coords, f"xi[{d}]")
             if plan.period and (new.first < plan.coords.first or new.last > plan.coords.last):
                 raise ValueError(f"xi[{d}]: a periodic axis takes coordinates inside its "
@@ -742,12 +755,12 @@ class ChunkedSpline:
                 ends = new.at(np.array([u, v - 1], dtype=np.int64))
                 r0 = max(plan.span_of(float(ends[0])) - _K - 1, 0)
                 r1 = min(plan.span_of(float(ends[1])) + 2, plan.nc)
-                entries.append((_segments(bounds, [(r0, r1)]), _EvalAxis(plan, r0, r1, new,
-                                                                          u, v)))
+                entries.append((_segments(bounds, [(r0, r1)]),
+                                _EvalAxis(plan, r0, r1, new, u, v, order)))
                 u = v
             segs[plan.axis] = entries
             out_chunks[plan.axis] = block_sizes
-        name = (name or "geomkit-eval") + "-" + _token(c.name, xi, sizes)
+        name = (name or "geomkit-eval") + "-" + _token(c.name, xi, sizes, orders)
         layer = {}
         for out_index in np.ndindex(*(len(ch) for ch in out_chunks)):
             per_axis, evals = [], []
@@ -954,19 +967,20 @@ def make_interp_grid(points: Sequence[Coordinates], values: Any,
             else:
                 per_axis.append([(b, 0, values.chunks[d][b])])
         where = _Where(name, bounds, tuple(tuple(s) for s in per_axis))
-        ends, checks = [], []
+        end_keys: list[tuple[Any, ...]] = []
+        checks: list[tuple[int, int]] = []
         for p in plans:
             last = len(p.data_chunks) - 1
             if p.period and out_index[p.axis] == last:
                 # The block at the end of a periodic axis checks y[0] == y[-1] over its slab.
                 at = list(out_index)
                 at[p.axis] = 0
-                ends.append((values.name, *at))
+                end_keys.append((values.name, *at))
                 at[p.axis] = last
-                ends.append((values.name, *at))
+                end_keys.append((values.name, *at))
                 checks.append((p.axis, p.data_chunks[-1] - 1))
         key, task = _gather_layer(out_name, values, out_index, per_axis, _solve_block,
-                                  locals_, keeps, where, ends, checks)
+                                  locals_, keeps, where, end_keys, checks)
         layer[key] = task
     chunks = tuple(by_axis[d].coef_chunks if d in by_axis else ch
                    for d, ch in enumerate(values.chunks))

@@ -13,18 +13,18 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import dask
+import dask.array as da
+import distributed
 import numpy as np
 import pytest
+import scipy.interpolate as si
+import xarray as xr
+import zarr
 
-da = pytest.importorskip("dask.array")
-distributed = pytest.importorskip("distributed")
-xr = pytest.importorskip("xarray")
-zarr = pytest.importorskip("zarr")
-si = pytest.importorskip("scipy.interpolate")
-
-import geomkit  # noqa: E402
-import geomkit.dask as gd  # noqa: E402
-import geomkit.xarray  # noqa: E402, F401
+import geomkit
+import geomkit.dask as gd
+import geomkit.xarray
 
 EPS = np.finfo(float).eps
 BCS = [None, "natural", "clamped", "periodic"]
@@ -216,6 +216,24 @@ def test_grid_equals_global_solve(client, bc):
              scale, ulps=16)
 
 
+def test_grid_partial_derivatives(client):
+    """Slopes and the mixed derivative of a chunked grid against SciPy's BSpline of the
+    in-memory coefficients."""
+    rng = np.random.default_rng(12)
+    x, y, z = grid(rng, 70, 90, None)
+    tx, ty, cref = tensor_reference(x, y, z, None)
+    spline = gd.make_interp_grid((x, y), da.from_array(z, chunks=(19, 26)))
+    nx, ny = np.linspace(x[0], x[-1], 123), np.linspace(y[0], y[-1], 77)
+    for nu in ((1, 0), (0, 1), (1, 1), (2, 0), (0, 3)):
+        ref = si.BSpline(ty, si.BSpline(tx, cref, 3, axis=0)(nx, nu=nu[0]), 3, axis=1)(
+            ny, nu=nu[1])
+        got = spline(nx, ny, nu=nu).compute()
+        # Each derivative divides by the steps (1/8 to 12/8 along x, 1/32 along y).
+        near(got, ref, np.abs(ref).max(), ulps=64)
+    with pytest.raises(ValueError, match="derivative orders must be >= 0"):
+        spline(nx, ny, nu=(-1, 0))
+
+
 def test_grid_against_rect_bivariate_spline(client):
     """SciPy's FITPACK interpolating surface (s=0: not-a-knot knots) on the whole grid."""
     rng = np.random.default_rng(5)
@@ -384,3 +402,13 @@ def test_zarr_write_read_back(client, tmp_path):
     c = zarr.open_array(str(tmp_path / "c.zarr"), mode="r")
     assert c.chunks == (31, 26)
     np.testing.assert_array_equal(c[:], spline.c.compute())
+
+
+def test_docstring_examples():
+    """The examples of geomkit.dask and geomkit.xarray run (local threads, no cluster)."""
+    import doctest
+
+    with dask.config.set(scheduler="threads"):
+        for module in (gd, geomkit.xarray):
+            result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
+            assert result.failed == 0 and result.attempted > 0, module.__name__
