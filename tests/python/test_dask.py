@@ -102,9 +102,10 @@ def periodic_truth(t, y):
 
 # -- 1-D series ------------------------------------------------------------------------------
 @pytest.mark.parametrize("bc", BCS)
-@pytest.mark.parametrize("chunk", [7, 20, 97])  # odd, smaller than the halo, larger
+# Odd, smaller than the halo, larger, and irregular with chunks of 1 and 2 points.
+@pytest.mark.parametrize("chunk", [7, 20, 97, ((1, 5, 40, 3, 100, 2, 150),)])
 def test_series_equals_global_solve(client, bc, chunk):
-    rng = np.random.default_rng(24 + chunk)
+    rng = np.random.default_rng(24 + len(str(chunk)))
     x, y = series(rng, 301, bc)
     ref = reference_1d(x, y, bc)
     spline = gd.make_interp_spline(x, da.from_array(y, chunks=chunk), bc_type=bc)
