@@ -17,7 +17,9 @@ accessor ``.geomkit`` on DataArrays:
 >>> bool(abs(float(fine.sel(t=5.0)) - np.sin(5.0)) < 1e-5)
 True
 
-Coordinates of type datetime64 are interpolated as nanoseconds from the first one.
+Coordinates of type datetime64 are interpolated as nanoseconds from the first one. Datasets:
+`interp_dataset` and ``Dataset.geomkit.interp`` interpolate every data variable that has one
+of the dimensions.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ from ._arrays import real_array
 _da: Any = da
 _xr: Any = xr
 
-__all__ = ["GeomkitAccessor", "interp"]
+__all__ = ["GeomkitAccessor", "GeomkitDatasetAccessor", "interp", "interp_dataset"]
 
 
 def _numeric(values: Any, origin: Any, dim: Hashable) -> NDArray[np.float64]:
@@ -171,3 +173,81 @@ class GeomkitAccessor:
         """`geomkit.xarray.interp` of this DataArray (the same parameters)."""
         return interp(self._obj, coords, bc_type=bc_type, depth=depth, chunks=chunks,
                       **coords_kwargs)
+
+
+def interp_dataset(ds: xr.Dataset, coords: Mapping[Hashable, Any] | None = None, *,
+                   bc_type: Any = None, depth: int | str = 32, chunks: int | None = None,
+                   **coords_kwargs: Any) -> xr.Dataset:
+    """Every data variable of `ds` that has one of the named dimensions interpolated along
+    those it has (`interp` of each); the other variables and the attrs kept.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+    coords, bc_type, depth, chunks, **coords_kwargs
+        As for `interp`; each variable takes the new coordinates of the dimensions it has.
+
+    Returns
+    -------
+    xarray.Dataset
+        The interpolated dimensions on their new coordinates; coordinates that vary along
+        them dropped, as in `interp`.
+
+    Raises
+    ------
+    ValueError, TypeError
+        As `interp`; a non-numeric variable along an interpolated dimension is a TypeError
+        naming it.
+
+    Examples
+    --------
+    >>> import numpy as np, xarray as xr
+    >>> import geomkit.xarray
+    >>> x = np.arange(10.0)
+    >>> ds = xr.Dataset({"a": ("x", x**2), "b": ("x", -x), "label": ((), "sq")},
+    ...                 coords={"x": x})
+    >>> out = ds.geomkit.interp(x=[1.5, 2.5])
+    >>> out["a"].values.tolist(), out["b"].values.tolist(), str(out["label"].values)
+    ([2.25, 6.25], [-1.5, -2.5], 'sq')
+    """
+    if not isinstance(ds, xr.Dataset):
+        raise TypeError(f"interp_dataset takes an xarray.Dataset, got {type(ds).__name__}")
+    new = dict(coords or {})
+    new.update(coords_kwargs)
+    for dim in new:
+        if dim not in ds.dims:
+            raise ValueError(f"{dim!r} is not a dimension of the Dataset (dims "
+                             f"{tuple(ds.dims)})")
+    out = {}
+    for name, var in ds.data_vars.items():
+        mine = {dim: value for dim, value in new.items() if dim in var.dims}
+        if not mine:
+            out[name] = var.variable
+            continue
+        if var.dtype.kind not in "biuf":
+            raise TypeError(f"data variable {name!r} ({var.dtype}) cannot be interpolated "
+                            f"along {sorted(map(str, mine))}")
+        bc = ({d: b for d, b in bc_type.items() if d in mine}
+              if isinstance(bc_type, Mapping) else bc_type)
+        out[name] = interp(var, mine, bc_type=bc, depth=depth, chunks=chunks).variable
+    kept = {name: c.variable for name, c in ds.coords.items() if not set(c.dims) & set(new)}
+    for dim, value in new.items():
+        target = value.values if isinstance(value, xr.DataArray) else np.asarray(value)
+        attrs = ds.coords[dim].attrs if dim in ds.coords else {}
+        kept[dim] = xr.Variable(dim, target, attrs=dict(attrs))
+    return xr.Dataset(out, coords=kept, attrs=dict(ds.attrs))
+
+
+@_xr.register_dataset_accessor("geomkit")
+class GeomkitDatasetAccessor:
+    """``Dataset.geomkit``: `interp_dataset` as a method."""
+
+    def __init__(self, obj: xr.Dataset) -> None:
+        self._obj = obj
+
+    def interp(self, coords: Mapping[Hashable, Any] | None = None, *, bc_type: Any = None,
+               depth: int | str = 32, chunks: int | None = None,
+               **coords_kwargs: Any) -> xr.Dataset:
+        """`geomkit.xarray.interp_dataset` of this Dataset (the same parameters)."""
+        return interp_dataset(self._obj, coords, bc_type=bc_type, depth=depth, chunks=chunks,
+                              **coords_kwargs)

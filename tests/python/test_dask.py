@@ -413,3 +413,33 @@ def test_docstring_examples():
         for module in (gd, geomkit.xarray):
             result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
             assert result.failed == 0 and result.attempted > 0, module.__name__
+
+
+def test_xarray_dataset_and_errors(client):
+    rng = np.random.default_rng(6)
+    x, y, z = grid(rng, 50, 40, None)
+    ds = xr.Dataset(
+        {"height": (("y", "x"), z, {"units": "m"}), "profile": ("y", z[:, 0]),
+         "band_mean": ("band", [1.0, 2.0]), "name": ((), "dem")},
+        coords={"y": x, "x": y, "band": ["a", "b"]}, attrs={"crs": "EPSG:32633"},
+    ).chunk({"y": 17, "x": 13})
+    ny = np.linspace(x[0], x[-1], 77)
+    out = ds.geomkit.interp(y=ny)
+    assert out.attrs == {"crs": "EPSG:32633"} and out["height"].attrs == {"units": "m"}
+    assert out["height"].dims == ("y", "x") and out.sizes["y"] == 77
+    np.testing.assert_array_equal(out["band_mean"].values, [1.0, 2.0])
+    assert str(out["name"].values) == "dem"
+    ref = si.make_interp_spline(x, z, k=3, axis=0)(ny)
+    near(out["height"].values, ref, np.abs(z).max())
+    near(out["profile"].values, ref[:, 0], np.abs(z).max())
+    # A NaN is named with the DataArray's name, its chunk and its index.
+    bad = ds["height"].copy(data=np.where(np.arange(z.size).reshape(z.shape) == 700, np.nan,
+                                          z)).chunk({"y": 17, "x": 13})
+    with pytest.raises(ValueError, match=r"DataArray 'height': non-finite value nan in chunk "
+                                         r"\(1, 1\) \(indices 17\.\.33 x 13\.\.25\) at index "
+                                         r"\(17, 20\)"):
+        bad.geomkit.interp(y=ny).compute()
+    with pytest.raises(ValueError, match="'z' is not a dimension"):
+        ds["height"].geomkit.interp(z=[1.0, 2.0])
+    with pytest.raises(ValueError, match="must be strictly increasing"):
+        ds["height"].geomkit.interp(y=ny[::-1])
