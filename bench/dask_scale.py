@@ -268,7 +268,10 @@ def report(results: list[dict], args: argparse.Namespace) -> str:
         shape = (f"{r['n']}² → {r['out']}² ({r['chunk']}² → {r['out_chunk']}²)"
                  if r["job"] == "grid" else
                  f"{r['n']:,} → {r['out']:,} ({r['chunk']:,} → {r['out_chunk']:,})")
-        peaks = ", ".join(gib(v) for v in sorted(r["peak_rss"].values())) or "n/a"
+        limit = dask.utils.parse_bytes(args.memory_limit)
+        within = all(v <= limit for v in r["peak_rss"].values())
+        peaks = (", ".join(gib(v) for v in sorted(r["peak_rss"].values())) or "n/a") + (
+            " (within the limit)" if within else " (**above the limit**)")
         spill = ", ".join(gib(v) for v in sorted(r["spilled_disk"].values())) or "0"
         s = r["scipy"]
         sc = (f"{s['wall_s']:.1f} s, peak {gib(s['peak_rss'])}" if s["ran"]
@@ -276,7 +279,8 @@ def report(results: list[dict], args: argparse.Namespace) -> str:
         lines.append(
             f"| {r['job']} | {shape}, {gib(r['input_bytes'])} → {gib(r['output_bytes'])} | "
             f"{r['wall_s']:.1f} s (input generated in {r['generate_s']:.1f} s) | {peaks} | "
-            f"{spill} | {r['windows']} / {r['points_checked']:,} | {r['max_rel_diff']:.1e} | "
+            f"{spill} | {r['windows']} / {r['points_checked']:,} | {r['max_rel_diff']:.1e} "
+            f"({'≤' if r['max_rel_diff'] <= 1e-13 else '**>**'} 1e-13) | "
             f"{sc} |")
     return "\n".join(lines)
 
