@@ -498,30 +498,55 @@ def _segments(bounds: NDArray[np.int64], runs: Sequence[tuple[int, int]]) -> lis
     return out
 
 
-def _gather_layer(name: str, src: da.Array, out_index: tuple[int, ...],
-                  per_axis: Sequence[list[Segment]], fn: Any, *args: Any) -> tuple[Any, ...]:
-    """The task of the output block `out_index`: `fn(assembled, *args)`, where `assembled`
-    is the array of the segments `per_axis` of `src`'s chunks (C order)."""
-    keys = []
-    for combo in np.ndindex(*(len(s) for s in per_axis)):
-        keys.append((src.name, *(per_axis[d][j][0] for d, j in enumerate(combo))))
+def _gather_layer(layer: dict[Any, Any], name: str, src: da.Array, out_index: tuple[int, ...],
+                  per_axis: Sequence[list[Segment]], fn: Any, *args: Any) -> None:
+    """Adds to `layer` the task of the output block `out_index`: `fn(assembled, *args)`,
+    where `assembled` is the array of the segments `per_axis` of `src`'s chunks (C order).
+
+    A piece that is a whole chunk is read as it is; a part of a chunk (a halo, the few
+    coefficient rows of a neighbour) is cut by a task of its own, which the scheduler runs
+    where the chunk is: only the part travels to the block's worker."""
+    keys, cut = [], []
+    for p, combo in enumerate(np.ndindex(*(len(s) for s in per_axis))):
+        segs = [per_axis[d][j] for d, j in enumerate(combo)]
+        key = (src.name, *(seg[0] for seg in segs))
+        whole = all(seg[1] == 0 and seg[2] == src.chunks[d][seg[0]]
+                    for d, seg in enumerate(segs))
+        if not whole:
+            part = (name + "-part", *out_index, p)
+            layer[part] = (_part, key, [(seg[1], seg[2]) for seg in segs])
+            key = part
+        keys.append(key)
+        cut.append(not whole)
     layout = [[(s[1], s[2]) for s in segs] for segs in per_axis]
-    return ((name, *out_index), (_assemble_then, keys, layout, fn, *args))
+    layer[(name, *out_index)] = (_assemble_then, keys, cut, layout, fn, *args)
 
 
-def _assemble_then(pieces: list[NDArray[Any]], layout: list[list[tuple[int, int]]], fn: Any,
-                   *args: Any) -> Any:
-    return fn(_assemble(pieces, layout), *args)
+def _part(chunk: NDArray[Any], bounds: list[tuple[int, int]]) -> NDArray[Any]:
+    """A part of a chunk (a copy: the chunk itself may then be released)."""
+    return np.array(chunk[tuple(slice(a, b) for a, b in bounds)])
 
 
-def _assemble(pieces: list[NDArray[Any]],
+def _row(chunk: NDArray[Any], row: int, axis: int) -> NDArray[Any]:
+    """One row of a chunk along `axis` (a copy, the axis kept)."""
+    return np.take(chunk, [row], axis=axis)
+
+
+def _assemble_then(pieces: list[NDArray[Any]], cut: list[bool],
+                   layout: list[list[tuple[int, int]]], fn: Any, *args: Any) -> Any:
+    return fn(_assemble(pieces, cut, layout), *args)
+
+
+def _assemble(pieces: list[NDArray[Any]], cut: list[bool],
               layout: list[list[tuple[int, int]]]) -> NDArray[np.float64]:
-    """One array from the pieces (C order over the segments of each axis)."""
+    """One array from the pieces (C order over the segments of each axis; those `cut`
+    already are their segment, the others whole chunks)."""
     sizes = [[e - s for s, e in segs] for segs in layout]
     starts = [np.concatenate([[0], np.cumsum(sz)]).astype(int) for sz in sizes]
     out = np.empty([int(sum(sz)) for sz in sizes])
-    for piece, combo in zip(pieces, np.ndindex(*(len(s) for s in layout))):
-        src = tuple(slice(*layout[d][j]) for d, j in enumerate(combo))
+    for piece, was_cut, combo in zip(pieces, cut, np.ndindex(*(len(s) for s in layout))):
+        src = (tuple(slice(None) for _ in combo) if was_cut
+               else tuple(slice(*layout[d][j]) for d, j in enumerate(combo)))
         dst = tuple(slice(starts[d][j], starts[d][j + 1]) for d, j in enumerate(combo))
         out[dst] = piece[src]
     return out
@@ -773,7 +798,7 @@ class ChunkedSpline:
             segs[plan.axis] = entries
             out_chunks[plan.axis] = block_sizes
         name = (name or "geomkit-eval") + "-" + _token(c.name, xi, sizes, orders)
-        layer = {}
+        layer: dict[Any, Any] = {}
         for out_index in np.ndindex(*(len(ch) for ch in out_chunks)):
             per_axis, evals = [], []
             for d, b in enumerate(out_index):
@@ -783,8 +808,7 @@ class ChunkedSpline:
                     evals.append(ev)
                 else:
                     per_axis.append([(b, 0, c.chunks[d][b])])
-            key, task = _gather_layer(name, c, out_index, per_axis, _evaluate_block, evals)
-            layer[key] = task
+            _gather_layer(layer, name, c, out_index, per_axis, _evaluate_block, evals)
         graph = HighLevelGraph.from_collections(name, layer, dependencies=[_any(c)])
         out: da.Array = _da.Array(graph, name, tuple(out_chunks), dtype=np.float64,
                                   meta=np.empty((0,) * c.ndim))
@@ -966,7 +990,7 @@ def make_interp_grid(points: Sequence[Coordinates], values: Any,
     by_axis = {p.axis: p for p in plans}
     windows = {p.axis: [p.window(b, h) for b in range(len(p.data_chunks))] for p in plans}
     locs = {p.axis: [_Local(p, *w) for w in windows[p.axis]] for p in plans}
-    layer = {}
+    layer: dict[Any, Any] = {}
     for out_index in np.ndindex(*values.numblocks):
         per_axis, locals_, keeps = [], [], []
         for d, b in enumerate(out_index):
@@ -985,15 +1009,16 @@ def make_interp_grid(points: Sequence[Coordinates], values: Any,
             last = len(p.data_chunks) - 1
             if p.period and out_index[p.axis] == last:
                 # The block at the end of a periodic axis checks y[0] == y[-1] over its slab.
+                # (Tasks of their own that cut the two rows where the chunks are.)
                 at = list(out_index)
-                at[p.axis] = 0
-                end_keys.append((values.name, *at))
-                at[p.axis] = last
-                end_keys.append((values.name, *at))
-                checks.append((p.axis, p.data_chunks[-1] - 1))
-        key, task = _gather_layer(out_name, values, out_index, per_axis, _solve_block,
-                                  locals_, keeps, where, end_keys, checks)
-        layer[key] = task
+                for side, (block, row) in enumerate(((0, 0), (last, p.data_chunks[-1] - 1))):
+                    at[p.axis] = block
+                    key = (out_name + "-end", *out_index, p.axis, side)
+                    layer[key] = (_row, (values.name, *at), row, p.axis)
+                    end_keys.append(key)
+                checks.append((p.axis, 0))
+        _gather_layer(layer, out_name, values, out_index, per_axis, _solve_block,
+                      locals_, keeps, where, end_keys, checks)
     chunks = tuple(by_axis[d].coef_chunks if d in by_axis else ch
                    for d, ch in enumerate(values.chunks))
     graph = HighLevelGraph.from_collections(out_name, layer, dependencies=[_any(values)])

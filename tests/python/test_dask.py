@@ -443,3 +443,29 @@ def test_xarray_dataset_and_errors(client):
         ds["height"].geomkit.interp(z=[1.0, 2.0])
     with pytest.raises(ValueError, match="must be strictly increasing"):
         ds["height"].geomkit.interp(y=ny[::-1])
+
+
+def test_graph_reads_only_neighbours():
+    """No gather: a solve task reads its own chunk whole and, from the chunks its halo
+    reaches, only the halo (cut by a task of its own where that chunk is); an evaluation
+    task its coefficient chunk and the few rows and columns of its neighbours it needs."""
+    from dask.core import get_dependencies
+
+    x = np.arange(400.0)
+    z = da.zeros((400, 400), chunks=40)
+    spline = gd.make_interp_grid((x, x), z)
+    out = spline(np.linspace(0, 399, 799), np.linspace(0, 399, 799), chunks=80)
+    graph = dict(out.__dask_graph__())
+    for name, chunk_name in ((spline.c.name, z.name), (out.name, spline.c.name)):
+        tasks = [k for k in graph if isinstance(k, tuple) and k[0] == name]
+        assert len(tasks) == 100
+        for key in tasks:
+            deps = get_dependencies(graph, key)
+            whole = [d for d in deps if d[0] == chunk_name]
+            parts = [d for d in deps if d[0] == name + "-part"]
+            assert len(whole) == 1 and len(whole) + len(parts) == len(deps) <= 9
+            for part in parts:  # each part cut from one chunk
+                assert [d[0] for d in get_dependencies(graph, part)] == [chunk_name]
+    # Parts of a halo: 32 rows or columns of the 40 of a chunk (corners 32 x 32).
+    result = out.compute(scheduler="synchronous")
+    assert result.shape == (799, 799) and not result.any()
