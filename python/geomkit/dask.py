@@ -166,9 +166,10 @@ class Regular:
 class _Coords:
     """One axis' coordinates, stored (a checked array) or `Regular`."""
 
-    __slots__ = ("x", "regular", "n", "first", "last")
+    __slots__ = ("x", "regular", "n", "first", "last", "_extended")
 
     def __init__(self, coords: Any, name: str) -> None:
+        self._extended: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
         if isinstance(coords, Regular):
             self.regular: Regular | None = coords
             self.x: NDArray[np.float64] | None = None
@@ -202,12 +203,14 @@ class _Coords:
         """The coordinates of a periodic axis one period below and above, at the indices of
         the data points 0 .. n - 2 (SciPy's `_periodic_knots`: steps added one by one)."""
         assert self.x is not None
-        x = self.x
-        steps = np.diff(x)
-        above = np.cumsum(np.concatenate([[x[-1]], steps[:-1]]))
-        # x[0] - steps[-1] - steps[-2] - ..., reversed so that entry r is period - r steps down.
-        below = np.cumsum(np.concatenate([[x[0]], -steps[::-1]]))[::-1][:-1]
-        return below, above
+        if self._extended is None:
+            x = self.x
+            steps = np.diff(x)
+            above = np.cumsum(np.concatenate([[x[-1]], steps[:-1]]))
+            # x[0] - steps[-1] - steps[-2] - ..., reversed: entry r is period - r steps down.
+            below = np.cumsum(np.concatenate([[x[0]], -steps[::-1]]))[::-1][:-1]
+            self._extended = (below, above)
+        return self._extended
 
     def floor_index(self, v: float) -> int:
         """The largest i with x[i] <= v (-1 below the first)."""
