@@ -609,35 +609,62 @@ def _nonfinite_message(window: NDArray[np.float64], where: _Where) -> str:
 # -- the model --------------------------------------------------------------------------------
 class _EvalAxis:
     """One output block's evaluation along one axis (small and picklable: the knots and new
-    coordinates are computed in the task for `Regular` axes, sliced here otherwise)."""
+    coordinates are computed in the task for `Regular` axes, sliced here otherwise).
 
-    __slots__ = ("axis", "t", "plan", "m0", "m1", "new", "new_regular", "u", "v", "nu")
+    `runs` are the coefficient ranges the block reads, in order: one, or on a periodic axis
+    two when the block's coordinates cross the end of a period (the end of the coefficients,
+    then their start)."""
 
-    def __init__(self, ax: _Axis, r0: int, r1: int, new: _Coords, u: int, v: int,
-                 nu: int) -> None:
-        self.axis, self.m0, self.m1, self.u, self.v = ax.axis, r0, r1 + _K + 1, u, v
-        self.nu = nu
+    __slots__ = ("axis", "t", "plan", "runs", "new", "new_regular", "u", "v", "nu", "period")
+
+    def __init__(self, ax: _Axis, runs: list[tuple[int, int]], new: _Coords, u: int, v: int,
+                 nu: int, period: tuple[float, float, int] | None) -> None:
+        self.axis, self.runs, self.u, self.v, self.nu = ax.axis, runs, u, v, nu
+        self.period = period
         regular = ax.coords.regular is not None
-        self.t = None if regular else ax.knots(None, self.m0, self.m1)
+        self.t = None if regular else [ax.knots(None, r0, r1 + _K + 1) for r0, r1 in runs]
         self.plan = _light(ax) if regular else None
         self.new_regular = new.regular
         self.new = None if new.regular is not None else new.at(np.arange(u, v, dtype=np.int64))
 
     def evaluate(self, c: NDArray[np.float64]) -> NDArray[np.float64]:
         if self.t is not None:
-            t = self.t
+            knots = self.t
         else:
             assert self.plan is not None
-            t = self.plan.knots(None, self.m0, self.m1)
+            knots = [self.plan.knots(None, r0, r1 + _K + 1) for r0, r1 in self.runs]
         if self.new is not None:
             xs = self.new
         else:
             assert self.new_regular is not None
             xs = self.new_regular.at(np.arange(self.u, self.v, dtype=np.int64))
-        out: NDArray[np.float64] = BSpline.construct_fast(
-            _aligned(t), np.moveaxis(c, self.axis, 0), _K, True, self.axis)(_aligned(xs),
-                                                                            nu=self.nu)
+        groups = [xs]
+        if self.period is not None:
+            first, span, q0 = self.period
+            q, xs = _wrap(xs, first, span)
+            if len(self.runs) == 2:
+                cut = int(np.searchsorted(q, q0, side="right"))
+                groups = [xs[:cut], xs[cut:]]
+            else:
+                groups = [xs]
+        parts, start = [], 0
+        for (r0, r1), t, points in zip(self.runs, knots, groups):
+            block = np.take(c, np.arange(start, start + r1 - r0), axis=self.axis)
+            start += r1 - r0
+            parts.append(BSpline.construct_fast(
+                _aligned(t), np.moveaxis(block, self.axis, 0), _K, True, self.axis)(
+                    _aligned(points), nu=self.nu))
+        out: NDArray[np.float64] = (parts[0] if len(parts) == 1
+                                    else np.concatenate(parts, axis=self.axis))
         return out
+
+
+def _wrap(v: NDArray[np.float64], first: float, span: float
+          ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The period index of each coordinate of a periodic axis and the coordinate moved into
+    the base period (the same operations when planning and in the task)."""
+    q = np.floor((v - first) / span)
+    return q, first + ((v - first) - q * span)
 
 
 def _aligned(a: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -725,7 +752,8 @@ class ChunkedSpline:
         Each output block reads only the coefficients of the knot spans its coordinates fall
         in (plus the 3 neighbours a cubic needs, and one more on each side): no gather.
         Outside the data's range the end polynomials continue (SciPy's ``extrapolate=True``);
-        a periodic axis takes coordinates inside its period only.
+        a periodic axis takes coordinates anywhere and repeats its period (SciPy's
+        ``extrapolate='periodic'``: longitudes from -180 on data from 0 to 360, say).
 
         Parameters
         ----------
@@ -751,8 +779,7 @@ class ChunkedSpline:
         ------
         ValueError
             The wrong number of coordinate arrays, coordinates that are not strictly
-            increasing or finite, periodic coordinates outside the period, bad chunks,
-            negative derivative orders.
+            increasing or finite, bad chunks, negative derivative orders.
         TypeError
             Coordinates that are not real numbers.
         """
@@ -776,10 +803,6 @@ class ChunkedSpline:
         segs: dict[int, list[tuple[list[Segment], _EvalAxis]]] = {}
         for d, (plan, coords, size, order) in enumerate(zip(self._plans, xi, sizes, orders)):
             new = _Coords(coords, f"xi[{d}]")
-            if plan.period and (new.first < plan.coords.first or new.last > plan.coords.last):
-                raise ValueError(f"xi[{d}]: a periodic axis takes coordinates inside its "
-                                 f"period [{plan.coords.first}, {plan.coords.last}], got "
-                                 f"[{new.first}, {new.last}]")
             m = new.n
             if size is None:
                 size = max(1, math.ceil(m / len(plan.coef_chunks)))
@@ -793,10 +816,22 @@ class ChunkedSpline:
             for bs in block_sizes:
                 v = u + bs
                 ends = new.at(np.array([u, v - 1], dtype=np.int64))
-                r0 = max(plan.span_of(float(ends[0])) - _K - 1, 0)
-                r1 = min(plan.span_of(float(ends[1])) + 2, plan.nc)
-                entries.append((_segments(bounds, [(r0, r1)]),
-                                _EvalAxis(plan, r0, r1, new, u, v, order)))
+                period = None
+                if plan.period:
+                    # Coordinates anywhere: moved into the base period; a block crossing
+                    # the end of a period reads the coefficients of both ends.
+                    q, ends = _wrap(ends, plan.coords.first, plan.span)
+                    period = (plan.coords.first, plan.span, int(q[0]))
+                lo = max(plan.span_of(float(ends[0])) - _K - 1, 0)
+                hi = min(plan.span_of(float(ends[1])) + 2, plan.nc)
+                if period is None or q[1] == q[0]:
+                    runs = [(lo, hi)]
+                elif q[1] == q[0] + 1:
+                    runs = [(lo, plan.nc), (0, hi)]
+                else:
+                    runs = [(0, plan.nc)]
+                entries.append((_segments(bounds, runs),
+                                _EvalAxis(plan, runs, new, u, v, order, period)))
                 u = v
             segs[plan.axis] = entries
             out_chunks[plan.axis] = block_sizes
