@@ -110,12 +110,6 @@ def seams(n: int, chunk: int, count: int, rng: np.random.Generator) -> list[int]
     return sorted({0, n - 1, *map(int, picks)})
 
 
-def window_reference_1d(x: np.ndarray, y_of, lo: int, hi: int, new: np.ndarray) -> np.ndarray:
-    """SciPy's not-a-knot spline over the data [lo - MARGIN, hi + MARGIN) at `new`."""
-    a, b = max(lo - MARGIN, 0), min(hi + MARGIN, x.shape[0])
-    return si.make_interp_spline(x[a:b], y_of(a, b), k=3, axis=0)(new)
-
-
 def make_input(shape: tuple[int, ...], chunk: int, src: Path) -> float:
     """The synthetic input written to Zarr chunk by chunk; the seconds it took."""
     t0 = time.perf_counter()
