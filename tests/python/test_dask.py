@@ -483,6 +483,8 @@ def test_graph_reads_only_neighbours():
             assert len(whole) == 1 and len(whole) + len(parts) == len(deps) <= 9
             for part in parts:  # each part cut from one chunk
                 assert [d[0] for d in get_dependencies(graph, part)] == [chunk_name]
-    # Parts of a halo: 32 rows or columns of the 40 of a chunk (corners 32 x 32).
+    # A window of the result needs only the tasks of its neighbourhood (the graph culled).
+    (window,) = dask.optimize(out[200:210, 600:610])
+    assert len(dict(window.__dask_graph__())) < len(graph) / 10
     result = out.compute(scheduler="synchronous")
     assert result.shape == (799, 799) and not result.any()
