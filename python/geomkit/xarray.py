@@ -65,10 +65,11 @@ def interp(obj: xr.DataArray, coords: Mapping[Hashable, Any] | None = None, *,
     ----------
     obj : xarray.DataArray
         The data: dask-backed (its chunks are kept) or in memory (then chunked with dask's
-        automatic chunks). Each interpolated dimension needs a strictly increasing 1-D
-        coordinate (numbers or datetime64), or none (then 0, 1, 2, ...).
+        automatic chunks). Each interpolated dimension needs a strictly monotonic 1-D
+        coordinate (numbers or datetime64; decreasing ones, such as latitudes from 90 to -90,
+        too), or none (then 0, 1, 2, ...).
     coords : mapping of dimension name to array_like, optional
-        The new coordinates of each interpolated dimension (1-D, strictly increasing).
+        The new coordinates of each interpolated dimension (1-D, strictly monotonic).
     bc_type : str, (str, str) or dict, optional
         End conditions as in `geomkit.dask.make_interp_grid`: one for all dimensions, or a
         dict keyed by dimension name.
@@ -91,7 +92,7 @@ def interp(obj: xr.DataArray, coords: Mapping[Hashable, Any] | None = None, *,
     Raises
     ------
     ValueError
-        Unknown dimensions, coordinates that are not 1-D, finite and strictly increasing,
+        Unknown dimensions, coordinates that are not 1-D, finite and strictly monotonic,
         and everything `geomkit.dask.make_interp_grid` refuses (a non-finite value names
         its chunk when computed).
     TypeError
@@ -111,8 +112,8 @@ def interp(obj: xr.DataArray, coords: Mapping[Hashable, Any] | None = None, *,
         if dim not in obj.dims:
             raise ValueError(f"{dim!r} is not a dimension of the DataArray (dims {obj.dims})")
     axes = [obj.get_axis_num(dim) for dim in dims]
-    points, new_points, out_coords = [], [], {}
-    for dim in dims:
+    points, new_points, out_coords, flip = [], [], {}, []
+    for axis, dim in zip(axes, dims):
         if dim in obj.coords:
             old = np.asarray(obj.coords[dim].values)
         else:
@@ -126,8 +127,16 @@ def interp(obj: xr.DataArray, coords: Mapping[Hashable, Any] | None = None, *,
         target = np.asarray(target)
         if target.ndim != 1:
             raise ValueError(f"{dim!r}: new coordinates must be 1-D, got shape {target.shape}")
-        points.append(_numeric(old, origin, dim))
-        new_points.append(_numeric(target, origin, dim))
+        here, there = _numeric(old, origin, dim), _numeric(target, origin, dim)
+        if here.size > 1 and here[0] > here[-1]:
+            # Decreasing coordinates (latitudes from 90 to -90): the same spline in -x.
+            here, there = -here, -there
+        if there.size > 1 and there[0] > there[-1]:
+            # New coordinates the other way: evaluated increasing, the result turned back.
+            there = there[::-1]
+            flip.append(axis)
+        points.append(here)
+        new_points.append(there)
         attrs = obj.coords[dim].attrs if dim in obj.coords else {}
         out_coords[dim] = xr.Variable(dim, target, attrs=dict(attrs))
     if isinstance(bc_type, Mapping):
@@ -144,6 +153,9 @@ def interp(obj: xr.DataArray, coords: Mapping[Hashable, Any] | None = None, *,
     spline = gdask.make_interp_grid(points, data, axes=axes, bc_type=bc, depth=depth,
                                     name=f"DataArray {obj.name!r}" if obj.name else "DataArray")
     result = spline(*new_points, chunks=chunks)
+    if flip:
+        result = result[tuple(slice(None, None, -1) if ax in flip else slice(None)
+                              for ax in range(result.ndim))]
     kept = {name: var.variable for name, var in obj.coords.items()
             if not set(var.dims) & set(dims)}
     kept.update(out_coords)

@@ -459,7 +459,24 @@ def test_xarray_dataset_and_errors(client):
     with pytest.raises(ValueError, match="'z' is not a dimension"):
         ds["height"].geomkit.interp(z=[1.0, 2.0])
     with pytest.raises(ValueError, match="must be strictly increasing"):
-        ds["height"].geomkit.interp(y=ny[::-1])
+        ds["height"].geomkit.interp(y=ny[[0, 2, 1]])
+
+
+def test_xarray_decreasing_coordinates(client):
+    """Latitudes from 90 to -90, new ones in either order: xarray's own cubic interpolation
+    (SciPy's interp1d sorts them) on the data in memory."""
+    lat = np.linspace(90.0, -90.0, 73)
+    lon = np.arange(0.0, 360.0, 5.0)
+    rng = np.random.default_rng(10)
+    values = np.cos(np.radians(lat))[:, None] * np.sin(np.radians(lon))[None, :]
+    values = values + 0.01 * rng.standard_normal(values.shape)
+    arr = xr.DataArray(values, dims=("lat", "lon"), coords={"lat": lat, "lon": lon},
+                       name="t2m").chunk({"lat": 20, "lon": 25})
+    for new_lat in (np.linspace(89.0, -89.0, 100), np.linspace(-89.0, 89.0, 100)):
+        out = arr.geomkit.interp(lat=new_lat)
+        np.testing.assert_array_equal(out.lat.values, new_lat)
+        ref = arr.compute().interp(lat=new_lat, method="cubic")
+        near(out.values, ref.values, np.abs(values).max())
 
 
 def test_graph_reads_only_neighbours():
