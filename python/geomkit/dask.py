@@ -13,17 +13,19 @@ Why a halo gives the global spline
 The B-spline coefficients of the interpolant solve a banded (tridiagonal for the cubic)
 system. A wrong condition at an artificial end changes the solution by an amount that
 decays geometrically away from that end: by ``2 - sqrt(3) = 0.268`` per data point on
-uniform coordinates (0.268^32 = 5e-19 for the default ``depth=32``), by a factor of at most
-1/2 on any coordinates. Each chunk is therefore solved together with `depth` points of its
+uniform coordinates (0.268^32 = 5e-19 for the default ``depth=32``), more slowly on strongly
+irregular ones. Each chunk is therefore solved together with `depth` points of its
 neighbours on each side, with the true end conditions (not-a-knot, natural, clamped,
 periodic) at the true ends of the array only and a natural end at the artificial ends, and
 keeps the coefficients of its own points. Before building the graph, the decay over every
-halo is bounded from the coordinates themselves (the Thomas recursion of the collocation
-system, started from the worst case): when it does not reach 2**-53 = eps / 2 (a wrong end
-value, at most the size of the coefficients, then reaches the kept ones below half a unit
-of rounding), the call raises a ValueError that names the
-depth needed, or takes it with ``depth="auto"``. Chunks smaller than the halo are fine: a
-task reads as many neighbouring chunks as its halo covers (no rechunking).
+halo is bounded from the coordinates themselves (the ratios of the Thomas recursion of the
+collocation system, started from the worst case; a row that is not diagonally dominant
+counts as no decay): when the bound does not reach 2**-53 = eps / 2 (a wrong end value, a
+few times the size of the data at most, then reaches the kept coefficients at the level of
+one unit of rounding; the tests measure the whole within 4 eps max|z|), the call raises a
+ValueError that names the depth needed, or takes it with ``depth="auto"``. Chunks smaller
+than the halo are fine: a task reads as many neighbouring chunks as its halo covers (no
+rechunking).
 
 The representation (SciPy's)
 ----------------------------
@@ -86,9 +88,10 @@ __all__ = [
 # The degree: exact-through-data cubic splines.
 _K = 3
 # The certified decay over a halo: 2**-53 = eps / 2. The error an artificial end makes in
-# its first coefficient is at most about the size of the coefficients (|c| <= 1.5 max|z|
-# for cubic interpolation at knots), so the kept ones are off by less than eps max|z|, on
-# top of the solve's own rounding (both well inside the 4 eps max|z| promised).
+# its first coefficient is a few times max|z| at most (|c| <= 3 max|z| for cubic
+# interpolation at uniform knots), and one more row of decay (0.27) lies between the halo
+# and the kept coefficients: they are off by about eps max|z| at most, on top of the
+# solve's own rounding (the tests measure the whole within 4 eps max|z|).
 _DECAY = 2.0**-53
 # Iterations of the bound of the decay ratios (each a valid bound; converged after ~20).
 _BOUND_STEPS = 24
