@@ -93,6 +93,9 @@ _K = 3
 # and the kept coefficients: they are off by about eps max|z| at most, on top of the
 # solve's own rounding (the tests measure the whole within 4 eps max|z|).
 _DECAY = 2.0**-53
+# Parts of chunks with fewer values than this travel with the whole chunk (no task of
+# their own): 128 KiB of float64.
+_CUT_MIN = 1 << 14
 # Iterations of the bound of the decay ratios (each a valid bound; converged after ~20).
 _BOUND_STEPS = 24
 _ENDS = ("not-a-knot", "natural", "clamped", "periodic")
@@ -511,13 +514,15 @@ def _gather_layer(layer: dict[Any, Any], name: str, src: da.Array, out_index: tu
 
     A piece that is a whole chunk is read as it is; a part of a chunk (a halo, the few
     coefficient rows of a neighbour) is cut by a task of its own, which the scheduler runs
-    where the chunk is: only the part travels to the block's worker."""
+    where the chunk is: only the part travels to the block's worker. (Small chunks, below
+    `_CUT_MIN` values, or parts of more than half a chunk travel whole: a task costs more.)"""
     keys, cut = [], []
     for p, combo in enumerate(np.ndindex(*(len(s) for s in per_axis))):
         segs = [per_axis[d][j] for d, j in enumerate(combo)]
         key = (src.name, *(seg[0] for seg in segs))
-        whole = all(seg[1] == 0 and seg[2] == src.chunks[d][seg[0]]
-                    for d, seg in enumerate(segs))
+        size = math.prod(src.chunks[d][seg[0]] for d, seg in enumerate(segs))
+        part_size = math.prod(seg[2] - seg[1] for seg in segs)
+        whole = size < _CUT_MIN or 2 * part_size > size
         if not whole:
             part = (name + "-part", *out_index, p)
             layer[part] = (_part, key, [(seg[1], seg[2]) for seg in segs])

@@ -491,14 +491,14 @@ def test_graph_reads_only_neighbours():
     task its coefficient chunk and the few rows and columns of its neighbours it needs."""
     from dask.core import get_dependencies
 
-    x = np.arange(400.0)
-    z = da.zeros((400, 400), chunks=40)
+    x = np.arange(800.0)
+    z = da.zeros((800, 800), chunks=160)
     spline = gd.make_interp_grid((x, x), z)
-    out = spline(np.linspace(0, 399, 799), np.linspace(0, 399, 799), chunks=80)
+    out = spline(np.linspace(0, 799, 1599), np.linspace(0, 799, 1599), chunks=320)
     graph = dict(out.__dask_graph__())
     for name, chunk_name in ((spline.c.name, z.name), (out.name, spline.c.name)):
         tasks = [k for k in graph if isinstance(k, tuple) and k[0] == name]
-        assert len(tasks) == 100
+        assert len(tasks) == 25
         for key in tasks:
             deps = get_dependencies(graph, key)
             whole = [d for d in deps if d[0] == chunk_name]
@@ -507,7 +507,7 @@ def test_graph_reads_only_neighbours():
             for part in parts:  # each part cut from one chunk
                 assert [d[0] for d in get_dependencies(graph, part)] == [chunk_name]
     # A window of the result needs only the tasks of its neighbourhood (the graph culled).
-    (window,) = dask.optimize(out[200:210, 600:610])
-    assert len(dict(window.__dask_graph__())) < len(graph) / 10
+    (window,) = dask.optimize(out[400:410, 1200:1210])
+    assert len(dict(window.__dask_graph__())) < len(graph) / 3
     result = out.compute(scheduler="synchronous")
-    assert result.shape == (799, 799) and not result.any()
+    assert result.shape == (1599, 1599) and not result.any()
