@@ -263,10 +263,10 @@ def _virtual(coords: _Coords, period: int, span: float,
 
 @dataclass(frozen=True)
 class _Ends:
-    """The end conditions of one axis."""
+    """The end conditions of one axis: a name, or one (order, value) derivative condition."""
 
-    left: str
-    right: str
+    left: str | tuple[int, float]
+    right: str | tuple[int, float]
 
     @property
     def periodic(self) -> bool:
@@ -277,23 +277,40 @@ class _Ends:
         return self.left == "not-a-knot"
 
 
+def _side(side: Any, bc: Any, axis: int) -> str | tuple[int, float]:
+    """One side of a (left, right) pair: 'natural', 'clamped' or SciPy's [(order, value)]
+    with one derivative condition of order 1 or 2 and a real value."""
+    if isinstance(side, str):
+        if side in ("natural", "clamped"):
+            return side
+    elif isinstance(side, (list, tuple)) and len(side) == 1:
+        try:
+            order, value = side[0]
+        except (TypeError, ValueError):
+            pass
+        else:
+            order = index(order, f"bc_type derivative order (axis {axis})")
+            value = real_scalar(value, f"bc_type derivative value (axis {axis})")
+            if order not in (1, 2) or not math.isfinite(value):
+                raise ValueError(f"bc_type {bc!r} (axis {axis}): a cubic takes one derivative "
+                                 "of order 1 or 2 per end, with a finite value")
+            return (order, value)
+    raise ValueError(f"bc_type {bc!r} (axis {axis}): each side of a (left, right) pair is "
+                     "'natural', 'clamped' or [(order, value)] (not-a-knot and periodic hold "
+                     "at both ends)")
+
+
 def _ends(bc: Any, axis: int) -> _Ends:
-    """One axis' `bc_type`: None / a name / a (left, right) pair of 'natural' / 'clamped'."""
+    """One axis' `bc_type`: None / a name / a (left, right) pair of sides (`_side`)."""
     if bc is None:
         return _Ends("not-a-knot", "not-a-knot")
     if isinstance(bc, str):
         if bc not in _ENDS:
             raise ValueError(f"bc_type {bc!r} (axis {axis}): expected one of {_ENDS}, or a "
-                             "(left, right) pair of 'natural' / 'clamped'")
+                             "(left, right) pair of 'natural' / 'clamped' / [(order, value)]")
         return _Ends(bc, bc)
     if isinstance(bc, tuple) and len(bc) == 2:
-        left, right = bc
-        for side in (left, right):
-            if side not in ("natural", "clamped"):
-                raise ValueError(f"bc_type {bc!r} (axis {axis}): a (left, right) pair takes "
-                                 "'natural' and 'clamped' (not-a-knot and periodic hold at "
-                                 "both ends)")
-        return _Ends(left, right)
+        return _Ends(_side(bc[0], bc, axis), _side(bc[1], bc, axis))
     raise TypeError(f"bc_type (axis {axis}) must be None, a string or a (left, right) pair, "
                     f"got {type(bc).__name__}")
 
@@ -301,6 +318,11 @@ def _ends(bc: Any, axis: int) -> _Ends:
 _CONDITION: dict[str, list[tuple[int, float]] | None] = {
     "not-a-knot": None, "natural": [(2, 0.0)], "clamped": [(1, 0.0)],
 }
+
+
+def _condition(side: str | tuple[int, float]) -> list[tuple[int, float]] | None:
+    """A side as the compiled module's make_interp_spline takes it."""
+    return [side] if isinstance(side, tuple) else _CONDITION[side]
 
 
 class _Axis:
@@ -454,8 +476,8 @@ class _Local:
         self.left_true = p == 0 and not ax.period
         self.right_true = q == ax.n and not ax.period
         ends = ax.ends
-        self.left = _CONDITION[ends.left] if self.left_true else _CONDITION["natural"]
-        self.right = _CONDITION[ends.right] if self.right_true else _CONDITION["natural"]
+        self.left = _condition(ends.left) if self.left_true else _CONDITION["natural"]
+        self.right = _condition(ends.right) if self.right_true else _CONDITION["natural"]
         self.offset = 0 if self.left_true else p + ax.s - _K
         self.axis, self.p, self.q = ax.axis, p, q
         regular = ax.coords.regular is not None
@@ -727,8 +749,8 @@ class ChunkedSpline:
         The degree, 3.
     axes : tuple of int
         The interpolated axes of `c` (the others are carried along: batch axes).
-    bc_type : tuple of (str, str)
-        The (left, right) end conditions of each interpolated axis.
+    bc_type : tuple of (left, right)
+        The end conditions of each interpolated axis: names, or (order, value) pairs.
     depth : int
         The halo each chunk was solved with.
     """
@@ -969,8 +991,10 @@ def make_interp_grid(points: Sequence[Coordinates], values: Any,
     bc_type : None, str, (str, str), list or dict, optional
         End conditions: None or 'not-a-knot' (default), 'natural', 'clamped' (zero first
         derivative), 'periodic' (``values`` equal at both ends; derivatives continuous
-        across), or a (left, right) pair of 'natural' / 'clamped'. One for all axes, or a
-        list (one per axis) or a dict ``{axis: bc}``.
+        across), or a (left, right) pair whose sides are 'natural', 'clamped' or SciPy's
+        ``[(order, value)]`` (one derivative of order 1 or 2, the same value for every
+        line of the grid: ``([(1, 0.5)], [(2, 0.0)])``). One for all axes, or a list (one
+        per axis) or a dict ``{axis: bc}``.
     depth : int or 'auto', optional
         The halo in data points (default 32: 0.268^32 = 5e-19 on uniform coordinates).
         'auto' takes the smallest halo the bound certifies.

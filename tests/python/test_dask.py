@@ -285,6 +285,30 @@ def test_batch_axis_and_mixed_end_conditions(client):
     assert spline.c.chunks[0] == (2, 1)
 
 
+def test_derivative_values_at_the_ends(client):
+    """SciPy's [(order, value)] sides: a series, and a grid along x (the same value for
+    every line of the grid)."""
+    rng = np.random.default_rng(13)
+    x, y = series(rng, 260, None)
+    bc = ([(1, 0.5)], [(2, -0.3)])
+    ref = si.make_interp_spline(x, y, k=3, bc_type=bc)
+    spline = gd.make_interp_spline(x, da.from_array(y, chunks=41), bc_type=bc)
+    assert spline.bc_type == (((1, 0.5), (2, -0.3)),)
+    near(spline.c.compute(), ref.c, np.abs(y).max())
+    near(spline(x[[0, -1]], nu=1).compute()[0], 0.5, 1.0)
+    near(spline(x[[0, -1]], nu=2).compute()[1], -0.3, np.abs(ref(x, nu=2)).max(), ulps=64)
+    gx, gy, z = grid(rng, 80, 60, None)
+    side = [(1, 0.2)]
+    ref2 = si.make_interp_spline(gx, z, k=3, bc_type=([(1, np.full(60, 0.2))], "natural"))
+    got = gd.make_interp_grid((gx,), da.from_array(z, chunks=(23, 30)),
+                              bc_type=(side, "natural")).c.compute()
+    near(got, ref2.c, np.abs(z).max())
+    with pytest.raises(ValueError, match="one derivative of order 1 or 2"):
+        gd.make_interp_spline(x, da.from_array(y, chunks=41), bc_type=([(3, 0.0)], "natural"))
+    with pytest.raises(ValueError, match="each side of a"):
+        gd.make_interp_spline(x, da.from_array(y, chunks=41), bc_type=("natural", None))
+
+
 # -- errors ----------------------------------------------------------------------------------
 def test_nan_names_its_chunk(client):
     z = np.ones((60, 50))
