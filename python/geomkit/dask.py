@@ -1076,12 +1076,16 @@ def make_interp_grid(points: Sequence[Coordinates], values: Any,
         end_keys: list[tuple[Any, ...]] = []
         checks: list[tuple[int, int]] = []
         for p in plans:
-            last = len(p.data_chunks) - 1
-            if p.period and out_index[p.axis] == last:
-                # The block at the end of a periodic axis checks y[0] == y[-1] over its slab.
-                # (Tasks of their own that cut the two rows where the chunks are.)
+            # The chunks holding the first and the last data (zero-size chunks skipped).
+            first = int(np.searchsorted(p.data_bounds, 0, side="right")) - 1
+            last = int(np.searchsorted(p.data_bounds, p.n - 1, side="right")) - 1
+            if p.period and out_index[p.axis] == 0:
+                # The first block of a periodic axis (whose coefficients are always used:
+                # the last ones repeat them) checks y[0] == y[-1] over its slab. (Tasks of
+                # their own cut the two rows where the chunks are.)
                 at = list(out_index)
-                for side, (block, row) in enumerate(((0, 0), (last, p.data_chunks[-1] - 1))):
+                row = p.n - 1 - int(p.data_bounds[last])
+                for side, (block, row) in enumerate(((first, 0), (last, row))):
                     at[p.axis] = block
                     key = (out_name + "-end", *out_index, p.axis, side)
                     layer[key] = (_row, (values.name, *at), row, p.axis)

@@ -102,8 +102,10 @@ def periodic_truth(t, y, dtype=float):
 
 # -- 1-D series ------------------------------------------------------------------------------
 @pytest.mark.parametrize("bc", BCS)
-# Odd, smaller than the halo, larger, and irregular with chunks of 1 and 2 points.
-@pytest.mark.parametrize("chunk", [7, 20, 97, ((1, 5, 40, 3, 100, 2, 150),)])
+# Odd, smaller than the halo, larger, irregular with chunks of 1 and 2 points, and with
+# empty chunks (at the ends too).
+@pytest.mark.parametrize("chunk", [7, 20, 97, ((1, 5, 40, 3, 100, 2, 150),),
+                                   ((0, 150, 0, 150, 1, 0),)])
 def test_series_equals_global_solve(client, bc, chunk):
     rng = np.random.default_rng(24 + len(str(chunk)))
     x, y = series(rng, 301, bc)
@@ -324,10 +326,13 @@ def test_nan_names_its_chunk(client):
         gd.make_interp_spline(np.arange(100.0), da.from_array(y, chunks=30)).c.compute()
 
 
-def test_periodic_needs_equal_ends(client):
+# The last point alone in its chunk (whose coefficients all repeat the first ones), empty
+# chunks at the ends.
+@pytest.mark.parametrize("chunks", [9, ((39, 1),), ((0, 20, 20, 0),)])
+def test_periodic_needs_equal_ends(client, chunks):
     y = np.sin(np.arange(40.0))
     with pytest.raises(ValueError, match="first and last points does not match"):
-        gd.make_interp_spline(np.arange(40.0), da.from_array(y, chunks=9),
+        gd.make_interp_spline(np.arange(40.0), da.from_array(y, chunks=chunks),
                               bc_type="periodic").c.compute()
 
 
