@@ -69,3 +69,19 @@ __all__ = sorted(
         *_pointcalc_all,
     ]
 )
+
+
+# --- geomkit.dask and geomkit.xarray (issue 24): submodules imported on first use, so that
+# `import geomkit` never imports dask or xarray.
+from typing import TYPE_CHECKING  # noqa: E402
+
+if TYPE_CHECKING:
+    from . import dask, xarray  # noqa: F401
+
+
+def __getattr__(name: str) -> object:
+    if name in ("dask", "xarray"):
+        import importlib
+
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
