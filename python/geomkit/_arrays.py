@@ -42,8 +42,16 @@ def real_array(a: ArrayLike, name: str) -> NDArray[np.float64]:
 
 
 def contiguous(a: ArrayLike, name: str) -> NDArray[np.float64]:
-    """`a` as a C-contiguous float64 array (the same array when it already is one)."""
-    return np.ascontiguousarray(real_array(a, name))
+    """`a` as a C-contiguous, aligned float64 array (the same array when it already is one)."""
+    return aligned(real_array(a, name))
+
+
+def aligned(a: ArrayLike) -> NDArray[Any]:
+    """`a` as `np.ascontiguousarray` gives it (C-contiguous, at least 1-D) and also aligned, as
+    the compiled module reads arrays (the same array when it already is; arrays unpickled
+    from another process, e.g. a Dask worker's, may be views of unaligned buffers)."""
+    out = np.require(a, requirements=["C", "A"])
+    return out.reshape(1) if out.ndim == 0 else out
 
 
 def index(value: Any, name: str) -> int:

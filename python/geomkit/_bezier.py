@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
-from ._arrays import contiguous, index, real_array, real_scalar
+from ._arrays import aligned, contiguous, index, real_array, real_scalar
 from ._model import Drawable, register_kind
 
 __all__ = [
@@ -261,7 +261,7 @@ def _surface_parameters(
             raise ValueError(f"u and v do not broadcast together: {e}") from None
         shape = us.shape
         us, vs = us.reshape(-1), vs.reshape(-1)
-    return np.ascontiguousarray(us), np.ascontiguousarray(vs), shape
+    return aligned(us), aligned(vs), shape
 
 
 def _points(points: ArrayLike, name: str, ndim: int) -> NDArray[np.float64]:
@@ -557,7 +557,7 @@ class BezierCurve(Drawable):
             nu = min(nu, self._core.degree + 1)
         ts = real_array(t, "t")
         shape = ts.shape
-        flat = np.ascontiguousarray(ts.reshape(-1))
+        flat = aligned(ts.reshape(-1))
         out = np.empty((flat.shape[0], self._core.dim))
         self._core.eval_into(flat, nu, out)
         return out.reshape(shape + (self._core.dim,))

@@ -10,7 +10,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
-from ._arrays import contiguous, extrapolate_value, index, mode, real_array, real_scalar
+from ._arrays import (
+    aligned,
+    contiguous,
+    extrapolate_value,
+    index,
+    mode,
+    real_array,
+    real_scalar,
+)
 from ._model import Drawable, register_kind
 from ._progress import chunked
 
@@ -156,7 +164,7 @@ class BSpline(Drawable):
         # The core's copy is the spline's only storage: `t` and `c` are made from it when
         # read (the caller's arrays are neither kept nor frozen). Coefficients beyond the
         # n the spline uses are kept as SciPy keeps them, in a read-only copy.
-        rows = np.ascontiguousarray(c[:n]).reshape(n, math.prod(trailing))
+        rows = aligned(c[:n]).reshape(n, math.prod(trailing))
         core = _geomkit.Curve(k, t, rows)
         extra = _frozen(np.array(c, dtype=np.float64)) if c.shape[0] > n else None
         self._init(core, extrapolate_value(extrapolate), axis, trailing, None, extra, None)
@@ -581,7 +589,7 @@ def make_interp_spline(
     if x.shape[0] != y.shape[0]:
         raise ValueError(f"Shapes of x {x.shape} and y {y.shape} are incompatible")
     trailing = y.shape[1:]
-    ys = np.ascontiguousarray(y.reshape(y.shape[0], math.prod(trailing)))
+    ys = aligned(y.reshape(y.shape[0], math.prod(trailing)))
     first, last = (x[0], x[-1]) if x.shape[0] else (math.nan, math.nan)
     left = _end(deriv_l, first, trailing)
     right = _end(deriv_r, last, trailing)

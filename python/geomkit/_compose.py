@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
-from ._arrays import contiguous, index, real_array
+from ._arrays import aligned, contiguous, index, real_array
 from ._model import Drawable, Model, _write_atomic, register_kind
 from ._progress import chunked
 
@@ -192,7 +192,7 @@ class Evaluator:
         except ValueError as e:
             raise ValueError(f"the arguments do not broadcast together: {e}") from None
         flat = [
-            np.ascontiguousarray(np.broadcast_to(a, shape)).reshape(-1) for a in arrays
+            aligned(np.broadcast_to(a, shape)).reshape(-1) for a in arrays
         ]
         n = flat[0].size
         out = np.empty((self._dim, n), dtype=np.float64)

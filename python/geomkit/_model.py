@@ -993,7 +993,7 @@ def _indices(faces: ArrayLike) -> NDArray[np.int64]:
         raise TypeError(f"faces must hold integers, got dtype {arr.dtype}")
     if arr.dtype.kind == "u" and arr.size and int(arr.max()) > np.iinfo(np.int64).max:
         raise ValueError("faces: an index beyond int64")
-    return np.ascontiguousarray(arr, dtype=np.int64)
+    return np.require(arr, dtype=np.int64, requirements=["C", "A"])
 
 
 def _umask() -> int:

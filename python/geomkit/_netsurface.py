@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
-from ._arrays import contiguous, real_array
+from ._arrays import aligned, contiguous, real_array
 from ._model import Drawable, register_kind
 from ._progress import chunked
 
@@ -217,7 +217,7 @@ def make_interp_surface(points: ArrayLike, bc_type: str | tuple[str, str] = "not
     if param not in _PARAMS:
         raise ValueError(f"param {param!r}: expected one of {', '.join(_PARAMS)}")
     rows, cols, dim = grid.shape
-    flat = np.ascontiguousarray(grid.reshape(rows * cols, dim))
+    flat = aligned(grid.reshape(rows * cols, dim))
     core, pu, pv = _geomkit.interpolate_grid(flat, rows, cols, end_u, end_v, param)
     return BSplineSurface._from_core(core, np.array(pu), np.array(pv))
 

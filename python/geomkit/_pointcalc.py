@@ -30,7 +30,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
-from ._arrays import contiguous, index, real_array, real_scalar
+from ._arrays import aligned, contiguous, index, real_array, real_scalar
 from ._model import Drawable, register_kind
 from ._progress import chunked
 
@@ -188,7 +188,7 @@ def _columns(df: Any, names: Sequence[str], what: str) -> F64:
     for n, c in zip(names, cols):
         if c.ndim != 1:
             raise ValueError(f"{what}: column {n!r} is not one column (a repeated name?)")
-    return np.ascontiguousarray(np.stack(cols, axis=1) if cols else np.empty((len(df), 0)))
+    return aligned(np.stack(cols, axis=1) if cols else np.empty((len(df), 0)))
 
 
 def _response_names(names: Any, r: int) -> list[str]:
@@ -372,7 +372,7 @@ class PointModel(Drawable):
                 f"(or {shape + ('r',)} for r responses)")
         responses = _response_names(response_names, r)
         _check_finite(values, "response")
-        flat = np.ascontiguousarray(values).reshape(-1)
+        flat = aligned(values).reshape(-1)
         core = _geomkit.PointcalcModel.from_grid(
             names, built, responses, flat, bool(strict), _lebesgue_limit(lebesgue_limit))
         return cls(core)
@@ -517,7 +517,7 @@ class PointModel(Drawable):
             raise ValueError("no experiments: the table is empty")
         _check_finite(table, "records")
         core = _geomkit.PointcalcModel.from_records(
-            names, np.ascontiguousarray(table), given, responses, bool(strict),
+            names, aligned(table), given, responses, bool(strict),
             _lebesgue_limit(lebesgue_limit))
         return cls(core)
 
@@ -583,7 +583,7 @@ class PointModel(Drawable):
             missing = [n for n in self.factors if n not in x]
             if missing:
                 raise ValueError(f"{what}: no value for factor {missing[0]!r}")
-            return np.ascontiguousarray(np.stack(
+            return aligned(np.stack(
                 [real_array(x[n], f"{what}: {n}").reshape(-1) for n in self.factors], axis=1))
         return contiguous(x, what)
 
@@ -632,7 +632,7 @@ class PointModel(Drawable):
                              f"{', '.join(self.factors)}")
         _check_finite(xs, "x")
         out = np.empty((xs.shape[0], len(self.responses)))
-        rows, core = np.ascontiguousarray(xs), self._core
+        rows, core = aligned(xs), self._core
         chunked(rows.shape[0], lambda a, b: core.eval_into(rows[a:b], out[a:b]), "PointModel")
         return out[0] if single else out
 
@@ -686,7 +686,7 @@ class PointModel(Drawable):
                              f"one value per factor ({', '.join(self.factors)})")
         _check_finite(point, "x")
         out = np.empty(int(np.prod(self.shape)))
-        self._core.shares_into(np.ascontiguousarray(point), out)
+        self._core.shares_into(aligned(point), out)
         return out.reshape(self.shape)
 
     def optimize(
@@ -743,7 +743,7 @@ class PointModel(Drawable):
                 nodes = [core.nodes(i) for i in range(len(self.factors))]
                 core = _geomkit.PointcalcModel.from_grid(
                     list(self.factors), nodes, [response],
-                    np.ascontiguousarray(self.values[..., j]).reshape(-1))
+                    aligned(self.values[..., j]).reshape(-1))
         tol = real_scalar(tolerance, "tolerance")
         boxes, work = index(max_boxes, "max_boxes"), index(max_work, "max_work")
         if boxes < 1 or work < 1:
@@ -905,7 +905,7 @@ class PointModel(Drawable):
                              f"of shape {want}")
         _check_finite(ys, "responses")
         return PointModel(self._core.add_level(f, real_scalar(value, "value"),
-                                               np.ascontiguousarray(ys).reshape(-1)))
+                                               aligned(ys).reshape(-1)))
 
     def formula(self, fmt: str = "numpy") -> str:
         """The model as one formula per response (``geomkit pointcalc formula``): the point
@@ -967,7 +967,7 @@ def _points_2d(points: ArrayLike, what: str) -> F64:
     if arr.shape[0] == 0 or arr.shape[1] == 0:
         raise ValueError(f"{what}: no points (shape {arr.shape})")
     _check_finite(arr, what)
-    return np.ascontiguousarray(arr)
+    return aligned(arr)
 
 
 class PointCurve(Drawable):
@@ -1095,7 +1095,7 @@ class PointCurve(Drawable):
         """
         ts = real_array(t, "t")
         out = np.empty((ts.size, self.dim))
-        self._core.eval_into(np.ascontiguousarray(ts.reshape(-1)), out)
+        self._core.eval_into(aligned(ts.reshape(-1)), out)
         return out.reshape(ts.shape + (self.dim,))
 
     def eval(self, t: ArrayLike) -> F64:
@@ -1140,7 +1140,7 @@ class PointCurve(Drawable):
         _check_finite(ts, "t")
         n = self._core.nodes.count
         out = np.empty((ts.size, n))
-        self._core.nodes.basis_into(np.ascontiguousarray(ts.reshape(-1)), out)
+        self._core.nodes.basis_into(aligned(ts.reshape(-1)), out)
         return out.reshape(ts.shape + (n,))
 
     def formula(self, fmt: str = "numpy") -> str:
@@ -1224,7 +1224,7 @@ def _net_rows(net: Any) -> list[F64]:
         if arr.ndim != 3:
             raise ValueError(f"net must have shape (rows, cols, dim) or (rows, cols), got "
                              f"{arr.shape}")
-        rows = [np.ascontiguousarray(r) for r in arr]
+        rows = [aligned(r) for r in arr]
     else:
         if isinstance(net, (str, bytes)) or not isinstance(net, Sequence):
             raise TypeError(f"net must be an array or a sequence of rows, not "
@@ -1408,8 +1408,8 @@ class PointSurface(Drawable):
         uu, vv = np.broadcast_arrays(real_array(u, "u"), real_array(v, "v"))
         shape = uu.shape
         out = np.empty((uu.size, self.dim))
-        self._core.eval_into(np.ascontiguousarray(uu).reshape(-1),
-                             np.ascontiguousarray(vv).reshape(-1), out)
+        self._core.eval_into(aligned(uu).reshape(-1),
+                             aligned(vv).reshape(-1), out)
         return out.reshape(shape + (self.dim,))
 
     def grid(self, u: ArrayLike, v: ArrayLike) -> F64:

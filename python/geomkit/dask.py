@@ -504,7 +504,7 @@ class _Local:
         else:
             assert self.plan is not None
             t, x = self._arrays(self.plan)
-        spline = _solve(_aligned(x), w, k=_K, t=_aligned(t), bc_type=(self.left, self.right),
+        spline = _solve(x, w, k=_K, t=t, bc_type=(self.left, self.right),
                         axis=self.axis)
         c = np.moveaxis(spline.c, 0, self.axis)
         take = [slice(None)] * c.ndim
@@ -682,8 +682,8 @@ class _EvalAxis:
             block = np.take(c, np.arange(start, start + r1 - r0), axis=self.axis)
             start += r1 - r0
             parts.append(BSpline.construct_fast(
-                _aligned(t), np.moveaxis(block, self.axis, 0), _K, True, self.axis)(
-                    _aligned(points), nu=self.nu))
+                t, np.moveaxis(block, self.axis, 0), _K, True, self.axis)(
+                    points, nu=self.nu))
         out: NDArray[np.float64] = (parts[0] if len(parts) == 1
                                     else np.concatenate(parts, axis=self.axis))
         return out
@@ -695,14 +695,6 @@ def _wrap(v: NDArray[np.float64], first: float, span: float
     the base period (the same operations when planning and in the task)."""
     q = np.floor((v - first) / span)
     return q, first + ((v - first) - q * span)
-
-
-def _aligned(a: NDArray[np.float64]) -> NDArray[np.float64]:
-    """`a` C-contiguous and aligned: arrays a task receives from another process may be
-    views of unaligned buffers, which the compiled module refuses."""
-    if a.flags.aligned and a.flags.c_contiguous:
-        return a
-    return np.array(a, order="C")
 
 
 def _light(ax: _Axis) -> _Axis:

@@ -236,3 +236,24 @@ def test_the_gil_is_released_during_computations():
     on_grid = _seen_inside(lambda: surface(grid, grid[:1500]),
                            geomkit.RectBivariateSpline.__call__, "True, on_grid")
     assert min(build, evaluate, on_grid) > 20, (build, evaluate, on_grid)
+
+
+def unaligned(a):
+    """A C-contiguous float64 copy of `a` whose buffer is not 8-byte aligned (as arrays
+    unpickled from another process can be)."""
+    a = np.asarray(a, dtype=float)
+    buf = bytearray(a.nbytes + 1)
+    out = np.frombuffer(memoryview(buf)[1:], dtype=float).reshape(a.shape)
+    out[...] = a
+    assert not out.flags.aligned and out.flags.c_contiguous
+    return out
+
+
+def test_unaligned_arrays_are_read():
+    x = np.linspace(0.0, 3.0, 20)
+    y = np.sin(x)[:, None] * [1.0, 2.0]
+    spl = geomkit.make_interp_spline(unaligned(x), unaligned(y))
+    assert np.array_equal(spl.c, geomkit.make_interp_spline(x, y).c)
+    assert np.array_equal(spl(unaligned(x[:5])), spl(x[:5]))
+    c = geomkit.BezierCurve(unaligned([[0, 0], [1, 2], [3, 1]]))
+    assert np.array_equal(c(unaligned([0.25, 0.5])), c([0.25, 0.5]))
