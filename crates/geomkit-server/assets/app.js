@@ -41,6 +41,23 @@ let syntax = 'maple';
 let dragging = null;
 let filesAvailable = false;
 let lastFormulaKey = '';
+/** Frame the drawing once the server has answered (after a mode change or a file opened). */
+let needFit = 'always';
+
+/** User actions under way (an edit waiting for the server). */
+let actions = 0;
+
+/** `fn` as an event handler counted in `actions`. */
+function act(fn) {
+  return async (...a) => {
+    actions++;
+    try {
+      await fn(...a);
+    } finally {
+      actions--;
+    }
+  };
+}
 
 // Hooks for the end-to-end test and for scripts in the console.
 const frames = [];
@@ -52,9 +69,12 @@ window.geomkit = {
   toScreen: (p) => view.toScreen(p),
   toWorld: (x, y) => view.toWorld(x, y),
   frames,
-  busy: () => scheduler.busy(),
-  idle: () => scheduler.idle(),
-  setDoc: (d) => { doc = clone(d); commit(); fitView(); refresh(); },
+  busy: () => actions > 0 || scheduler.busy(),
+  /** Resolves when no user action and no computation is under way. */
+  idle: async () => {
+    while (actions > 0 || scheduler.busy() || drawQueued) await new Promise((r) => setTimeout(r, 5));
+  },
+  setDoc: (d) => { doc = clone(d); commit(); syncControls(); needFit = 'always'; refresh(); },
 };
 
 function model() {
@@ -156,7 +176,15 @@ async function compute() {
   else if (doc.mode === 'bspline') await computeBspline();
   else await computeBody();
   if (dragging) frames.push(performance.now());
-  else await computeFormula();
+  else {
+    const fit = needFit;
+    needFit = false;
+    if (doc.mode !== 'body' && (fit === 'always' || (fit && !allVisible()))) {
+      fitView();
+      draw();
+    }
+    await computeFormula();
+  }
 }
 
 async function computeBezier() {
@@ -175,12 +203,12 @@ async function computeBezier() {
     approx: proposal ? proposal.band.reduced : null,
   };
   degree = report;
-  draw();
+  drawSoon();
   showDegree();
 }
 
 function combPerSpan(n) { return Math.max(1, Math.min(6, Math.ceil(1500 / Math.max(n, 1)))); }
-function samplesPerSpan(n) { return Math.max(2, Math.min(16, Math.ceil(6000 / Math.max(n, 1)))); }
+function samplesPerSpan(n) { return Math.max(2, Math.min(16, Math.ceil(4000 / Math.max(n, 1)))); }
 
 async function computeBspline() {
   const b = doc.bspline;
@@ -214,7 +242,7 @@ async function computeBspline() {
   $('bs-points').textContent = n;
   $('bs-control').textContent = r.model.control_points.length;
   $('bs-kmax').textContent = r.comb ? fmt(r.comb.max_curvature) : '–';
-  draw();
+  drawSoon();
   if (!dragging) status(`${r.what} through ${n} points.`);
 }
 
@@ -223,7 +251,7 @@ async function computeBody() {
   // The picture: the model crate's shaded view of the body's ruled-surface file.
   const img = $('picture');
   if (f.model) {
-    const blob = await post('/api/export', { model: f.model, format: 'svg', title: f.what });
+    const blob = await post('/api/export', { model: f.model, format: 'svg', title: f.what, subtitle: `one formula of ${f.op_count} operations` });
     if (img.dataset.url) URL.revokeObjectURL(img.dataset.url);
     img.dataset.url = URL.createObjectURL(blob);
     img.src = img.dataset.url;
@@ -236,7 +264,7 @@ async function computeFormula() {
   let request;
   if (doc.mode === 'body') return; // done with the body
   const m = model();
-  if (!m) { $('formula').textContent = ''; $('formula-info').textContent = ''; return; }
+  if (!m) { formulaText = ''; $('formula').textContent = ''; $('formula-info').textContent = ''; return; }
   request = { model: m, format: syntax };
   const key = JSON.stringify(request);
   if (key === lastFormulaKey) return;
@@ -249,8 +277,15 @@ async function computeFormula() {
   }
 }
 
+/** The whole formula (the panel shows at most FORMULA_SHOWN characters of it). */
+let formulaText = '';
+const FORMULA_SHOWN = 20000;
+
 function showFormula(f) {
-  $('formula').textContent = f.formula;
+  formulaText = f.formula;
+  $('formula').textContent = f.formula.length > FORMULA_SHOWN
+    ? `${f.formula.slice(0, FORMULA_SHOWN)}\n… (${f.formula.length} characters in all: Copy or Export copies the whole formula)`
+    : f.formula;
   const parts = [`${f.op_count} operations`, `variables ${f.variables.join(', ')}`];
   if (f.continuity && f.continuity.statement) parts.push(f.continuity.statement);
   $('formula-info').textContent = parts.join(' · ');
@@ -269,6 +304,46 @@ function showDegree() {
 // ---------------------------------------------------------------------------------------
 // Drawing
 
+/** Redraws at the next animation frame (several requests in one frame draw once). */
+let drawQueued = false;
+/** Many points on the canvas layer (thousands of SVG shapes would make every frame slow;
+ * hit-testing is the page's own, so the canvas needs no events). */
+const layer = $('points-layer');
+function drawPointsLayer(pts, r) {
+  const [w, h] = view.size();
+  const ratio = window.devicePixelRatio || 1;
+  if (layer.width !== Math.round(w * ratio) || layer.height !== Math.round(h * ratio)) {
+    layer.width = Math.round(w * ratio);
+    layer.height = Math.round(h * ratio);
+  }
+  const g = layer.getContext('2d');
+  g.setTransform(ratio, 0, 0, ratio, 0, 0);
+  g.clearRect(0, 0, w, h);
+  if (!pts.length) return;
+  const style = getComputedStyle(document.documentElement);
+  g.fillStyle = style.getPropertyValue('--ref').trim() || '#e0731c';
+  g.beginPath();
+  for (const p of pts) {
+    const [x, y] = view.toScreen(p);
+    if (x < -r || y < -r || x > w + r || y > h + r) continue;
+    g.moveTo(x + r - 1, y);
+    g.arc(x, y, r - 1, 0, 2 * Math.PI);
+  }
+  g.fill();
+}
+
+/** Above this many points, they are drawn on the canvas layer. */
+const MANY_POINTS = 300;
+
+function drawSoon() {
+  if (drawQueued) return;
+  drawQueued = true;
+  requestAnimationFrame(() => {
+    drawQueued = false;
+    draw();
+  });
+}
+
 function draw() {
   svg.replaceChildren();
   const [w, h] = view.size();
@@ -285,7 +360,8 @@ function draw() {
       return [b[0] + (t[0] - b[0]) * k, b[1] + (t[1] - b[1]) * k];
     });
     let d = '';
-    for (let i = 0; i < tips.length; i++) {
+    const stride = Math.max(1, Math.ceil(tips.length / 600));
+    for (let i = 0; i < tips.length; i += stride) {
       const [x0, y0] = view.toScreen(drawn.comb.base[i]);
       const [x1, y1] = view.toScreen(tips[i]);
       d += `M${x0.toFixed(1)} ${y0.toFixed(1)}L${x1.toFixed(1)} ${y1.toFixed(1)}`;
@@ -302,14 +378,18 @@ function draw() {
   }
   const pts = doc.mode === 'bezier' ? doc.bezier.points : doc.mode === 'bspline' ? doc.bspline.points : [];
   const cls = doc.mode === 'bezier' ? 'vertex' : 'ref';
-  pts.forEach((p, i) => {
-    const [x, y] = view.toScreen(p);
-    const c = el('circle', { class: cls, cx: x, cy: y, r: doc.mode === 'bezier' ? 6 : 5, 'data-index': i }, svg);
-    if (dragging && dragging.index === i) c.classList.add('active');
-    if (doc.mode === 'bezier' && pts.length <= 40) {
-      el('text', { class: 'label', x: x + 9, y: y - 9 }, svg).textContent = `P${i}`;
-    }
-  });
+  const r = doc.mode === 'bezier' ? 6 : 5;
+  if (pts.length <= MANY_POINTS) {
+    pts.forEach((p, i) => {
+      const [x, y] = view.toScreen(p);
+      const c = el('circle', { class: cls, cx: x, cy: y, r, 'data-index': i }, svg);
+      if (dragging && dragging.index === i) c.classList.add('active');
+      if (doc.mode === 'bezier' && pts.length <= 40) {
+        el('text', { class: 'label', x: x + 9, y: y - 9 }, svg).textContent = `P${i}`;
+      }
+    });
+  }
+  drawPointsLayer(pts.length > MANY_POINTS ? pts : [], r);
   drawLegend();
 }
 
@@ -346,12 +426,23 @@ function drawLegend() {
     s.textContent = t;
     return s;
   }));
-  $('legend').hidden = items.length === 0;
+  $('legend').hidden = items.length === 0 || doc.mode === 'body';
 }
 
 function fitView() {
   const pts = doc.mode === 'bezier' ? doc.bezier.points : doc.bspline.points;
-  view.fit(pts.length ? pts.concat(drawn.curve || []) : [[-1, -1], [1, 1]]);
+  let all = pts.concat(drawn.curve || []);
+  if (drawn.comb && doc.mode === 'bspline' && doc.bspline.comb) all = all.concat(drawn.comb.tip);
+  view.fit(all.length ? all : [[-1, -1], [1, 1]]);
+}
+
+/** Whether every control or reference point is inside the view. */
+function allVisible() {
+  const [w, h] = view.size();
+  return points().every((p) => {
+    const [x, y] = view.toScreen(p);
+    return x >= 0 && x <= w && y >= 0 && y <= h;
+  });
 }
 
 // ---------------------------------------------------------------------------------------
@@ -373,9 +464,14 @@ function hit(sx, sy) {
 
 svg.addEventListener('pointerdown', (ev) => {
   if (doc.mode === 'body') return;
+  view.measure();
   const [sx, sy] = view.eventPoint(ev);
   const i = hit(sx, sy);
-  svg.setPointerCapture(ev.pointerId);
+  try {
+    svg.setPointerCapture(ev.pointerId);
+  } catch {
+    // A synthetic event without an active pointer: no capture needed.
+  }
   if (ev.button === 2 || (ev.button === 0 && ev.altKey)) {
     if (i >= 0) removePoint(i);
     return;
@@ -392,11 +488,11 @@ svg.addEventListener('pointermove', (ev) => {
   if (dragging.index >= 0) {
     points()[dragging.index] = view.toWorld(sx, sy);
     if (proposal) { proposal = null; hideApprox(); }
-    draw();
+    drawSoon();
     refresh();
   } else {
     view.panBy(sx - dragging.last[0], sy - dragging.last[1]);
-    draw();
+    drawSoon();
   }
   dragging.last = [sx, sy];
 });
@@ -423,10 +519,12 @@ svg.addEventListener('wheel', (ev) => {
   ev.preventDefault();
   const [sx, sy] = view.eventPoint(ev);
   view.zoomAt(sx, sy, Math.exp(-ev.deltaY * 0.0015));
-  draw();
+  drawSoon();
 }, { passive: false });
 
-window.addEventListener('resize', () => draw());
+new ResizeObserver(() => { view.measure(); draw(); }).observe(svg);
+// The drawing's place on the page moves when the page scrolls (narrow windows).
+window.addEventListener('scroll', () => view.measure(), { passive: true });
 
 /** Distance from screen point (px, py) to segment a-b and the segment parameter. */
 function segmentDistance(px, py, a, b) {
@@ -439,7 +537,7 @@ function segmentDistance(px, py, a, b) {
   return [Math.hypot(ax + c * dx - px, ay + c * dy - py), s];
 }
 
-async function addPoint(p, sx, sy) {
+const addPoint = act(async (p, sx, sy) => {
   try {
     if (doc.mode === 'bezier') {
       const pts = doc.bezier.points;
@@ -485,9 +583,9 @@ async function addPoint(p, sx, sy) {
   } catch (e) {
     showError(e);
   }
-}
+});
 
-async function removePoint(i) {
+const removePoint = act(async (i) => {
   try {
     if (doc.mode === 'bezier') {
       if (doc.bezier.points.length <= 1) { status('A Bézier curve keeps at least one vertex.', true); return; }
@@ -505,12 +603,12 @@ async function removePoint(i) {
   } catch (e) {
     showError(e);
   }
-}
+});
 
 // ---------------------------------------------------------------------------------------
 // Degree controls
 
-$('deg-up').addEventListener('click', async () => {
+$('deg-up').addEventListener('click', act(async () => {
   try {
     const n = doc.bezier.points.length - 1;
     const r = await post('/api/bezier/elevate', { model: model(), to: n + 1 });
@@ -519,13 +617,14 @@ $('deg-up').addEventListener('click', async () => {
     doc.bezier.points = r.model.points;
     commit();
     lastFormulaKey = '';
+    needFit = 'if-hidden';
     refresh();
     await scheduler.idle();
     status(`Elevated to degree ${n + 1}: the same curve, one more control point.`);
   } catch (e) { showError(e); }
-});
+}));
 
-$('deg-down').addEventListener('click', async () => {
+$('deg-down').addEventListener('click', act(async () => {
   const n = doc.bezier.points.length - 1;
   if (n === 0) return;
   try {
@@ -535,6 +634,7 @@ $('deg-down').addEventListener('click', async () => {
     doc.bezier.points = r.model.points;
     commit();
     lastFormulaKey = '';
+    needFit = 'if-hidden';
     refresh();
     await scheduler.idle();
     status(`Reduced exactly to degree ${n - 1}: the same curve.`);
@@ -544,7 +644,7 @@ $('deg-down').addEventListener('click', async () => {
       await propose(n - 1);
     } else showError(e);
   }
-});
+}));
 
 function showRefusal(e, to) {
   const r = $('refusal');
@@ -621,8 +721,10 @@ function setMode(mode, record = true) {
   $('bspline-panel').hidden = mode !== 'bspline';
   $('body-panel').hidden = mode !== 'body';
   $('picture').hidden = mode !== 'body';
+  layer.hidden = mode === 'body';
   svg.style.visibility = mode === 'body' ? 'hidden' : 'visible';
   $('fit').hidden = mode === 'body';
+  $('legend').hidden = mode === 'body';
   $('hint').textContent = mode === 'body' ? '' : 'Wheel: zoom · drag the background: pan · F: fit';
   if (changed) {
     proposal = null;
@@ -630,7 +732,7 @@ function setMode(mode, record = true) {
     drawn = { curve: [], t: [], control: [], refs: [], comb: null, band: null };
     lastFormulaKey = '';
     if (record) commit();
-    fitView();
+    needFit = 'always';
     refresh();
   }
 }
@@ -655,7 +757,7 @@ async function initSyntaxes() {
 
 $('syntax').addEventListener('change', () => { syntax = $('syntax').value; lastFormulaKey = ''; refresh(); });
 $('copy').addEventListener('click', async () => {
-  const text = $('formula').textContent;
+  const text = formulaText;
   try {
     await navigator.clipboard.writeText(text);
     status('Formula copied.');
@@ -666,7 +768,7 @@ $('copy').addEventListener('click', async () => {
     s.removeAllRanges();
     s.addRange(r);
     document.execCommand('copy');
-    status('Formula selected and copied.');
+    status('Formula selected and copied (the part shown).');
   }
 });
 
@@ -694,7 +796,7 @@ async function loadModel(m, name) {
   hideApprox();
   commit();
   syncControls();
-  fitView();
+  needFit = 'always';
   lastFormulaKey = '';
   refresh();
   status(`Opened ${name}.`);
@@ -712,13 +814,13 @@ $('open').addEventListener('click', async () => {
         const b = document.createElement('button');
         b.type = 'button';
         b.textContent = f.name;
-        b.addEventListener('click', async () => {
+        b.addEventListener('click', act(async () => {
           $('open-dialog').close();
           try {
             const r = await get(`/api/files/${encodeURIComponent(f.name)}`);
             await loadModel(r.model, f.name);
           } catch (e) { showError(e); }
-        });
+        }));
         li.appendChild(b);
         list.appendChild(li);
       }
@@ -763,7 +865,7 @@ $('export').addEventListener('change', async () => {
   try {
     if (doc.mode === 'body') {
       if (format !== 'formula') { status('Bodies export their formula here; meshes: geomkit compose body KIND -o OUT.glb', true); return; }
-      download(new Blob([$('formula').textContent], { type: 'text/plain' }), `${doc.body.kind}.txt`);
+      download(new Blob([formulaText], { type: 'text/plain' }), `${doc.body.kind}.txt`);
       return;
     }
     const blob = await post('/api/export', { model: model(), format, syntax });

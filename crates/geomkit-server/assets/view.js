@@ -18,16 +18,25 @@ export class View {
     this.cx = 0;
     this.cy = 0;
     this.scale = 100; // pixels per world unit
+    this.measured = null;
+  }
+
+  /** Reads the element's size (a layout): once per drawing, not once per point. */
+  measure() {
+    const r = this.svg.getBoundingClientRect();
+    this.origin = [r.left, r.top];
+    this.measured = [Math.max(r.width, 1), Math.max(r.height, 1)];
+    return this.measured;
   }
 
   size() {
-    const r = this.svg.getBoundingClientRect();
-    return [Math.max(r.width, 1), Math.max(r.height, 1)];
+    return this.measured || this.measure();
   }
 
   /** Frames the points (a list of [x, y]) with a margin. */
   fit(points) {
     if (!points.length) return;
+    this.measure();
     let [x0, y0, x1, y1] = [Infinity, Infinity, -Infinity, -Infinity];
     for (const [x, y] of points) {
       x0 = Math.min(x0, x); x1 = Math.max(x1, x);
@@ -53,8 +62,8 @@ export class View {
 
   /** The screen position of a mouse event inside the SVG. */
   eventPoint(ev) {
-    const r = this.svg.getBoundingClientRect();
-    return [ev.clientX - r.left, ev.clientY - r.top];
+    if (!this.measured) this.measure();
+    return [ev.clientX - this.origin[0], ev.clientY - this.origin[1]];
   }
 
   zoomAt(sx, sy, factor) {

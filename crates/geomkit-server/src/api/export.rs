@@ -26,6 +26,9 @@ pub struct ExportRequest {
     /// The picture's title (default: what the model is).
     #[serde(default)]
     pub title: Option<String>,
+    /// The picture's subtitle (default "geomkit serve").
+    #[serde(default)]
+    pub subtitle: Option<String>,
     /// The formula's syntax (default maple).
     #[serde(default)]
     pub syntax: Option<String>,
@@ -60,7 +63,8 @@ pub fn export_bytes(
         "svg" | "png" => {
             let loaded = Loaded::from_model(model).map_err(|e| ApiError::model("model", e))?;
             let title = req.title.clone().unwrap_or_else(|| what.clone());
-            let svg = picture_svg(&loaded, &title, "geomkit serve", &PictureOptions::default())
+            let subtitle = req.subtitle.as_deref().unwrap_or("geomkit serve");
+            let svg = picture_svg(&loaded, &title, subtitle, &PictureOptions::default())
                 .map_err(picture_error)?;
             if format == "png" {
                 let png = svg_to_png(&svg, 2.0, None).map_err(picture_error)?;
