@@ -341,6 +341,20 @@ try {
   await checkSpline('2000 points after the drag');
   await writeFile(path.join(shots, 'editor-fps.txt'), `${fps.toFixed(1)}\n`);
 
+  // 11. The README's picture: a quintic of real degree 5 and its best quartic with the
+  // error band (docs/images/editor.png is a copy).
+  await page.evaluate(() => {
+    const d = window.geomkit.doc();
+    d.mode = 'bezier';
+    d.bezier.points = [[0, 0], [2, 5], [4, -1], [6, 6], [8, 0], [10, 3]];
+    window.geomkit.setDoc(d);
+  });
+  await idle();
+  await page.click('#deg-down');
+  await page.waitForSelector('#band-path');
+  await idle();
+  await page.screenshot({ path: path.join(shots, 'editor-readme.png') });
+
   check(consoleErrors.length === 0, `no console errors${consoleErrors.length ? ': ' + consoleErrors.join(' | ') : ''}`);
 } catch (e) {
   console.error(`editor: FAIL ${e.stack || e}`);
