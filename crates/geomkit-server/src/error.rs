@@ -170,7 +170,7 @@ pub fn parse_body<T: DeserializeOwned>(bytes: &[u8]) -> ApiResult<T> {
             format!("{path}: {inner}")
         };
         let err = ApiError::bad_request(message);
-        if path == "." {
+        if path == "." || inner.is_syntax() || inner.is_eof() {
             err
         } else {
             err.with("path", path)

@@ -29,7 +29,7 @@ const ENDPOINTS: &[&str] = &[
 /// Valid bodies, the seeds of the mutations.
 fn seeds() -> Vec<Value> {
     let curve = json!({"type": "bezier_curve", "points": [[10, 0], [22, 6], [19, 12], [11, 15], [8, 12], [20, 0]]});
-    let pc = json!({"type": "pointcalc_model", "factors": [{"name": "a", "nodes": [0, 1, 2]}], "response": ["y"], "values": [1, 3, 2]});
+    let pc = json!({"type": "pointcalc-model", "factors": [{"name": "a", "nodes": [0, 1, 2]}], "response": ["y"], "values": [1, 3, 2]});
     vec![
         json!({"model": curve, "samples": 20}),
         json!({"model": curve, "to": 3}),
@@ -79,7 +79,7 @@ fn leaf() -> impl Strategy<Value = Value> {
             Just("bezier_curve"),
             Just("bspline_curve"),
             Just("bezier_surface"),
-            Just("pointcalc_model"),
+            Just("pointcalc-model"),
             Just("ruled"),
             Just("composite_surface")
         ]
@@ -186,5 +186,40 @@ proptest! {
         // Cut anywhere: never 5xx either.
         let at = cut as usize % (text.len() + 1);
         check(ENDPOINTS[which], &text.as_bytes()[..at])?;
+    }
+}
+
+/// Every seed is a valid request of its endpoint (so that mutations start from deep inside
+/// the handlers, not from an early refusal).
+#[test]
+fn seeds_answer_200() {
+    let natural = [
+        "/api/samples",
+        "/api/bezier/reduce",
+        "/api/bezier/approximate",
+        "/api/bezier/edit",
+        "/api/bezier/edit",
+        "/api/export",
+        "/api/bspline/interpolate",
+        "/api/bspline/interpolate",
+        "/api/formula",
+        "/api/pointcalc/fit",
+        "/api/pointcalc/shares",
+        "/api/pointcalc/optimum",
+        "/api/export",
+    ];
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .unwrap();
+    let app = router(Config::default());
+    for (seed, path) in seeds().iter().zip(natural) {
+        let a = runtime.block_on(send(&app, "POST", path, Some(seed)));
+        assert_eq!(
+            a.status,
+            200,
+            "{path} {seed}: {}",
+            String::from_utf8_lossy(&a.body)
+        );
     }
 }

@@ -17,8 +17,9 @@ pub struct ServeArgs {
     /// has no file access (exports are downloads).
     #[arg(long, value_name = "FOLDER")]
     pub dir: Option<PathBuf>,
-    /// Address to bind [default: 127.0.0.1]. Requests must still name a local host (the
-    /// server refuses other Host and Origin headers).
+    /// Address to bind [default: 127.0.0.1]. Browsers must still name a local host (the
+    /// server refuses other Host and Origin headers), but another address exposes the API
+    /// to every program that can reach it: keep the default unless you mean that.
     #[arg(long, value_name = "IP")]
     pub bind: Option<IpAddr>,
 }

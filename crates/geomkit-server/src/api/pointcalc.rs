@@ -87,7 +87,7 @@ fn pointcalc_of(value: &Value, limits: &Limits) -> ApiResult<PointcalcModel> {
     match read_model("model", value, limits)? {
         AnyModel::Pointcalc(m) => Ok(m),
         other => Err(ApiError::unprocessable(format!(
-            "model is a {}; this endpoint takes a pointcalc_model",
+            "model is a {}; this endpoint takes a pointcalc-model",
             other.describe()
         ))
         .with("path", "model")),
@@ -98,7 +98,7 @@ fn pointcalc_of(value: &Value, limits: &Limits) -> ApiResult<PointcalcModel> {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SharesRequest {
-    /// A `pointcalc_model` file.
+    /// A `pointcalc-model` file.
     pub model: Value,
     /// The point: one value per factor.
     pub at: Vec<f64>,
@@ -134,7 +134,7 @@ pub async fn shares(
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OptimumRequest {
-    /// A `pointcalc_model` file of one response.
+    /// A `pointcalc-model` file of one response.
     pub model: Value,
     /// "max" (default) or "min".
     #[serde(default)]
