@@ -12,6 +12,8 @@
 #    chromium, asserts every image loaded, every link / object / embed / iframe target
 #    resolves, no console errors, every item has a caption and no failing check, and saves
 #    screenshots to target/e2e/ (index.png, index-top.png, index-narrow.png, items/ID.png).
+# 4. editor.mjs starts `geomkit serve` and drives the editor with the mouse (issue 25):
+#    editor-*.png screenshots and the redraw rate of a 2000-point drag.
 #
 # Environment: CHROMIUM (default /usr/bin/chromium), E2E_OUT (default target/e2e),
 # E2E_SKIP_DEMO=1 to check an existing E2E_OUT/demo without running the demo.
@@ -69,4 +71,13 @@ if [ "$check_status" -eq 124 ] || [ "$check_status" -eq 137 ]; then
 fi
 [ "$demo_status" -eq 0 ] || die "geomkit demo exited with $demo_status (see $out/demo.log)"
 [ "$check_status" -eq 0 ] || die "the gallery check failed (messages above; screenshots in $out)"
+
+# --- 4. the editor (issue 25) ---------------------------------------------------------------
+# `geomkit serve` on a free port, the page driven with the mouse (editor.mjs): drawn shapes
+# against the API and references, undo/redo, files, and the redraw rate of a 2000-point drag.
+cargo build --release --quiet -p geomkit-cli
+editor_status=0
+timeout --kill-after=10 300 node "$here/editor.mjs" --geomkit "$root/target/release/geomkit" \
+    --out "$out" --chromium "$chromium" || editor_status=$?
+[ "$editor_status" -eq 0 ] || die "the editor check failed (messages above; screenshots in $out)"
 say "ok: screenshots in $out"

@@ -52,6 +52,7 @@ fn main() -> ExitCode {
         cli::Command::Render(args) => commands::render::run(args),
         cli::Command::Mesh(args) => commands::mesh::run(args),
         cli::Command::Demo(args) => demo::run(&args),
+        cli::Command::Serve(args) => commands::serve::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

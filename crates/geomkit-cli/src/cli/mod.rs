@@ -4,10 +4,12 @@
 mod compose;
 mod pointcalc;
 mod render;
+mod serve;
 
 pub use compose::*;
 pub use pointcalc::*;
 pub use render::*;
+pub use serve::*;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -54,6 +56,9 @@ pub enum Command {
     Mesh(MeshArgs),
     /// Run every method's demo: pictures, model files, index.html and a table of checks.
     Demo(DemoArgs),
+    /// The editor in the browser: a local server of the page and a JSON API
+    /// (docs/serve-api.md) on 127.0.0.1.
+    Serve(ServeArgs),
 }
 
 /// `geomkit bezier ...`

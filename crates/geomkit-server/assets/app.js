@@ -1,0 +1,905 @@
+// The geomkit editor. The page holds the document (control points, reference points,
+// options) and the view; every curve point, degree, error bound, comb and formula comes from
+// the server's JSON API (docs/serve-api.md).
+
+import { ApiError, download, get, post, put } from './api.js';
+import { View, el } from './view.js';
+
+const $ = (id) => document.getElementById(id);
+const svg = $('canvas');
+const view = new View(svg);
+const clone = (x) => JSON.parse(JSON.stringify(x));
+
+// ---------------------------------------------------------------------------------------
+// The document (what undo / redo restore) and what the server computed from it.
+
+const initial = {
+  mode: 'bezier',
+  // Nikulin's Example 2: a quintic of real degree 3.
+  bezier: { points: [[10, 0], [22, 6], [19, 12], [11, 15], [8, 12], [20, 0]] },
+  bspline: {
+    points: [[0, 0], [2, 3], [5, 3.5], [7, 1], [10, 0.5], [12, 3], [14, 4]],
+    end: 'not-a-knot',
+    param: 'chord',
+    closed: false,
+    comb: true,
+    combScale: 1,
+  },
+  body: { kind: 'cube' },
+};
+
+let doc = clone(initial);
+const history = { states: [clone(doc)], at: 0 };
+
+/** What was drawn last: curve samples, polygon, reference points, comb, error band. */
+let drawn = { curve: [], t: [], control: [], refs: [], comb: null, band: null, approx: null };
+/** The degree report of the Bézier curve. */
+let degree = null;
+/** A proposed approximate reduction (not yet in the document). */
+let proposal = null;
+let syntax = 'maple';
+let dragging = null;
+let filesAvailable = false;
+let lastFormulaKey = '';
+/** Frame the drawing once the server has answered (after a mode change or a file opened). */
+let needFit = 'always';
+
+/** User actions under way (an edit waiting for the server). */
+let actions = 0;
+
+/** `fn` as an event handler counted in `actions`. */
+function act(fn) {
+  return async (...a) => {
+    actions++;
+    try {
+      await fn(...a);
+    } finally {
+      actions--;
+    }
+  };
+}
+
+// Hooks for the end-to-end test and for scripts in the console.
+const frames = [];
+window.geomkit = {
+  doc: () => clone(doc),
+  drawn: () => drawn,
+  degree: () => degree,
+  proposal: () => proposal,
+  toScreen: (p) => view.toScreen(p),
+  toWorld: (x, y) => view.toWorld(x, y),
+  frames,
+  busy: () => actions > 0 || scheduler.busy(),
+  /** Resolves when no user action and no computation is under way. */
+  idle: async () => {
+    while (actions > 0 || scheduler.busy() || drawQueued) await new Promise((r) => setTimeout(r, 5));
+  },
+  setDoc: (d) => { doc = clone(d); commit(); syncControls(); needFit = 'always'; refresh(); },
+};
+
+function model() {
+  if (doc.mode === 'bezier') return { type: 'bezier_curve', points: doc.bezier.points };
+  if (doc.mode === 'bspline') return drawn.model || null;
+  return null;
+}
+
+// ---------------------------------------------------------------------------------------
+// Undo / redo
+
+function commit() {
+  history.states.length = history.at + 1;
+  history.states.push(clone(doc));
+  history.at = history.states.length - 1;
+  if (history.states.length > 500) { history.states.shift(); history.at--; }
+  updateUndoButtons();
+}
+
+/** Restores the document of history entry `at`. */
+function restore(at) {
+  if (at < 0 || at >= history.states.length) return;
+  history.at = at;
+  doc = clone(history.states[at]);
+  proposal = null;
+  hideApprox();
+  lastFormulaKey = '';
+  syncControls();
+  refresh();
+  updateUndoButtons();
+}
+
+function undo() { restore(history.at - 1); }
+function redo() { restore(history.at + 1); }
+
+function updateUndoButtons() {
+  $('undo').disabled = history.at === 0;
+  $('redo').disabled = history.at >= history.states.length - 1;
+}
+
+// ---------------------------------------------------------------------------------------
+// Status line
+
+function status(text, isError = false) {
+  const s = $('status');
+  s.textContent = text;
+  s.classList.toggle('error', isError);
+  s.title = text;
+}
+
+function showError(e) {
+  if (e instanceof ApiError) status(e.message, true);
+  else status(String(e && e.message ? e.message : e), true);
+}
+
+// ---------------------------------------------------------------------------------------
+// Requests: at most one computation in flight; edits made meanwhile are sent when it ends
+// (so a drag redraws as fast as the server answers, and never shows a stale state last).
+
+const scheduler = {
+  inflight: false,
+  pending: false,
+  waiters: [],
+  request() {
+    this.pending = true;
+    if (!this.inflight) this.pump();
+  },
+  async pump() {
+    this.inflight = true;
+    while (this.pending) {
+      this.pending = false;
+      try {
+        await compute();
+      } catch (e) {
+        showError(e);
+      }
+    }
+    this.inflight = false;
+    const w = this.waiters.splice(0);
+    w.forEach((f) => f());
+  },
+  busy() { return this.inflight || this.pending; },
+  idle() {
+    return this.busy() ? new Promise((r) => this.waiters.push(r)) : Promise.resolve();
+  },
+};
+
+function refresh() { scheduler.request(); }
+
+function fmt(x, digits = 4) {
+  if (x === null || x === undefined) return '–';
+  if (x === 0) return '0';
+  const a = Math.abs(x);
+  return a >= 1e-3 && a < 1e5 ? String(+x.toPrecision(digits)) : x.toExponential(2);
+}
+
+async function compute() {
+  if (doc.mode === 'bezier') await computeBezier();
+  else if (doc.mode === 'bspline') await computeBspline();
+  else await computeBody();
+  if (dragging) frames.push(performance.now());
+  else {
+    const fit = needFit;
+    needFit = false;
+    if (doc.mode !== 'body' && (fit === 'always' || (fit && !allVisible()))) {
+      fitView();
+      draw();
+    }
+    await computeFormula();
+  }
+}
+
+async function computeBezier() {
+  const m = model();
+  const [samples, report] = await Promise.all([
+    post('/api/samples', { model: m, samples: 400 }),
+    post('/api/bezier/degree', { model: m }),
+  ]);
+  drawn = {
+    curve: samples.points,
+    t: samples.t,
+    control: samples.control,
+    refs: [],
+    comb: null,
+    band: proposal ? proposal.band : null,
+    approx: proposal ? proposal.band.reduced : null,
+  };
+  degree = report;
+  drawSoon();
+  showDegree();
+}
+
+function combPerSpan(n) { return Math.max(1, Math.min(6, Math.ceil(1500 / Math.max(n, 1)))); }
+function samplesPerSpan(n) { return Math.max(2, Math.min(16, Math.ceil(4000 / Math.max(n, 1)))); }
+
+async function computeBspline() {
+  const b = doc.bspline;
+  const n = b.points.length;
+  if (n < 2) {
+    drawn = { curve: [], t: [], control: [], refs: b.points, comb: null, band: null, model: null };
+    draw();
+    $('bs-points').textContent = n;
+    status('Click to add reference points (at least 2).');
+    return;
+  }
+  const end = b.end === 'outer' ? { kind: 'outer', offset: 1 } : b.end;
+  const r = await post('/api/bspline/interpolate', {
+    points: b.points,
+    end,
+    parametrization: b.param,
+    closed: b.closed,
+    samples_per_span: samplesPerSpan(n),
+    comb: { per_span: b.comb ? combPerSpan(n) : 0 },
+  });
+  drawn = {
+    curve: r.samples.points,
+    t: r.samples.t,
+    control: r.model.control_points,
+    refs: b.points,
+    comb: r.comb,
+    band: null,
+    model: r.model,
+    parameters: r.parameters,
+  };
+  $('bs-points').textContent = n;
+  $('bs-control').textContent = r.model.control_points.length;
+  $('bs-kmax').textContent = r.comb ? fmt(r.comb.max_curvature) : '–';
+  drawSoon();
+  if (!dragging) status(`${r.what} through ${n} points.`);
+}
+
+async function computeBody() {
+  const f = await post('/api/formula', { body: { kind: doc.body.kind }, format: syntax });
+  // The picture: the model crate's shaded view of the body's ruled-surface file.
+  const img = $('picture');
+  if (f.model) {
+    const blob = await post('/api/export', { model: f.model, format: 'svg', title: f.what, subtitle: `one formula of ${f.op_count} operations` });
+    if (img.dataset.url) URL.revokeObjectURL(img.dataset.url);
+    img.dataset.url = URL.createObjectURL(blob);
+    img.src = img.dataset.url;
+  }
+  showFormula(f);
+  status(`${f.what}: one formula, ${f.op_count} operations.`);
+}
+
+async function computeFormula() {
+  let request;
+  if (doc.mode === 'body') return; // done with the body
+  const m = model();
+  if (!m) { formulaText = ''; $('formula').textContent = ''; $('formula-info').textContent = ''; return; }
+  request = { model: m, format: syntax };
+  const key = JSON.stringify(request);
+  if (key === lastFormulaKey) return;
+  lastFormulaKey = key;
+  try {
+    showFormula(await post('/api/formula', request));
+  } catch (e) {
+    $('formula').textContent = '';
+    $('formula-info').textContent = e.message;
+  }
+}
+
+/** The whole formula (the panel shows at most FORMULA_SHOWN characters of it). */
+let formulaText = '';
+const FORMULA_SHOWN = 20000;
+
+function showFormula(f) {
+  formulaText = f.formula;
+  $('formula').textContent = f.formula.length > FORMULA_SHOWN
+    ? `${f.formula.slice(0, FORMULA_SHOWN)}\n… (${f.formula.length} characters in all: Copy or Export copies the whole formula)`
+    : f.formula;
+  const parts = [`${f.op_count} operations`, `variables ${f.variables.join(', ')}`];
+  if (f.continuity && f.continuity.statement) parts.push(f.continuity.statement);
+  $('formula-info').textContent = parts.join(' · ');
+}
+
+function showDegree() {
+  if (!degree) return;
+  $('degree').textContent = degree.degree;
+  $('real-degree').textContent = degree.real_degree;
+  $('defect').textContent = degree.defect;
+  $('residual').textContent = fmt(degree.residual, 2);
+  $('deg-down').disabled = degree.degree === 0;
+  if (!dragging && !proposal) status(`Bézier curve of degree ${degree.degree}, real degree ${degree.real_degree} (defect ${degree.defect}).`);
+}
+
+// ---------------------------------------------------------------------------------------
+// Drawing
+
+/** Redraws at the next animation frame (several requests in one frame draw once). */
+let drawQueued = false;
+/** Many points on the canvas layer (thousands of SVG shapes would make every frame slow;
+ * hit-testing is the page's own, so the canvas needs no events). */
+const layer = $('points-layer');
+function drawPointsLayer(pts, r) {
+  const [w, h] = view.size();
+  const ratio = window.devicePixelRatio || 1;
+  if (layer.width !== Math.round(w * ratio) || layer.height !== Math.round(h * ratio)) {
+    layer.width = Math.round(w * ratio);
+    layer.height = Math.round(h * ratio);
+  }
+  const g = layer.getContext('2d');
+  g.setTransform(ratio, 0, 0, ratio, 0, 0);
+  g.clearRect(0, 0, w, h);
+  if (!pts.length) return;
+  const style = getComputedStyle(document.documentElement);
+  g.fillStyle = style.getPropertyValue('--ref').trim() || '#e0731c';
+  g.beginPath();
+  for (const p of pts) {
+    const [x, y] = view.toScreen(p);
+    if (x < -r || y < -r || x > w + r || y > h + r) continue;
+    g.moveTo(x + r - 1, y);
+    g.arc(x, y, r - 1, 0, 2 * Math.PI);
+  }
+  g.fill();
+}
+
+/** Above this many points, they are drawn on the canvas layer. */
+const MANY_POINTS = 300;
+
+function drawSoon() {
+  if (drawQueued) return;
+  drawQueued = true;
+  requestAnimationFrame(() => {
+    drawQueued = false;
+    draw();
+  });
+}
+
+function draw() {
+  svg.replaceChildren();
+  const [w, h] = view.size();
+  svg.setAttribute('viewBox', `0 0 ${w} ${h}`);
+  drawGrid(w, h);
+  if (drawn.band && drawn.band.upper) {
+    const ring = drawn.band.upper.concat(drawn.band.lower.slice().reverse());
+    el('path', { class: 'band', d: view.pathData(ring, true), id: 'band-path' }, svg);
+  }
+  if (drawn.comb && doc.mode === 'bspline' && doc.bspline.comb) {
+    const k = doc.bspline.combScale;
+    const tips = drawn.comb.tip.map((t, i) => {
+      const b = drawn.comb.base[i];
+      return [b[0] + (t[0] - b[0]) * k, b[1] + (t[1] - b[1]) * k];
+    });
+    let d = '';
+    const stride = Math.max(1, Math.ceil(tips.length / 600));
+    for (let i = 0; i < tips.length; i += stride) {
+      const [x0, y0] = view.toScreen(drawn.comb.base[i]);
+      const [x1, y1] = view.toScreen(tips[i]);
+      d += `M${x0.toFixed(1)} ${y0.toFixed(1)}L${x1.toFixed(1)} ${y1.toFixed(1)}`;
+    }
+    el('path', { class: 'comb', d }, svg);
+    el('path', { class: 'comb-edge', d: view.pathData(tips) }, svg);
+  }
+  if (doc.mode === 'bezier' && drawn.control) {
+    el('path', { class: 'polygon', d: view.pathData(drawn.control), id: 'polygon-path' }, svg);
+  }
+  el('path', { class: 'curve', d: view.pathData(drawn.curve), id: 'curve-path' }, svg);
+  if (drawn.approx) {
+    el('path', { class: 'curve approx', d: view.pathData(drawn.approx), id: 'approx-path' }, svg);
+  }
+  const pts = doc.mode === 'bezier' ? doc.bezier.points : doc.mode === 'bspline' ? doc.bspline.points : [];
+  const cls = doc.mode === 'bezier' ? 'vertex' : 'ref';
+  const r = doc.mode === 'bezier' ? 6 : 5;
+  if (pts.length <= MANY_POINTS) {
+    pts.forEach((p, i) => {
+      const [x, y] = view.toScreen(p);
+      const c = el('circle', { class: cls, cx: x, cy: y, r, 'data-index': i }, svg);
+      if (dragging && dragging.index === i) c.classList.add('active');
+      if (doc.mode === 'bezier' && pts.length <= 40) {
+        el('text', { class: 'label', x: x + 9, y: y - 9 }, svg).textContent = `P${i}`;
+      }
+    });
+  }
+  drawPointsLayer(pts.length > MANY_POINTS ? pts : [], r);
+  drawLegend();
+}
+
+function drawGrid(w, h) {
+  const step = view.gridStep();
+  const [x0, y1] = view.toWorld(0, 0);
+  const [x1, y0] = view.toWorld(w, h);
+  let d = '';
+  for (let x = Math.ceil(x0 / step) * step; x <= x1; x += step) {
+    const [sx] = view.toScreen([x, 0]);
+    d += `M${sx.toFixed(1)} 0V${h}`;
+  }
+  for (let y = Math.ceil(y0 / step) * step; y <= y1; y += step) {
+    const [, sy] = view.toScreen([0, y]);
+    d += `M0 ${sy.toFixed(1)}H${w}`;
+  }
+  el('path', { class: 'grid-line', d }, svg);
+  const [ax, ay] = view.toScreen([0, 0]);
+  el('path', { class: 'axis-line', d: `M${ax.toFixed(1)} 0V${h}M0 ${ay.toFixed(1)}H${w}` }, svg);
+}
+
+function drawLegend() {
+  const items = [];
+  if (doc.mode === 'bezier') {
+    items.push(['l-curve', 'curve'], ['l-poly', 'control polygon']);
+    if (drawn.band) items.push(['l-band', 'error band (± L∞ bound)']);
+  } else if (doc.mode === 'bspline') {
+    items.push(['l-curve', 'B-spline'], ['l-ref', 'reference points']);
+    if (doc.bspline.comb) items.push(['l-comb', 'curvature comb']);
+  }
+  $('legend').replaceChildren(...items.map(([c, t]) => {
+    const s = document.createElement('span');
+    s.className = c;
+    s.textContent = t;
+    return s;
+  }));
+  $('legend').hidden = items.length === 0 || doc.mode === 'body';
+}
+
+function fitView() {
+  const pts = doc.mode === 'bezier' ? doc.bezier.points : doc.bspline.points;
+  let all = pts.concat(drawn.curve || []);
+  if (drawn.comb && doc.mode === 'bspline' && doc.bspline.comb) all = all.concat(drawn.comb.tip);
+  view.fit(all.length ? all : [[-1, -1], [1, 1]]);
+}
+
+/** Whether every control or reference point is inside the view. */
+function allVisible() {
+  const [w, h] = view.size();
+  return points().every((p) => {
+    const [x, y] = view.toScreen(p);
+    return x >= 0 && x <= w && y >= 0 && y <= h;
+  });
+}
+
+// ---------------------------------------------------------------------------------------
+// Pointer interaction: drag a point, click to add, Alt+click / right-click to remove,
+// drag the background to pan, wheel to zoom.
+
+function points() { return doc.mode === 'bezier' ? doc.bezier.points : doc.bspline.points; }
+
+function hit(sx, sy) {
+  const pts = points();
+  let best = -1, bestD = 10;
+  pts.forEach((p, i) => {
+    const [x, y] = view.toScreen(p);
+    const d = Math.hypot(x - sx, y - sy);
+    if (d <= bestD) { bestD = d; best = i; }
+  });
+  return best;
+}
+
+svg.addEventListener('pointerdown', (ev) => {
+  if (doc.mode === 'body') return;
+  view.measure();
+  const [sx, sy] = view.eventPoint(ev);
+  const i = hit(sx, sy);
+  try {
+    svg.setPointerCapture(ev.pointerId);
+  } catch {
+    // A synthetic event without an active pointer: no capture needed.
+  }
+  if (ev.button === 2 || (ev.button === 0 && ev.altKey)) {
+    if (i >= 0) removePoint(i);
+    return;
+  }
+  if (ev.button !== 0) return;
+  dragging = { index: i, start: [sx, sy], last: [sx, sy], moved: false };
+});
+
+svg.addEventListener('pointermove', (ev) => {
+  if (!dragging) return;
+  const [sx, sy] = view.eventPoint(ev);
+  if (Math.hypot(sx - dragging.start[0], sy - dragging.start[1]) > 3) dragging.moved = true;
+  if (!dragging.moved) return;
+  if (dragging.index >= 0) {
+    points()[dragging.index] = view.toWorld(sx, sy);
+    if (proposal) { proposal = null; hideApprox(); }
+    drawSoon();
+    refresh();
+  } else {
+    view.panBy(sx - dragging.last[0], sy - dragging.last[1]);
+    drawSoon();
+  }
+  dragging.last = [sx, sy];
+});
+
+svg.addEventListener('pointerup', (ev) => {
+  if (!dragging) return;
+  const d = dragging;
+  dragging = null;
+  const [sx, sy] = view.eventPoint(ev);
+  if (d.moved && d.index >= 0) {
+    commit();
+    lastFormulaKey = '';
+    refresh();
+  } else if (!d.moved && d.index < 0) {
+    addPoint(view.toWorld(sx, sy), sx, sy);
+  } else {
+    draw();
+  }
+});
+
+svg.addEventListener('contextmenu', (ev) => ev.preventDefault());
+
+svg.addEventListener('wheel', (ev) => {
+  ev.preventDefault();
+  const [sx, sy] = view.eventPoint(ev);
+  view.zoomAt(sx, sy, Math.exp(-ev.deltaY * 0.0015));
+  drawSoon();
+}, { passive: false });
+
+new ResizeObserver(() => { view.measure(); draw(); }).observe(svg);
+// The drawing's place on the page moves when the page scrolls (narrow windows).
+window.addEventListener('scroll', () => view.measure(), { passive: true });
+
+/** Distance from screen point (px, py) to segment a-b and the segment parameter. */
+function segmentDistance(px, py, a, b) {
+  const [ax, ay] = view.toScreen(a);
+  const [bx, by] = view.toScreen(b);
+  const dx = bx - ax, dy = by - ay;
+  const len2 = dx * dx + dy * dy;
+  const s = len2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / len2 : 0;
+  const c = Math.max(0, Math.min(1, s));
+  return [Math.hypot(ax + c * dx - px, ay + c * dy - py), s];
+}
+
+const addPoint = act(async (p, sx, sy) => {
+  try {
+    if (doc.mode === 'bezier') {
+      const pts = doc.bezier.points;
+      let index = pts.length;
+      if (pts.length >= 2) {
+        let best = Infinity;
+        for (let i = 0; i + 1 < pts.length; i++) {
+          const [d, s] = segmentDistance(sx, sy, pts[i], pts[i + 1]);
+          if (d < best) {
+            best = d;
+            index = s <= 0 && i === 0 ? 0 : s >= 1 && i === pts.length - 2 ? pts.length : i + 1;
+          }
+        }
+      }
+      const r = await post('/api/bezier/edit', { model: model(), insert: { index, point: p } });
+      proposal = null;
+      hideApprox();
+      doc.bezier.points = r.model.points;
+      commit();
+      status(`Inserted vertex ${index}: degree ${r.degree.degree}; the curve moved by up to ${fmt(r.deviation.upper_bound)} (found ${fmt(r.deviation.max_found)} at t = ${fmt(r.deviation.at, 3)}).`);
+    } else {
+      const pts = doc.bspline.points;
+      let index = pts.length;
+      // Near the curve: insert between the reference points around that parameter.
+      if (drawn.curve.length && drawn.parameters) {
+        let best = Infinity, at = -1;
+        drawn.curve.forEach((q, i) => {
+          const [x, y] = view.toScreen(q);
+          const d = Math.hypot(x - sx, y - sy);
+          if (d < best) { best = d; at = i; }
+        });
+        if (best < 8) {
+          const t = drawn.t[at];
+          index = drawn.parameters.findIndex((u) => u > t);
+          if (index < 0) index = pts.length;
+        }
+      }
+      pts.splice(index, 0, p);
+      commit();
+    }
+    lastFormulaKey = '';
+    refresh();
+  } catch (e) {
+    showError(e);
+  }
+});
+
+const removePoint = act(async (i) => {
+  try {
+    if (doc.mode === 'bezier') {
+      if (doc.bezier.points.length <= 1) { status('A Bézier curve keeps at least one vertex.', true); return; }
+      const r = await post('/api/bezier/edit', { model: model(), remove: i });
+      proposal = null;
+      hideApprox();
+      doc.bezier.points = r.model.points;
+      status(`Removed vertex ${i}: degree ${r.degree.degree}; the curve moved by up to ${fmt(r.deviation.upper_bound)}.`);
+    } else {
+      doc.bspline.points.splice(i, 1);
+    }
+    commit();
+    lastFormulaKey = '';
+    refresh();
+  } catch (e) {
+    showError(e);
+  }
+});
+
+// ---------------------------------------------------------------------------------------
+// Degree controls
+
+$('deg-up').addEventListener('click', act(async () => {
+  try {
+    const n = doc.bezier.points.length - 1;
+    const r = await post('/api/bezier/elevate', { model: model(), to: n + 1 });
+    proposal = null;
+    hideApprox();
+    doc.bezier.points = r.model.points;
+    commit();
+    lastFormulaKey = '';
+    needFit = 'if-hidden';
+    refresh();
+    await scheduler.idle();
+    status(`Elevated to degree ${n + 1}: the same curve, one more control point.`);
+  } catch (e) { showError(e); }
+}));
+
+$('deg-down').addEventListener('click', act(async () => {
+  const n = doc.bezier.points.length - 1;
+  if (n === 0) return;
+  try {
+    const r = await post('/api/bezier/reduce', { model: model(), to: n - 1 });
+    proposal = null;
+    hideApprox();
+    doc.bezier.points = r.model.points;
+    commit();
+    lastFormulaKey = '';
+    needFit = 'if-hidden';
+    refresh();
+    await scheduler.idle();
+    status(`Reduced exactly to degree ${n - 1}: the same curve.`);
+  } catch (e) {
+    if (e instanceof ApiError && e.body.reason === 'real_degree') {
+      showRefusal(e, n - 1);
+      await propose(n - 1);
+    } else showError(e);
+  }
+}));
+
+function showRefusal(e, to) {
+  const r = $('refusal');
+  r.hidden = false;
+  r.textContent = `Cannot reduce exactly to degree ${to}: the real degree is ${e.body.real_degree} (defect ${e.body.defect}). The best approximation is shown in red.`;
+}
+
+async function propose(to) {
+  const r = await post('/api/bezier/approximate', { model: model(), to, norm: $('approx-norm').value, samples: 300 });
+  proposal = { to, ...r };
+  $('approx').hidden = false;
+  $('approx-to').textContent = to;
+  $('approx-l2').textContent = fmt(r.l2_error);
+  $('approx-linf').textContent = fmt(r.linf_bound);
+  $('approx-found').textContent = `${fmt(r.linf_found)} at t = ${fmt(r.linf_at, 3)}`;
+  status(`Approximation of degree ${to}: L2 error ${fmt(r.l2_error)}, the curves are at most ${fmt(r.linf_bound)} apart.`);
+  drawn.band = r.band;
+  drawn.approx = r.band.reduced;
+  draw();
+}
+
+function hideApprox() {
+  $('approx').hidden = true;
+  $('refusal').hidden = true;
+  drawn.band = null;
+  drawn.approx = null;
+}
+
+$('approx-norm').addEventListener('change', () => { if (proposal) propose(proposal.to).catch(showError); });
+$('approx-accept').addEventListener('click', () => {
+  if (!proposal) return;
+  doc.bezier.points = proposal.model.points;
+  proposal = null;
+  hideApprox();
+  commit();
+  lastFormulaKey = '';
+  refresh();
+});
+$('approx-cancel').addEventListener('click', () => { proposal = null; hideApprox(); draw(); showDegree(); });
+
+// ---------------------------------------------------------------------------------------
+// B-spline and body options
+
+function syncControls() {
+  const b = doc.bspline;
+  $('end').value = b.end;
+  $('param').value = b.param;
+  $('closed').checked = b.closed;
+  $('end').disabled = b.closed;
+  $('comb').checked = b.comb;
+  $('comb-scale').value = b.combScale;
+  $('body-kind').value = doc.body.kind;
+  setMode(doc.mode, false);
+}
+
+for (const [id, key, prop] of [['end', 'end', 'value'], ['param', 'param', 'value'], ['closed', 'closed', 'checked'], ['comb', 'comb', 'checked']]) {
+  $(id).addEventListener('change', () => {
+    doc.bspline[key] = $(id)[prop];
+    $('end').disabled = doc.bspline.closed;
+    commit();
+    lastFormulaKey = '';
+    refresh();
+  });
+}
+$('comb-scale').addEventListener('input', () => { doc.bspline.combScale = +$('comb-scale').value; draw(); });
+$('comb-scale').addEventListener('change', () => commit());
+$('body-kind').addEventListener('change', () => { doc.body.kind = $('body-kind').value; commit(); refresh(); });
+
+function setMode(mode, record = true) {
+  const changed = doc.mode !== mode;
+  doc.mode = mode;
+  for (const b of document.querySelectorAll('.tabs button')) b.setAttribute('aria-selected', String(b.dataset.mode === mode));
+  $('bezier-panel').hidden = mode !== 'bezier';
+  $('bspline-panel').hidden = mode !== 'bspline';
+  $('body-panel').hidden = mode !== 'body';
+  $('picture').hidden = mode !== 'body';
+  layer.hidden = mode === 'body';
+  svg.style.visibility = mode === 'body' ? 'hidden' : 'visible';
+  $('fit').hidden = mode === 'body';
+  $('legend').hidden = mode === 'body';
+  $('hint').textContent = mode === 'body' ? '' : 'Wheel: zoom · drag the background: pan · F: fit';
+  if (changed) {
+    proposal = null;
+    hideApprox();
+    drawn = { curve: [], t: [], control: [], refs: [], comb: null, band: null };
+    lastFormulaKey = '';
+    if (record) commit();
+    needFit = 'always';
+    refresh();
+  }
+}
+
+for (const b of document.querySelectorAll('.tabs button')) b.addEventListener('click', () => setMode(b.dataset.mode));
+
+// ---------------------------------------------------------------------------------------
+// Formula panel
+
+async function initSyntaxes() {
+  const v = await get('/api/version');
+  filesAvailable = v.files;
+  const sel = $('syntax');
+  for (const f of v.formats) {
+    const o = document.createElement('option');
+    o.value = f;
+    o.textContent = f;
+    sel.appendChild(o);
+  }
+  sel.value = syntax;
+}
+
+$('syntax').addEventListener('change', () => { syntax = $('syntax').value; lastFormulaKey = ''; refresh(); });
+$('copy').addEventListener('click', async () => {
+  const text = formulaText;
+  try {
+    await navigator.clipboard.writeText(text);
+    status('Formula copied.');
+  } catch {
+    const r = document.createRange();
+    r.selectNodeContents($('formula'));
+    const s = getSelection();
+    s.removeAllRanges();
+    s.addRange(r);
+    document.execCommand('copy');
+    status('Formula selected and copied (the part shown).');
+  }
+});
+
+// ---------------------------------------------------------------------------------------
+// Open, save, export
+
+function currentModelOrBody() {
+  if (doc.mode === 'body') return null;
+  return model();
+}
+
+async function loadModel(m, name) {
+  if (m.type === 'bezier_curve' && !m.weights) {
+    doc.mode = 'bezier';
+    doc.bezier.points = m.points.map((p) => [p[0], p[1] ?? 0]);
+  } else if (m.type === 'bspline_curve' && m.parameters) {
+    // Its reference points: the curve at the parameters of its points.
+    const s = await post('/api/samples', { model: m, samples: 2 });
+    doc.mode = 'bspline';
+    doc.bspline.points = s.references.map((r) => [r.point[0], r.point[1] ?? 0]);
+  } else {
+    throw new Error(`${name}: the editor edits 2-D Bézier curves and interpolating B-spline curves for now (this is a ${m.type})`);
+  }
+  proposal = null;
+  hideApprox();
+  commit();
+  syncControls();
+  needFit = 'always';
+  lastFormulaKey = '';
+  refresh();
+  status(`Opened ${name}.`);
+}
+
+$('open').addEventListener('click', async () => {
+  const list = $('file-list');
+  list.replaceChildren();
+  if (filesAvailable) {
+    try {
+      const { files } = await get('/api/files');
+      if (!files.length) list.innerHTML = '<li class="empty">No .json files in the folder.</li>';
+      for (const f of files) {
+        const li = document.createElement('li');
+        const b = document.createElement('button');
+        b.type = 'button';
+        b.textContent = f.name;
+        b.addEventListener('click', act(async () => {
+          $('open-dialog').close();
+          try {
+            const r = await get(`/api/files/${encodeURIComponent(f.name)}`);
+            await loadModel(r.model, f.name);
+          } catch (e) { showError(e); }
+        }));
+        li.appendChild(b);
+        list.appendChild(li);
+      }
+    } catch (e) { showError(e); }
+  } else {
+    list.innerHTML = '<li class="empty">Start the server with --dir FOLDER to open its files here.</li>';
+  }
+  $('open-dialog').showModal();
+});
+
+$('open-local').addEventListener('click', (ev) => { ev.preventDefault(); $('open-dialog').close(); $('file-input').click(); });
+$('file-input').addEventListener('change', async () => {
+  const f = $('file-input').files[0];
+  if (!f) return;
+  try {
+    await loadModel(JSON.parse(await f.text()), f.name);
+  } catch (e) { showError(e); }
+  $('file-input').value = '';
+});
+
+async function save() {
+  const m = currentModelOrBody();
+  if (!m) { status('Nothing to save in this mode; export the formula instead.', true); return; }
+  try {
+    if (filesAvailable) {
+      const name = prompt('Save as (a .json name in the server\'s folder):', doc.mode === 'bezier' ? 'bezier.json' : 'bspline.json');
+      if (!name) return;
+      const r = await put(`/api/files/${encodeURIComponent(name)}`, { model: m });
+      status(`Saved ${r.name} (${r.what}, ${r.bytes} bytes).`);
+    } else {
+      download(await post('/api/export', { model: m, format: 'json' }), 'model.json');
+      status('Downloaded model.json (start the server with --dir FOLDER to save into a folder).');
+    }
+  } catch (e) { showError(e); }
+}
+$('save').addEventListener('click', save);
+
+$('export').addEventListener('change', async () => {
+  const format = $('export').value;
+  $('export').value = '';
+  if (!format) return;
+  try {
+    if (doc.mode === 'body') {
+      if (format !== 'formula') { status('Bodies export their formula here; meshes: geomkit compose body KIND -o OUT.glb', true); return; }
+      download(new Blob([formulaText], { type: 'text/plain' }), `${doc.body.kind}.txt`);
+      return;
+    }
+    const blob = await post('/api/export', { model: model(), format, syntax });
+    download(blob, `model.${format === 'formula' ? 'txt' : format}`);
+    status(`Exported model.${format === 'formula' ? 'txt' : format}.`);
+  } catch (e) { showError(e); }
+});
+
+// ---------------------------------------------------------------------------------------
+// Keyboard
+
+window.addEventListener('keydown', (ev) => {
+  const mod = ev.ctrlKey || ev.metaKey;
+  if (ev.target instanceof HTMLInputElement || ev.target instanceof HTMLSelectElement) return;
+  if (mod && ev.key.toLowerCase() === 'z') { ev.preventDefault(); if (ev.shiftKey) redo(); else undo(); }
+  else if (mod && ev.key.toLowerCase() === 'y') { ev.preventDefault(); redo(); }
+  else if (mod && ev.key.toLowerCase() === 's') { ev.preventDefault(); save(); }
+  else if (!mod && ev.key === 'f') { fitView(); draw(); }
+  else if (!mod && (ev.key === '+' || ev.key === '=') && doc.mode === 'bezier') $('deg-up').click();
+  else if (!mod && ev.key === '-' && doc.mode === 'bezier') $('deg-down').click();
+});
+$('undo').addEventListener('click', undo);
+$('redo').addEventListener('click', redo);
+$('fit').addEventListener('click', () => { fitView(); draw(); });
+
+// ---------------------------------------------------------------------------------------
+
+async function start() {
+  try {
+    await initSyntaxes();
+  } catch (e) { showError(e); }
+  syncControls();
+  fitView();
+  updateUndoButtons();
+  refresh();
+}
+start();

@@ -1,0 +1,301 @@
+//! `POST /api/bspline/interpolate`: a cubic B-spline through reference points
+//! (spec/bspline-interpolation.md, [`geomkit::bspline::interpolate_curve_flat`]) with the
+//! end condition and parametrization of the request, open or closed, answered with the
+//! model file, the parameter of each point, samples for drawing and, in 2-D, the curvature
+//! comb.
+
+use super::{check_points, finite, model_json, rows};
+use crate::error::{blocking, ApiError, ApiJson, ApiResult};
+use crate::AppState;
+use axum::extract::State;
+use axum::Json;
+use geomkit::bspline::{
+    interpolate_curve_flat, BsplineCurve, EndCondition, InterpolationOptions, Parametrization,
+};
+use geomkit::geom::{BatchOptions, Curve};
+use geomkit_model::{AnyModel, BsplineCurveModel};
+use serde::Deserialize;
+use serde_json::{json, Value};
+
+/// The request.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InterpolateRequest {
+    /// Reference points, each of the same dimension.
+    pub points: Vec<Vec<f64>>,
+    /// End condition: "not-a-knot" (default), "natural", "clamped", "bessel", "repeat",
+    /// "outer", "periodic", or an object `{"kind": "clamped", "start": [..], "end": [..]}`,
+    /// `{"kind": "outer", "offset": 0.5}`.
+    #[serde(default)]
+    pub end: Option<Value>,
+    /// "uniform", "chord" (default) or "centripetal".
+    #[serde(default)]
+    pub parametrization: Option<String>,
+    /// A closed curve (the periodic condition, C2 across the seam).
+    #[serde(default)]
+    pub closed: bool,
+    /// Samples per knot span for drawing (default 12).
+    #[serde(default)]
+    pub samples_per_span: Option<usize>,
+    /// Curvature comb: teeth per span (default 6; 0: none) and the length of a tooth per
+    /// unit of curvature (default: the longest tooth 1/6 of the points' extent).
+    #[serde(default)]
+    pub comb: Option<CombRequest>,
+}
+
+/// Options of the curvature comb.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CombRequest {
+    /// Teeth per knot span.
+    #[serde(default)]
+    pub per_span: Option<usize>,
+    /// Tooth length per unit of curvature.
+    #[serde(default)]
+    pub scale: Option<f64>,
+}
+
+fn text_field<'a>(v: &'a Value, key: &str) -> Option<&'a str> {
+    v.get(key).and_then(Value::as_str)
+}
+
+fn vector(v: &Value, key: &str, dim: usize) -> ApiResult<Option<Vec<f64>>> {
+    match v.get(key) {
+        None | Some(Value::Null) => Ok(None),
+        Some(x) => {
+            let vec: Option<Vec<f64>> = x
+                .as_array()
+                .map(|a| a.iter().filter_map(Value::as_f64).collect());
+            match vec {
+                Some(t) if t.len() == dim && t.iter().all(|x| x.is_finite()) => Ok(Some(t)),
+                _ => Err(ApiError::bad_request(format!(
+                    "end.{key} must be a tangent of {dim} finite numbers"
+                ))
+                .with("path", format!("end.{key}"))),
+            }
+        }
+    }
+}
+
+/// The end condition of a request.
+pub fn end_condition(end: Option<&Value>, closed: bool, dim: usize) -> ApiResult<EndCondition> {
+    if closed {
+        return Ok(EndCondition::Periodic);
+    }
+    let Some(end) = end else {
+        return Ok(EndCondition::NotAKnot);
+    };
+    let kind = match end {
+        Value::String(s) => s.as_str(),
+        Value::Object(_) => text_field(end, "kind").unwrap_or(""),
+        _ => "",
+    };
+    Ok(match kind {
+        "not-a-knot" => EndCondition::NotAKnot,
+        "natural" => EndCondition::Natural,
+        "bessel" => EndCondition::Bessel,
+        "repeat" => EndCondition::Repeat,
+        "periodic" => EndCondition::Periodic,
+        "clamped" => EndCondition::Clamped {
+            start: vector(end, "start", dim)?,
+            end: vector(end, "end", dim)?,
+        },
+        "outer" => {
+            let offset = end.get("offset").and_then(Value::as_f64).unwrap_or(1.0);
+            EndCondition::OuterPoints { offset }
+        }
+        _ => {
+            return Err(ApiError::bad_request(
+                "end must be one of \"not-a-knot\", \"natural\", \"clamped\", \"bessel\", \
+                 \"repeat\", \"outer\", \"periodic\" (or {\"kind\": ...} with its options)",
+            )
+            .with("path", "end"))
+        }
+    })
+}
+
+/// The parametrization of a request.
+pub fn parametrization(p: Option<&str>) -> ApiResult<Parametrization> {
+    Ok(match p.unwrap_or("chord") {
+        "uniform" => Parametrization::Uniform,
+        "chord" => Parametrization::ChordLength,
+        "centripetal" => Parametrization::Centripetal,
+        other => {
+            return Err(ApiError::bad_request(format!(
+                "parametrization must be \"uniform\", \"chord\" or \"centripetal\" (got \
+                 \"{other}\")"
+            ))
+            .with("path", "parametrization"))
+        }
+    })
+}
+
+/// The domain's ends and the breaks inside it.
+pub fn span_ends(curve: &dyn Curve) -> Vec<f64> {
+    let (a, b) = curve.domain();
+    let mut ends = vec![a];
+    ends.extend(curve.breaks());
+    ends.push(b);
+    ends
+}
+
+/// Parameters `per_span` per knot span (the last one closing the domain).
+fn span_params(curve: &dyn Curve, per_span: usize) -> Vec<f64> {
+    let breaks = span_ends(curve);
+    let mut ts = Vec::with_capacity(breaks.len() * per_span + 1);
+    for w in breaks.windows(2) {
+        for i in 0..per_span {
+            ts.push(w[0] + (w[1] - w[0]) * i as f64 / per_span as f64);
+        }
+    }
+    ts.extend(breaks.last());
+    ts
+}
+
+/// The curvature comb of a plane curve at `ts`: base points, signed curvature
+/// κ = (x'y'' - y'x'')/|c'|³ and teeth `base - scale·κ·n` (n the unit left normal, so the
+/// teeth point away from the centre of curvature).
+pub fn comb(curve: &BsplineCurve, ts: &[f64], scale: Option<f64>, extent: f64) -> ApiResult<Value> {
+    let (mut p, mut d1, mut d2) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+    let mut base = Vec::with_capacity(ts.len());
+    let mut kappa = Vec::with_capacity(ts.len());
+    let mut normal = Vec::with_capacity(ts.len());
+    for &t in ts {
+        curve.eval_into(t, &mut p);
+        curve
+            .derivative_into(t, 1, &mut d1)
+            .and_then(|()| curve.derivative_into(t, 2, &mut d2))
+            .map_err(|e| ApiError::geometry("comb", e))?;
+        let speed = d1[0].hypot(d1[1]);
+        let (k, n) = if speed > 0.0 {
+            (
+                (d1[0] * d2[1] - d1[1] * d2[0]) / speed.powi(3),
+                [-d1[1] / speed, d1[0] / speed],
+            )
+        } else {
+            (0.0, [0.0, 0.0])
+        };
+        base.push(p.to_vec());
+        kappa.push(if k.is_finite() { k } else { 0.0 });
+        normal.push(n);
+    }
+    let most = kappa.iter().fold(0.0f64, |m, k| m.max(k.abs()));
+    let scale = match scale {
+        Some(s) if s.is_finite() && s >= 0.0 => s,
+        Some(s) => {
+            return Err(ApiError::bad_request(format!(
+                "comb.scale must be a finite number >= 0 (got {s})"
+            ))
+            .with("path", "comb.scale"))
+        }
+        None if most > 0.0 => extent / 6.0 / most,
+        None => 0.0,
+    };
+    let tips: Vec<Vec<f64>> = base
+        .iter()
+        .zip(&kappa)
+        .zip(&normal)
+        .map(|((b, k), n)| vec![b[0] - scale * k * n[0], b[1] - scale * k * n[1]])
+        .collect();
+    finite("the comb", &tips.concat())?;
+    Ok(json!({
+        "t": ts,
+        "base": base,
+        "curvature": kappa,
+        "tip": tips,
+        "scale": scale,
+        "max_curvature": most,
+    }))
+}
+
+/// `POST /api/bspline/interpolate`: `{"model", "what", "parameters", "samples": {"t",
+/// "points"}, "comb": {...} | null}`.
+pub async fn interpolate(
+    State(state): State<AppState>,
+    ApiJson(req): ApiJson<InterpolateRequest>,
+) -> ApiResult<Json<Value>> {
+    blocking(move || {
+        let limits = state.config.limits;
+        check_points("points", req.points.len(), &limits)?;
+        let dim = req.points.first().map_or(0, Vec::len);
+        if dim == 0 {
+            return Err(ApiError::bad_request(
+                "points must be a non-empty list of points with at least one coordinate",
+            )
+            .with("path", "points"));
+        }
+        if let Some(i) = req.points.iter().position(|p| p.len() != dim) {
+            return Err(ApiError::bad_request(format!(
+                "points[{i}] has {} coordinates, points[0] has {dim}",
+                req.points[i].len()
+            ))
+            .with("path", format!("points[{i}]")));
+        }
+        let flat: Vec<f64> = req.points.concat();
+        let options = InterpolationOptions::default()
+            .with_end(end_condition(req.end.as_ref(), req.closed, dim)?)
+            .with_parametrization(parametrization(req.parametrization.as_deref())?);
+        let fit = interpolate_curve_flat(dim, &flat, &options)
+            .map_err(|e| ApiError::geometry("interpolate", e))?;
+        let curve = fit.curve();
+        let per_span = req.samples_per_span.unwrap_or(12);
+        let spans = span_ends(curve).len() - 1;
+        if per_span == 0 || per_span.saturating_mul(spans) > limits.samples {
+            return Err(ApiError::bad_request(format!(
+                "samples_per_span × {spans} spans must be between 1 and {} (got {per_span})",
+                limits.samples
+            ))
+            .with("path", "samples_per_span"));
+        }
+        let ts = span_params(curve, per_span);
+        let mut out = vec![0.0; ts.len() * dim];
+        curve
+            .eval_batch(&ts, &mut out, &BatchOptions::default())
+            .map_err(|e| ApiError::geometry("samples", e))?;
+        finite("the curve's samples", &out)?;
+        let comb_req = req.comb.unwrap_or_default();
+        let teeth = comb_req.per_span.unwrap_or(6);
+        let comb = if dim == 2 && teeth > 0 {
+            if teeth.saturating_mul(spans) > limits.samples {
+                return Err(ApiError::bad_request("comb.per_span is too large")
+                    .with("path", "comb.per_span"));
+            }
+            let extent = extent(&flat, dim);
+            comb(curve, &span_params(curve, teeth), comb_req.scale, extent)?
+        } else {
+            Value::Null
+        };
+        let parameters = fit.parameters().to_vec();
+        let file = BsplineCurveModel::file_of(curve, Some(&parameters));
+        let what = AnyModel::BsplineCurve(BsplineCurveModel {
+            curve: curve.clone(),
+            parameters: None,
+        })
+        .describe();
+        Ok(Json(json!({
+            "model": model_json(&file)?,
+            "what": what,
+            "parameters": parameters,
+            "samples": {"t": ts, "points": rows(&out, dim)},
+            "comb": comb,
+        })))
+    })
+    .await
+}
+
+/// The largest side of the points' bounding box (1 when they coincide).
+fn extent(flat: &[f64], dim: usize) -> f64 {
+    let mut most = 0.0f64;
+    for c in 0..dim {
+        let it = flat.iter().skip(c).step_by(dim);
+        let (lo, hi) = it.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| {
+            (l.min(x), h.max(x))
+        });
+        most = most.max(hi - lo);
+    }
+    if most > 0.0 && most.is_finite() {
+        most
+    } else {
+        1.0
+    }
+}
