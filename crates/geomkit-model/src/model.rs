@@ -141,6 +141,37 @@ impl BezierModel {
     }
 }
 
+impl BezierModel {
+    /// The degrees (n, m) of a (rational) surface; `None` for curves.
+    pub fn surface_degrees(&self) -> Option<(usize, usize)> {
+        match self {
+            BezierModel::Surface(s) => Some(s.degrees()),
+            BezierModel::RationalSurface(s) => Some(s.degrees()),
+            BezierModel::Curve(_) | BezierModel::Rational(_) => None,
+        }
+    }
+
+    /// Formula (14) on a (rational) surface: the same surface of degrees (n, m), each
+    /// direction elevated or exactly reduced with `tolerance`; `None` for curves.
+    pub fn change_surface_degree(
+        &self,
+        n: usize,
+        m: usize,
+        tolerance: Option<f64>,
+    ) -> Option<geomkit::Result<BezierModel>> {
+        match self {
+            BezierModel::Surface(s) => {
+                Some(s.change_degree(n, m, tolerance).map(BezierModel::Surface))
+            }
+            BezierModel::RationalSurface(s) => Some(
+                s.change_degree(n, m, tolerance)
+                    .map(BezierModel::RationalSurface),
+            ),
+            BezierModel::Curve(_) | BezierModel::Rational(_) => None,
+        }
+    }
+}
+
 /// "Bézier surface of degrees (3, 2) in R^3 (4×3 net)", `kind` before it.
 fn surface_description(kind: &str, (n, m): (usize, usize), dim: usize) -> String {
     format!(

@@ -446,11 +446,7 @@ fn degrees_of(model: &BezierModel) -> String {
 
 /// The degrees (n, m) of a (rational) surface; (0, 0) for curves.
 fn surface_degrees(model: &BezierModel) -> (usize, usize) {
-    match model {
-        BezierModel::Surface(s) => s.degrees(),
-        BezierModel::RationalSurface(s) => s.degrees(),
-        BezierModel::Curve(_) | BezierModel::Rational(_) => (0, 0),
-    }
+    model.surface_degrees().unwrap_or((0, 0))
 }
 
 /// Formula (14) on a (rational) surface: degrees (n, m), each direction elevated or exactly
@@ -461,15 +457,9 @@ fn change_surface(
     m: usize,
     tolerance: Option<f64>,
 ) -> geomkit::Result<BezierModel> {
-    match model {
-        BezierModel::Surface(s) => s.change_degree(n, m, tolerance).map(BezierModel::Surface),
-        BezierModel::RationalSurface(s) => s
-            .change_degree(n, m, tolerance)
-            .map(BezierModel::RationalSurface),
-        BezierModel::Curve(_) | BezierModel::Rational(_) => {
-            unreachable!("called for surfaces only")
-        }
-    }
+    model
+        .change_surface_degree(n, m, tolerance)
+        .expect("called for surfaces only")
 }
 
 fn write_change(change: Change, format: Format, output: Option<&Path>) -> Result<()> {

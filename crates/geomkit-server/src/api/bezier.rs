@@ -87,6 +87,10 @@ fn degree_of(model: &BezierModel, tol: Option<f64>) -> ApiResult<Value> {
             let r = s.degree_report(tol).map_err(geometry)?;
             json!({"u": report_json(&r.u), "v": report_json(&r.v)})
         }
+        BezierModel::RationalSurface(s) => {
+            let r = s.degree_report(tol).map_err(geometry)?;
+            json!({"u": report_json(&r.u), "v": report_json(&r.v), "homogeneous": true})
+        }
     })
 }
 
@@ -113,10 +117,12 @@ fn target(to: Option<Degrees>, model: &BezierModel, limits: &Limits) -> ApiResul
     };
     check_degree("to", highest, limits)?;
     match (model, to) {
-        (BezierModel::Surface(_), Degrees::One(n)) => Err(ApiError::bad_request(format!(
-            "a surface needs a degree per direction: \"to\": [n, m] (got {n})"
-        ))
-        .with("path", "to")),
+        (BezierModel::Surface(_) | BezierModel::RationalSurface(_), Degrees::One(n)) => {
+            Err(ApiError::bad_request(format!(
+                "a surface needs a degree per direction: \"to\": [n, m] (got {n})"
+            ))
+            .with("path", "to"))
+        }
         (BezierModel::Curve(_) | BezierModel::Rational(_), Degrees::Two([n, m])) => {
             Err(ApiError::bad_request(format!(
                 "a curve takes one degree: \"to\": n (got [{n}, {m}])"
@@ -155,8 +161,8 @@ pub async fn elevate(
             (BezierModel::Rational(r), Degrees::One(n)) => {
                 BezierModel::Rational(r.elevate_degree(n).map_err(geometry)?)
             }
-            (BezierModel::Surface(s), Degrees::Two([n, m])) => {
-                let (a, b) = s.degrees();
+            (BezierModel::Surface(_) | BezierModel::RationalSurface(_), Degrees::Two([n, m])) => {
+                let (a, b) = model.surface_degrees().unwrap_or((0, 0));
                 if n < a || m < b {
                     return Err(ApiError::unprocessable(format!(
                         "cannot elevate degrees ({a}, {b}) to ({n}, {m}): elevation needs \
@@ -164,7 +170,10 @@ pub async fn elevate(
                     )));
                 }
                 check_points("to", (n + 1) * (m + 1), &limits)?;
-                BezierModel::Surface(s.change_degree(n, m, None).map_err(geometry)?)
+                model
+                    .change_surface_degree(n, m, None)
+                    .expect("a surface")
+                    .map_err(geometry)?
             }
             _ => unreachable!("checked by target()"),
         };
@@ -212,15 +221,18 @@ pub async fn reduce(
             (BezierModel::Rational(r), Degrees::One(n)) => {
                 BezierModel::Rational(r.reduce_degree(n, tol).map_err(refusal)?)
             }
-            (BezierModel::Surface(s), Degrees::Two([n, m])) => {
-                let (a, b) = s.degrees();
+            (BezierModel::Surface(_) | BezierModel::RationalSurface(_), Degrees::Two([n, m])) => {
+                let (a, b) = model.surface_degrees().unwrap_or((0, 0));
                 if n > a || m > b {
                     return Err(ApiError::unprocessable(format!(
                         "cannot reduce degrees ({a}, {b}) to ({n}, {m}): reduction needs \
                          degrees <= the current ones"
                     )));
                 }
-                BezierModel::Surface(s.change_degree(n, m, tol).map_err(refusal)?)
+                model
+                    .change_surface_degree(n, m, tol)
+                    .expect("a surface")
+                    .map_err(refusal)?
             }
             _ => unreachable!("checked by target()"),
         };

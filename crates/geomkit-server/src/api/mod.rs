@@ -92,8 +92,8 @@ pub fn check_size(field: &str, model: &AnyModel, limits: &Limits) -> ApiResult<(
     let (points, degree) = match model {
         AnyModel::Bezier(BezierModel::Curve(c)) => (c.degree() + 1, c.degree()),
         AnyModel::Bezier(BezierModel::Rational(c)) => (c.degree() + 1, c.degree()),
-        AnyModel::Bezier(BezierModel::Surface(s)) => {
-            let (n, m) = s.degrees();
+        AnyModel::Bezier(b @ (BezierModel::Surface(_) | BezierModel::RationalSurface(_))) => {
+            let (n, m) = b.surface_degrees().unwrap_or((0, 0));
             ((n + 1) * (m + 1), n.max(m))
         }
         AnyModel::BsplineCurve(m) => (m.curve.n_control(), 0),
