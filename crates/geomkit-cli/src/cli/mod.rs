@@ -4,10 +4,12 @@
 mod compose;
 mod pointcalc;
 mod render;
+mod step;
 
 pub use compose::*;
 pub use pointcalc::*;
 pub use render::*;
+pub use step::*;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -54,6 +56,11 @@ pub enum Command {
     Mesh(MeshArgs),
     /// Run every method's demo: pictures, model files, index.html and a table of checks.
     Demo(DemoArgs),
+    /// Exact geometry to STEP (ISO 10303-21, AP214/AP242): curves, surfaces, composite
+    /// surfaces and closed bodies as B-spline entities that CAD systems read.
+    Export(ExportArgs),
+    /// The B-spline and Bézier curves and surfaces of a STEP file as model files.
+    Import(ImportArgs),
 }
 
 /// `geomkit bezier ...`

@@ -9,3 +9,4 @@ pub mod mesh;
 pub mod piecewise;
 pub mod pointcalc;
 pub mod render;
+pub mod step;
