@@ -412,3 +412,56 @@ proptest! {
         prop_assert_eq!(before, after);
     }
 }
+
+#[test]
+fn closed_bezier_surfaces_are_solids_and_composites_are_sewn() {
+    // A closed Bézier surface like the Mushroom: first and last rows collapsed to the poles,
+    // first and last columns equal (a degree-2 × 4 "lens" around z).
+    let ring = |r: f64, z: f64| -> String {
+        let pts: Vec<String> = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0), (1.0, 0.0)]
+            .iter()
+            .map(|(x, y)| format!("[{}, {}, {z}]", r * x, r * y))
+            .collect();
+        format!("[{}]", pts.join(", "))
+    };
+    let net = format!(
+        r#"{{"type": "bezier_surface", "net": [{}, {}, {}]}}"#,
+        ring(0.0, 1.0),
+        ring(2.0, 0.0),
+        ring(0.0, -1.0)
+    );
+    let text = step::write(&parse(&net).unwrap(), &WriteOptions::default()).unwrap();
+    assert!(text.contains("MANIFOLD_SOLID_BREP("), "{text}");
+    assert!(text.contains("CLOSED_SHELL("));
+    // Open: the same without the lower half.
+    let open = format!(
+        r#"{{"type": "bezier_surface", "net": [{}, {}]}}"#,
+        ring(0.0, 1.0),
+        ring(2.0, 0.0)
+    );
+    let text = step::write(&parse(&open).unwrap(), &WriteOptions::default()).unwrap();
+    assert!(text.contains("OPEN_SHELL(") && !text.contains("CLOSED_SHELL("));
+    // 2 × 2 bilinear patches of one 3 × 3 grid: 4 faces, 12 edges, 9 vertices.
+    let p = |i: usize, j: usize| format!("[{i}, {j}, {}]", (i * j) as f64 * 0.25);
+    let patch = |i: usize, j: usize| {
+        format!(
+            r#"{{"bezier": [[{}, {}], [{}, {}]]}}"#,
+            p(i, j),
+            p(i, j + 1),
+            p(i + 1, j),
+            p(i + 1, j + 1)
+        )
+    };
+    let scene = format!(
+        r#"{{"type": "composite_surface", "u_knots": [0, 1, 2], "v_knots": [0, 1, 2], "patches": [[{}, {}], [{}, {}]]}}"#,
+        patch(0, 0),
+        patch(0, 1),
+        patch(1, 0),
+        patch(1, 1)
+    );
+    let text = step::write(&parse(&scene).unwrap(), &WriteOptions::default()).unwrap();
+    check_part21(&text);
+    assert_eq!(text.matches("ADVANCED_FACE(").count(), 4);
+    assert_eq!(text.matches("EDGE_CURVE(").count(), 12);
+    assert_eq!(text.matches("VERTEX_POINT(").count(), 9);
+}

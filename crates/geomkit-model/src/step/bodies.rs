@@ -209,17 +209,30 @@ struct Placed {
     reference: (f64, f64),
 }
 
-/// The numeric normal of the ruled surface at (u, v) (central differences).
-fn ruled_normal(s: &RuledSurface, u: f64, v: f64) -> [f64; 3] {
-    let ((u0, u1), (v0, v1)) = s.domain();
+/// The numeric normal ∂S/∂u × ∂S/∂v of a surface at (u, v) (central differences with steps
+/// 1e-6 of the domain).
+fn normal_of(
+    eval: &impl Fn(f64, f64) -> [f64; 3],
+    ((u0, u1), (v0, v1)): ((f64, f64), (f64, f64)),
+    u: f64,
+    v: f64,
+) -> [f64; 3] {
     let (hu, hv) = ((u1 - u0) * 1e-6, (v1 - v0) * 1e-6);
-    let p = |u: f64, v: f64| {
+    let su = sub(eval(u + hu, v), eval(u - hu, v));
+    let sv = sub(eval(u, v + hv), eval(u, v - hv));
+    cross(su, sv)
+}
+
+fn ruled_eval(s: &RuledSurface) -> impl Fn(f64, f64) -> [f64; 3] + '_ {
+    |u, v| {
         let q = s.eval(u, v);
         [q[0], q[1], q[2]]
-    };
-    let su = sub(p(u + hu, v), p(u - hu, v));
-    let sv = sub(p(u, v + hv), p(u, v - hv));
-    cross(su, sv)
+    }
+}
+
+/// The numeric normal of the ruled surface at (u, v).
+fn ruled_normal(s: &RuledSurface, u: f64, v: f64) -> [f64; 3] {
+    normal_of(&ruled_eval(s), s.domain(), u, v)
 }
 
 /// The normal of a face's surface at (s, t) (central differences on its iso curves).
@@ -231,19 +244,20 @@ fn surface_normal(s: &NurbsSurface, a: f64, b: f64) -> StepResult<[f64; 3]> {
     Ok(cross(su, sv))
 }
 
-/// The signed volume enclosed by the ruled surface, (1/3) ∫∫ R · (R_u × R_v) du dv by the
-/// midpoint rule: its sign says whether the surface's normal points out.
-fn signed_volume(s: &RuledSurface) -> f64 {
-    let ((u0, u1), (v0, v1)) = s.domain();
-    let strips = s.v_values().len().max(2) - 1;
-    let (nu, nv) = (256, 16 * strips);
+/// The signed volume enclosed by a closed parametric surface, (1/3) ∫∫ S · (S_u × S_v) du dv
+/// by the midpoint rule on `nu` × `nv` cells: its sign says whether S_u × S_v points out.
+pub(crate) fn signed_volume(
+    eval: impl Fn(f64, f64) -> [f64; 3],
+    domain: ((f64, f64), (f64, f64)),
+    (nu, nv): (usize, usize),
+) -> f64 {
+    let ((u0, u1), (v0, v1)) = domain;
     let (du, dv) = ((u1 - u0) / nu as f64, (v1 - v0) / nv as f64);
     let mut total = 0.0;
     for i in 0..nu {
         for j in 0..nv {
             let (u, v) = (u0 + (i as f64 + 0.5) * du, v0 + (j as f64 + 0.5) * dv);
-            let q = s.eval(u, v);
-            total += dot([q[0], q[1], q[2]], ruled_normal(s, u, v));
+            total += dot(eval(u, v), normal_of(&eval, domain, u, v));
         }
     }
     total
@@ -348,7 +362,8 @@ pub(crate) fn ruled(s: &RuledSurface) -> StepResult<Content> {
     }
     let closed = matches!(sections.first(), Some(Section::Point(_)))
         && matches!(sections.last(), Some(Section::Point(_)));
-    let outward = signed_volume(s) > 0.0;
+    let strips = s.v_values().len().max(2) - 1;
+    let outward = signed_volume(ruled_eval(s), s.domain(), (256, 16 * strips)) > 0.0;
     let mut faces = Vec::with_capacity(placed.len());
     for p in placed {
         let nf = surface_normal(&p.face.surface, p.at.0, p.at.1)?;

@@ -6,6 +6,7 @@ use super::{StepError, StepResult};
 use crate::{AnyModel, BezierModel};
 use geomkit::bezier::BezierSurface;
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
+use geomkit::geom::Surface;
 
 /// The clamped knot vector of one Bézier span of degree n on [0, 1].
 pub(crate) fn bezier_knots(n: usize) -> Vec<f64> {
@@ -73,6 +74,26 @@ pub(crate) fn natural_face(surface: NurbsSurface) -> FaceSpec {
     }
 }
 
+/// A surface as one face: of an open shell, or, when its sides close it (each collapsed to a
+/// point or the seam of its opposite side: the Mushroom), a solid with the face's normal
+/// outwards.
+fn surface_content(nurbs: NurbsSurface, s: &dyn Surface) -> StepResult<Content> {
+    if !super::write::closes(&nurbs)? {
+        return Ok(Content::Faces(vec![natural_face(nurbs)]));
+    }
+    let eval = |u: f64, v: f64| {
+        let mut p = [0.0; 3];
+        let mut q = vec![0.0; s.dim()];
+        s.eval_into(u, v, &mut q);
+        p[..q.len().min(3)].copy_from_slice(&q[..q.len().min(3)]);
+        p
+    };
+    let outward = super::bodies::signed_volume(eval, s.domain(), (128, 128)) > 0.0;
+    let mut face = natural_face(nurbs);
+    face.same_sense = outward;
+    Ok(Content::Solid(vec![face]))
+}
+
 /// What `model` is as STEP.
 pub(crate) fn content(model: &AnyModel) -> StepResult<Content> {
     Ok(match model {
@@ -97,13 +118,9 @@ pub(crate) fn content(model: &AnyModel) -> StepResult<Content> {
             }
             Content::Curves(vec![bezier_curve(r.degree(), points, Some(r.weights()))?])
         }
-        AnyModel::Bezier(BezierModel::Surface(s)) => {
-            Content::Faces(vec![natural_face(bezier_surface(s)?)])
-        }
+        AnyModel::Bezier(BezierModel::Surface(s)) => surface_content(bezier_surface(s)?, s)?,
         AnyModel::BsplineCurve(m) => Content::Curves(vec![bspline_curve(&m.curve)?]),
-        AnyModel::BsplineSurface(m) => {
-            Content::Faces(vec![natural_face(bspline_surface(&m.surface)?)])
-        }
+        AnyModel::BsplineSurface(m) => surface_content(bspline_surface(&m.surface)?, &m.surface)?,
         AnyModel::Composite(s) => super::bodies::composite(s)?,
         AnyModel::Ruled(s) => super::bodies::ruled(s)?,
         AnyModel::Formula(f) => match &f.model {

@@ -262,6 +262,29 @@ fn knot_spec(bezier: bool) -> &'static str {
     }
 }
 
+/// 1e-12 of the largest |coordinate| of `points` (the tolerance of shared vertices and
+/// edges).
+fn points_tolerance(points: &[[f64; 3]]) -> f64 {
+    let m = points.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    1e-12 * m.max(f64::MIN_POSITIVE)
+}
+
+/// Whether a surface's sides close it: each collapsed to a point or equal to its opposite
+/// side (a seam), and not all four collapsed.
+pub(crate) fn closes(s: &NurbsSurface) -> StepResult<bool> {
+    let tol = points_tolerance(&s.points);
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let (bottom, top) = (s.iso(true, v0)?, s.iso(true, v1)?);
+    let (left, right) = (s.iso(false, u0)?, s.iso(false, u1)?);
+    let pair = |a: &NurbsCurve, b: &NurbsCurve| {
+        (a.is_point(tol) && b.is_point(tol)) || same_curve(a, b, tol)
+    };
+    let all_collapsed = [&bottom, &top, &left, &right]
+        .iter()
+        .all(|c| c.is_point(tol));
+    Ok(!all_collapsed && pair(&bottom, &top) && pair(&left, &right))
+}
+
 /// The tolerance of shared vertices and edges: 1e-12 of the largest |coordinate|.
 fn tolerance(content: &Content) -> f64 {
     let mut m = 0.0f64;
