@@ -35,6 +35,16 @@ fn export_then_import_evaluates_to_the_same_numbers() {
     let a = ok(d, &["eval", "c.json", "--samples", "17"]);
     let b = ok(d, &["eval", "back.json", "--samples", "17"]);
     assert_eq!(a, b);
+    // A file in metres: imported as written, with a note.
+    let metres = fs::read_to_string(d.join("c.step"))
+        .unwrap()
+        .replace("SI_UNIT(.MILLI.,.METRE.)", "SI_UNIT($,.METRE.)");
+    write(d, "m.step", &metres);
+    let msg = ok_stderr(d, &["import", "m.step", "-o", "m.json"]);
+    assert!(
+        msg.contains("note: lengths are in the file's unit (METRE), as written"),
+        "{msg}"
+    );
     // The same model gives the same bytes.
     ok_stderr(d, &["export", "c.json", "-o", "again.step"]);
     assert_eq!(

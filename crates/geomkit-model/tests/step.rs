@@ -231,6 +231,7 @@ fn occt_bezier_curve_reads_to_its_poles() {
     ];
     assert_eq!(f.points.flat, want);
     assert!(f.weights.is_none());
+    assert_eq!(import.length_unit.as_deref(), Some("MILLI METRE"));
     // The trimmed curve around it is counted, not imported twice.
     assert_eq!(import.skipped_summary(), "1 TRIMMED_CURVE (not imported)");
 }

@@ -92,6 +92,16 @@ pub fn import(args: ImportArgs) -> Result<()> {
         write_atomic(path, json.as_bytes())?;
         let _ = writeln!(err, "{line}");
     }
+    if let Some(unit) = import
+        .length_unit
+        .as_deref()
+        .filter(|u| *u != "MILLI METRE")
+    {
+        let _ = writeln!(
+            err,
+            "note: lengths are in the file's unit ({unit}), as written"
+        );
+    }
     if !import.skipped.is_empty() {
         let _ = writeln!(err, "skipped: {}", import.skipped_summary());
     }

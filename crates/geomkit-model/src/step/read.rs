@@ -38,6 +38,9 @@ pub struct Import {
     pub skipped: BTreeMap<String, usize>,
     /// The schemas of the file's header.
     pub schemas: Vec<String>,
+    /// The file's length unit (`"MILLI METRE"`, `"METRE"`, `"INCH"`, ...), when it names one:
+    /// coordinates are imported as written, in that unit.
+    pub length_unit: Option<String>,
 }
 
 impl Import {
@@ -102,6 +105,7 @@ pub fn read(text: &str) -> StepResult<Import> {
     };
     let mut import = Import {
         schemas: x.schemas.clone(),
+        length_unit: length_unit(&x),
         ..Import::default()
     };
     for (&id, inst) in &x.instances {
@@ -122,6 +126,27 @@ pub fn read(text: &str) -> StepResult<Import> {
         )));
     }
     Ok(import)
+}
+
+/// The name of the first LENGTH_UNIT: an SI unit with its prefix, or a conversion-based
+/// unit's name.
+fn length_unit(x: &Exchange) -> Option<String> {
+    let unit = x.instances.values().find(|i| i.is("LENGTH_UNIT"))?;
+    if let Some(si) = unit.record("SI_UNIT") {
+        let word = |p: Option<&Param>| match p {
+            Some(Param::Enum(e)) => Some(e.clone()),
+            _ => None,
+        };
+        let name = word(si.get(1))?;
+        return Some(match word(si.first()) {
+            Some(prefix) => format!("{prefix} {name}"),
+            None => name,
+        });
+    }
+    match unit.record("CONVERSION_BASED_UNIT")?.first() {
+        Some(Param::Str(s)) => Some(s.to_ascii_uppercase()),
+        _ => None,
+    }
 }
 
 enum Outcome {
@@ -651,7 +676,9 @@ impl Reader<'_> {
         let p = s.degrees[0];
         let knots = &s.knots[0];
         let (dim, flat) = self.net_points(id, &s.net)?;
-        if dim < 3 && self.in_parameter_space(dim) {
+        // geomkit writes plane curves with z = 0: a 2-D point list is another system's
+        // parameter-space curve (or a 2-D sketch), not a curve of the model.
+        if dim < 3 {
             return Ok(Outcome::Skipped(
                 "2-D curves (parameter-space curves)".into(),
             ));
@@ -719,13 +746,6 @@ impl Reader<'_> {
                 self.checked(id, inst, file, None)
             }
         }
-    }
-
-    /// Whether the file's curves of dimension < 3 are parameter-space curves (always:
-    /// geomkit writes R^2 curves with z = 0, so a 2-D point list is another system's pcurve
-    /// or 2-D sketch).
-    fn in_parameter_space(&self, _dim: usize) -> bool {
-        true
     }
 
     fn surface_model(&self, id: u64, inst: &Instance, s: Spline) -> StepResult<Outcome> {
