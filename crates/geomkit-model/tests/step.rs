@@ -264,6 +264,8 @@ fn occt_bspline_surface_reads_to_its_knots_and_poles() {
             }
         }
     }
+    // Its face is its natural boundary: nothing trimmed away.
+    assert!(import.models[0].note.is_none());
     // Its four boundary curves are the face's edges.
     assert_eq!(import.skipped.get("edge curves of faces"), Some(&4));
 }
@@ -465,4 +467,17 @@ fn closed_bezier_surfaces_are_solids_and_composites_are_sewn() {
     assert_eq!(text.matches("ADVANCED_FACE(").count(), 4);
     assert_eq!(text.matches("EDGE_CURVE(").count(), 12);
     assert_eq!(text.matches("VERTEX_POINT(").count(), 9);
+    let back = step::read(&text).unwrap();
+    assert!(back.models.iter().all(|m| m.note.is_none()));
+}
+
+#[test]
+fn trimmed_faces_import_as_their_whole_surface_with_a_note() {
+    // The cube's caps are plane patches larger than the square they bound.
+    let cube = AnyModel::Ruled(geomkit::compose::bodies::cube().unwrap());
+    let text = step::write(&cube, &WriteOptions::default()).unwrap();
+    let back = step::read(&text).unwrap();
+    assert_eq!(back.models.len(), 6);
+    let notes = back.models.iter().filter(|m| m.note.is_some()).count();
+    assert_eq!(notes, 2, "the two caps");
 }

@@ -777,7 +777,8 @@ impl Reader<'_> {
         };
         if bezier {
             let file = ModelFile::BezierSurface(BezierSurfaceFile { net });
-            return self.checked(id, inst, file, None);
+            let note = self.trimming_note(id, &file)?;
+            return self.checked(id, inst, file, note);
         }
         if du > 7 || dv > 7 {
             return Ok(Outcome::Skipped(
@@ -792,7 +793,49 @@ impl Reader<'_> {
             parameters_u: None,
             parameters_v: None,
         });
-        self.checked(id, inst, file, None)
+        let note = self.trimming_note(id, &file)?;
+        self.checked(id, inst, file, note)
+    }
+
+    /// A note when a face on `surface` has a vertex away from the surface's four corners:
+    /// the face is trimmed, and the whole surface is what is imported.
+    fn trimming_note(&self, surface: u64, file: &ModelFile) -> StepResult<Option<String>> {
+        let model =
+            AnyModel::from_file(file.clone()).map_err(|e| entity_err(surface, e.to_string()))?;
+        let s: &dyn geomkit::geom::Surface = match &model {
+            AnyModel::Bezier(crate::BezierModel::Surface(b)) => b,
+            AnyModel::BsplineSurface(m) => &m.surface,
+            _ => return Ok(None),
+        };
+        let ((u0, u1), (v0, v1)) = s.domain();
+        let mut corners = Vec::new();
+        let mut scale = 0.0f64;
+        for (u, v) in [(u0, v0), (u0, v1), (u1, v0), (u1, v1)] {
+            let mut p = vec![0.0; s.dim()];
+            s.eval_into(u, v, &mut p);
+            scale = p.iter().fold(scale, |m, x| m.max(x.abs()));
+            corners.push(p);
+        }
+        for (&face, inst) in &self.x.instances {
+            let Some(p) = inst.record("ADVANCED_FACE").or(inst.record("FACE_SURFACE")) else {
+                continue;
+            };
+            if p.len() != 4 || p[2] != Param::Ref(surface) {
+                continue;
+            }
+            let tolerance = 1e-9 * scale.max(1e-300);
+            let trimmed = self.face_vertices(face, &p[1])?.iter().any(|v| {
+                !corners
+                    .iter()
+                    .any(|c| c.iter().zip(v).all(|(a, b)| (a - b).abs() <= tolerance))
+            });
+            if trimmed {
+                return Ok(Some(format!(
+                    "the whole surface of the trimmed face #{face}: its outline is not kept"
+                )));
+            }
+        }
+        Ok(None)
     }
 
     /// The vertices of a face's bounds, in loop order.
