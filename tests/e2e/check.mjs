@@ -53,6 +53,7 @@ const TYPES = {
   '.stl': 'model/stl',
   '.ply': 'application/octet-stream',
   '.glb': 'model/gltf-binary',
+  '.step': 'model/step',
 };
 
 // A static file server for `root`, bound to the loopback interface only.

@@ -53,6 +53,8 @@ fn main() -> ExitCode {
         cli::Command::Mesh(args) => commands::mesh::run(args),
         cli::Command::Demo(args) => demo::run(&args),
         cli::Command::Serve(args) => commands::serve::run(args),
+        cli::Command::Export(args) => commands::step::export(args),
+        cli::Command::Import(args) => commands::step::import(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -35,6 +35,7 @@ mod numbers;
 mod sampled;
 pub mod schema;
 pub mod shape;
+pub mod step;
 
 pub use error::{Error, ErrorKind, Result};
 pub use model::{

@@ -5,11 +5,13 @@ mod compose;
 mod pointcalc;
 mod render;
 mod serve;
+mod step;
 
 pub use compose::*;
 pub use pointcalc::*;
 pub use render::*;
 pub use serve::*;
+pub use step::*;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
@@ -59,6 +61,11 @@ pub enum Command {
     /// The editor in the browser: a local server of the page and a JSON API
     /// (docs/serve-api.md) on 127.0.0.1.
     Serve(ServeArgs),
+    /// Exact geometry to STEP (ISO 10303-21, AP214/AP242): curves, surfaces, composite
+    /// surfaces and closed bodies as B-spline entities that CAD systems read.
+    Export(ExportArgs),
+    /// The B-spline and Bézier curves and surfaces of a STEP file as model files.
+    Import(ImportArgs),
 }
 
 /// `geomkit bezier ...`

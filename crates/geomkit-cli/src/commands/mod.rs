@@ -10,3 +10,4 @@ pub mod piecewise;
 pub mod pointcalc;
 pub mod render;
 pub mod serve;
+pub mod step;

@@ -11,6 +11,7 @@ mod bspline;
 mod compose;
 mod gallery;
 mod pointcalc;
+mod step;
 
 use crate::cli::DemoArgs;
 use crate::model::{to_json, BezierModel, ErrorReport};
@@ -30,6 +31,7 @@ const MODULES: &[fn() -> Vec<Item>] = &[
     compose::items,
     pointcalc::items,
     gallery::items,
+    step::items,
 ];
 
 /// One demo item: a figure or table of a paper, reproduced.
