@@ -443,6 +443,17 @@ def write_models(geomkit, work):
     save("bezier_surface", {"type": "bezier_surface",
                             "net": [[[i, j, math.sin(i + 0.3 * j)] for j in range(5)]
                                     for i in range(4)]})
+    # Rational Bézier surfaces: an octant of the unit sphere (w_ij = w_i w_j, a pole where
+    # one side collapses) and a saddle with uneven weights.
+    octant = [[[r * c, r * sn, z] for r, z in [(1, 0), (1, 1), (0, 1)]]
+              for c, sn in [(1, 0), (1, 1), (0, 1)]]
+    w = [1, h, 1]
+    save("rational_sphere_octant", {"type": "bezier_surface", "net": octant,
+                                    "weights": [[a * b for b in w] for a in w]})
+    save("rational_saddle", {"type": "bezier_surface",
+                             "net": [[[i, j, (i - 1.5) * (j - 1) * 0.5] for j in range(3)]
+                                     for i in range(4)],
+                             "weights": [[1, 2, 1], [0.5, 3, 1], [1, 0.25, 2], [1, 1, 1]]})
     # Interpolated curves: SciPy's form (clamped), the paper's extended knots, periodic.
     t = np.linspace(0, 2 * math.pi, 12, endpoint=False)
     pts = np.column_stack([np.cos(t) * (2 + 0.3 * np.sin(3 * t)), np.sin(t) * 2, 0.5 * np.cos(2 * t)])
