@@ -468,9 +468,9 @@ fn write_change(change: Change, format: Format, output: Option<&Path>) -> Result
         // them either.
         if !(e.l2.is_finite() && e.linf_bound.is_finite()) {
             bail!(
-                "{}: the error of the approximate reduction overflows f64 (L2 error {}, bound \
-                 {}): control points this large cannot be reduced approximately; scale the \
-                 curve down first",
+                "{}: the error of the approximate reduction overflows f64 (L2 error {:.3e}, \
+                 bound {:.3e}): control points this large cannot be reduced approximately; \
+                 scale the curve down first",
                 change.input.display(),
                 e.l2,
                 e.linf_bound
