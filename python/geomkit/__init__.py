@@ -40,7 +40,18 @@ from ._bezier import __all__ as _bezier_all
 from ._bspline import BSpline, make_interp_spline
 from ._compose import *  # noqa: F403
 from ._compose import __all__ as _compose_all
-from ._model import Drawable, Mesh, MeshReport, Model, Polyline, load, loads
+from ._model import (
+    Drawable,
+    Mesh,
+    MeshReport,
+    Model,
+    Polyline,
+    StepImport,
+    StepModel,
+    load,
+    loads,
+    read_step,
+)
 from ._netsurface import BSplineSurface, make_interp_surface
 from ._pointcalc import *  # noqa: F403
 from ._pointcalc import __all__ as _pointcalc_all
@@ -58,12 +69,15 @@ __all__ = sorted(
         "Model",
         "Polyline",
         "RectBivariateSpline",
+        "StepImport",
+        "StepModel",
         "load",
         "loads",
         "make_interp_spline",
         "make_interp_surface",
         "make_splprep",
         "progress",
+        "read_step",
         *_bezier_all,
         *_compose_all,
         *_pointcalc_all,

@@ -24,7 +24,7 @@ import re
 import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -63,16 +63,64 @@ class Drawable:
         return self._model().to_json()
 
     def save(self, path: str | os.PathLike[str]) -> None:
-        """Writes the model file to `path`, atomically (a failed write leaves no file).
+        """Writes the model to `path`, atomically (a failed write leaves no file): the model
+        file (JSON, what the CLI reads), or a STEP file for a path ending in ``.step`` /
+        ``.stp`` (`to_step`, named after the file).
 
         Raises
         ------
         ValueError
-            If a number of the model is not finite.
+            If a number of the model is not finite, or (STEP) the model has no exact
+            B-spline form.
         OSError
             If the file cannot be written.
         """
-        _write_atomic(_path(path), self.to_json().encode("utf-8"))
+        target = _path(path)
+        stem, ext = os.path.splitext(os.path.basename(target))
+        if ext.lower() in _STEP_SUFFIXES:
+            data = self.to_step(name=stem or "geomkit")
+        else:
+            data = self.to_json()
+        _write_atomic(target, data.encode("utf-8"))
+
+    def to_step(self, name: str = "geomkit", schema: Literal["ap214", "ap242"] = "ap214") -> str:
+        """The model as a STEP file (ISO 10303-21 text) with its exact geometry, as ``geomkit
+        export`` writes it: curves as ``B_SPLINE_CURVE_WITH_KNOTS`` edges (the rational
+        complex entity for weights), surfaces as faces bounded by their sides, composite
+        surfaces as faces sewn along shared edges, closed bodies as a ``MANIFOLD_SOLID_BREP``
+        (planes as degree-1 B-spline surfaces, circles as rational quadratics). Every real
+        is written with the shortest digits that read back to the same float; the same
+        model gives the same text.
+
+        Parameters
+        ----------
+        name : str, optional
+            The product's name in the file.
+        schema : {"ap214", "ap242"}, optional
+            The application protocol (AP214 is read by every STEP reader).
+
+        Returns
+        -------
+        str
+
+        Raises
+        ------
+        ValueError
+            For a model with no exact B-spline form (formulas, point-calculus models,
+            samples), points of a dimension other than 2 or 3, an unknown schema.
+
+        Examples
+        --------
+        >>> import geomkit
+        >>> text = geomkit.BezierCurve([[0, 0, 0], [1, 2, 0], [3, 1, 1]]).to_step()
+        >>> text.startswith("ISO-10303-21;") and "B_SPLINE_CURVE_WITH_KNOTS" in text
+        True
+        """
+        if not isinstance(name, str):
+            raise TypeError(f"name must be a str, not {type(name).__name__}")
+        if not isinstance(schema, str):
+            raise TypeError(f"schema must be a str, not {type(schema).__name__}")
+        return _geomkit.step_write(self._model(), name, schema)
 
     def mesh(
         self, tolerance: float | None = None, samples: int | tuple[int, int] | None = None
@@ -390,19 +438,29 @@ def loads(text: str) -> Any:
 def load(path: str | os.PathLike[str]) -> Any:
     """Reads a model file written by the CLI, the editor or `Drawable.save`.
 
-    Any JSON model file (every ``"type"`` of docs/formats.md), or a B-spline curve's
+    Any JSON model file (every ``"type"`` of docs/formats.md), a B-spline curve's
     control points as CSV or ``.npy`` (one point per row) with its knots in the sibling
     ``NAME.knots.EXT``, as ``geomkit interpolate curve --control -o NAME.EXT`` writes them
-    (the degree is len(knots) - len(points) - 1).
+    (the degree is len(knots) - len(points) - 1), or a STEP file (``.step`` / ``.stp``)
+    that holds exactly one curve or surface (`read_step` reads every one of a file).
 
     Raises
     ------
     ValueError
-        If the file is not a model file (the message names the file and the JSON path).
+        If the file is not a model file (the message names the file and the JSON path, or
+        the STEP entity), or a STEP file holds no or several curves and surfaces.
     OSError
         If the file cannot be read.
     """
     path = _path(path)
+    if os.path.splitext(path)[1].lower() in _STEP_SUFFIXES:
+        found = read_step(path)
+        if len(found.models) != 1:
+            raise ValueError(
+                f"{path}: the STEP file holds {len(found.models)} curves and surfaces; "
+                "geomkit.read_step(path) reads each of them"
+            )
+        return found.models[0].model
     if os.path.splitext(path)[1].lower() in (".csv", ".npy"):
         text = _control_pair_json(path)
     else:
@@ -412,6 +470,89 @@ def load(path: str | os.PathLike[str]) -> Any:
         return loads(text)
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
+
+
+_STEP_SUFFIXES = (".step", ".stp")
+
+
+class StepModel(NamedTuple):
+    """One curve or surface of a STEP file (`read_step`)."""
+
+    entity: int
+    """The entity number (``#123``) it was read from."""
+    type: str
+    """The entity's type (``B_SPLINE_SURFACE_WITH_KNOTS``; a complex instance's records
+    joined by ``+``)."""
+    name: str
+    """The entity's name in the file (may be empty)."""
+    model: Any
+    """The object of its kind (`geomkit.BSpline`, `geomkit.BezierSurface`, ...)."""
+    note: str | None
+    """What changed on the way, if anything (a trimming not kept, a reparametrization)."""
+
+
+class StepImport(NamedTuple):
+    """What a STEP file held (`read_step`)."""
+
+    models: list[StepModel]
+    """The curves and surfaces, in the order of their entity numbers."""
+    skipped: str
+    """The entities not imported, counted by reason (empty if none)."""
+    length_unit: str | None
+    """The file's length unit (``"MILLI METRE"``, ``"INCH"``, ...) when it names one: the
+    coordinates are as written, in that unit."""
+
+
+def read_step(path: str | os.PathLike[str]) -> StepImport:
+    """Reads the B-spline and Bézier curves and surfaces of a STEP file (ISO 10303-21), as
+    ``geomkit import`` does: B_SPLINE_CURVE_WITH_KNOTS, BEZIER_CURVE,
+    B_SPLINE_SURFACE_WITH_KNOTS, BEZIER_SURFACE (simple and complex instances, rational
+    Bézier curves and surfaces of one span), faces on a PLANE as degree-1 patches. Files
+    written by `Drawable.save` / ``geomkit export`` read back to the same control points,
+    weights and knots bit for bit.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.step`` / ``.stp`` file.
+
+    Returns
+    -------
+    StepImport
+        The models (objects of their kinds), what was skipped, the length unit.
+
+    Raises
+    ------
+    ValueError
+        For a file that is not STEP, is truncated, has dangling or cyclic references or
+        wrong parameters (the message names the entity, ``#12: ...``), or holds nothing
+        geomkit reads.
+    OSError
+        If the file cannot be read.
+
+    Examples
+    --------
+    >>> import os, tempfile, geomkit
+    >>> c = geomkit.BezierCurve([[0, 0, 0], [1, 2, 0], [3, 1, 1]])
+    >>> path = os.path.join(tempfile.mkdtemp(), "c.step")
+    >>> c.save(path)
+    >>> found = geomkit.read_step(path)
+    >>> found.models[0].model == c
+    True
+    """
+    path = _path(path)
+    with open(path, encoding="utf-8", errors="replace") as f:
+        text = f.read()
+    try:
+        models, skipped, unit = _geomkit.step_read(text)
+    except ValueError as e:
+        raise ValueError(f"{path}: {e}") from None
+    out = []
+    for entity, kind, name, core, note in models:
+        factory = _LOADERS.get(core.kind)
+        obj = factory(core) if factory is not None else Model(core)
+        out.append(StepModel(entity, kind, name, obj, note))
+    return StepImport(out, skipped, unit)
 
 
 def _knots_sibling(path: str) -> str:

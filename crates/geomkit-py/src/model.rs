@@ -9,6 +9,7 @@
 //! picture of `geomkit-plot`. Every tessellation and picture runs with the GIL released.
 
 use geomkit::mesh::{self, MeshReport, ObjNormals, Polyline, TriMesh};
+use geomkit_model::step;
 use geomkit_model::{AnyModel, Loaded, ModelFile, Sampling, Shape, Tessellation};
 use geomkit_plot::figures::View;
 use geomkit_plot::{picture_svg, svg_to_png, PictureOptions};
@@ -509,11 +510,55 @@ fn parse_model(text: &str) -> PyResult<Model> {
     Model::from_file(geomkit_model::parse_file(text).map_err(model_error)?)
 }
 
-/// Adds `Model` and `parse_model` to the module.
+/// The model as a STEP file (ISO 10303-21 text, `geomkit_model::step::write`): `name` the
+/// product's name, `schema` "ap214" or "ap242". Errors (`ValueError`): a model with no exact
+/// B-spline form, an unknown schema.
+#[pyfunction]
+#[pyo3(signature = (model, name="geomkit", schema="ap214"))]
+fn step_write(py: Python<'_>, model: &Model, name: &str, schema: &str) -> PyResult<String> {
+    let schema = match schema {
+        "ap214" => step::Schema::Ap214,
+        "ap242" => step::Schema::Ap242,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "unknown STEP schema {other:?}: give \"ap214\" or \"ap242\""
+            )))
+        }
+    };
+    let options = step::WriteOptions::default()
+        .with_name(name)
+        .with_schema(schema);
+    py.detach(|| step::write(&model.model, &options))
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// One model read from a STEP file: (entity number, entity type, name, model, note).
+type StepModel = (u64, String, String, Model, Option<String>);
+
+/// The curves and surfaces of a STEP file's text (`geomkit_model::step::read`): the models in
+/// the order of their entity numbers, the skipped entities in one phrase, the file's length
+/// unit. Errors (`ValueError`): the file's first problem, naming the entity (`#12: ...`).
+#[pyfunction]
+fn step_read(py: Python<'_>, text: &str) -> PyResult<(Vec<StepModel>, String, Option<String>)> {
+    let import = py
+        .detach(|| step::read(text))
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let summary = import.skipped_summary();
+    let models = import
+        .models
+        .into_iter()
+        .map(|m| Ok((m.id, m.entity, m.name, Model::from_file(m.file)?, m.note)))
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok((models, summary, import.length_unit))
+}
+
+/// Adds `Model`, `parse_model` and the STEP functions to the module.
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_class::<Mesh>()?;
     m.add_function(wrap_pyfunction!(mesh_polyline, m)?)?;
     m.add_function(wrap_pyfunction!(parse_model, m)?)?;
+    m.add_function(wrap_pyfunction!(step_write, m)?)?;
+    m.add_function(wrap_pyfunction!(step_read, m)?)?;
     Ok(())
 }

@@ -1,0 +1,128 @@
+"""STEP from Python (issue 26): `Drawable.save("x.step")` / `to_step()`, `geomkit.load` and
+`geomkit.read_step` of .step files. References: the objects' own arrays (a round trip gives
+the same control points, weights and knots bit for bit), a structural Part 21 check written
+here (every instance defined once, every reference defined), files written by OpenCASCADE
+(the Rust tests' fixtures, made by bench/compat_step.sh), and the CLI's `geomkit export`."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import geomkit
+
+ROOT = Path(__file__).resolve().parents[2]
+CLI = ROOT / "target" / "release" / "geomkit"
+FIXTURES = ROOT / "crates" / "geomkit-model" / "tests" / "fixtures" / "step"
+H = np.sqrt(0.5)
+
+
+def part21(text: str) -> dict[int, str]:
+    """The instances of an ISO 10303-21 file ({number: record}), checked: header and trailer
+    present, every instance defined once, every reference to a defined instance."""
+    assert text.startswith("ISO-10303-21;") and text.rstrip().endswith("END-ISO-10303-21;")
+    data = text[text.index("DATA;") + 5:text.index("ENDSEC;", text.index("DATA;"))]
+    instances: dict[int, str] = {}
+    for m in re.finditer(r"#(\d+)\s*=\s*(.*?);\s*(?=#\d+\s*=|$)", data, re.S):
+        n = int(m.group(1))
+        assert n not in instances, f"#{n} defined twice"
+        instances[n] = m.group(2)
+    assert instances
+    for record in instances.values():
+        for ref in re.findall(r"#(\d+)", record):
+            assert int(ref) in instances, f"#{ref} is not defined"
+    return instances
+
+
+def models():
+    x = np.linspace(0.0, 3.0, 9)
+    spline = geomkit.make_interp_spline(x, np.column_stack([x, np.sin(x), np.cos(2 * x)]))
+    return [
+        ("spline", spline),
+        ("bezier", geomkit.BezierCurve([[0, 0, 0], [1, 2, 0.5], [3, 1, 1], [4, 0, 2]])),
+        ("arc", geomkit.BezierCurve([[1, 0], [1, 1], [0, 1]], weights=[1, H, 1])),
+        ("cylinder", geomkit.BezierSurface(
+            [[[1, 0, 0], [1, 0, 2]], [[1, 1, 0], [1, 1, 2]], [[0, 1, 0], [0, 1, 2]]],
+            weights=[[1, 1], [H, H], [1, 1]])),
+        ("net", geomkit.make_interp_surface(
+            np.array([[[i, j, np.sin(i + 0.5 * j)] for j in range(5)] for i in range(6)],
+                     dtype=float))),
+    ]
+
+
+@pytest.mark.parametrize("name, obj", models(), ids=[m[0] for m in models()])
+def test_round_trip_is_bit_for_bit(tmp_path, name, obj):
+    path = tmp_path / f"{name}.step"
+    obj.save(path)
+    text = path.read_text()
+    part21(text)
+    assert f"'{name}'" in text  # the product is named after the file
+    back = geomkit.load(path)
+    assert type(back) is type(obj)
+    for attr in ("t", "c", "points", "weights", "net"):
+        if hasattr(obj, attr) and getattr(obj, attr) is not None:
+            a, b = np.asarray(getattr(obj, attr)), np.asarray(getattr(back, attr))
+            if attr in ("points", "net") and b.shape[-1] == a.shape[-1] + 1:
+                # Points in R^2 are written with z = 0 (STEP geometry lives in R^3).
+                assert np.all(b[..., -1] == 0)
+                b = b[..., :-1]
+            assert a.shape == b.shape and np.array_equal(a, b), attr
+    if hasattr(obj, "control_points"):
+        assert np.array_equal(obj.control_points, back.control_points)
+    # The same text twice, and the CLI's export of the saved model file says the same.
+    assert obj.to_step(name=name) == text
+    json_path = tmp_path / f"{name}.json"
+    obj.save(json_path)
+    out = tmp_path / f"cli-{name}.step"
+    subprocess.run([str(CLI), "export", str(json_path), "-o", str(out), "--name", name],
+                   check=True, capture_output=True)
+    assert out.read_text() == text
+
+
+def test_bodies_are_closed_solids():
+    text = geomkit.body("cube").to_step(schema="ap242")
+    inst = part21(text)
+    records = list(inst.values())
+    assert sum(r.startswith("MANIFOLD_SOLID_BREP") for r in records) == 1
+    assert sum(r.startswith("ADVANCED_FACE") for r in records) == 6
+    assert sum(r.startswith("EDGE_CURVE") for r in records) == 12
+    assert sum(r.startswith("VERTEX_POINT") for r in records) == 8
+    assert "AP242" in text.upper()
+
+
+def test_files_written_by_opencascade():
+    box = geomkit.read_step(FIXTURES / "occt_box.step")
+    assert len(box.models) == 6 and all(isinstance(m.model, geomkit.BezierSurface)
+                                         for m in box.models)
+    corners = np.unique(np.round(np.concatenate(
+        [m.model.net.reshape(-1, 3) for m in box.models]), 9), axis=0)
+    assert corners.shape == (8, 3)
+    curve = geomkit.load(FIXTURES / "occt_bezier_curve.step")
+    assert isinstance(curve, geomkit.BezierCurve)
+    surface = geomkit.load(FIXTURES / "occt_bspline_surface.step")
+    assert surface.describe().startswith("B-spline surface")
+    with pytest.raises(ValueError, match="holds 6 curves and surfaces.*read_step"):
+        geomkit.load(FIXTURES / "occt_box.step")
+
+
+def test_bad_files_and_models(tmp_path):
+    good = geomkit.BezierCurve([[0, 0, 0], [1, 1, 1]]).to_step()
+    cut = tmp_path / "cut.step"
+    cut.write_text(good[: len(good) // 2])
+    with pytest.raises(ValueError, match="cut.step"):
+        geomkit.read_step(cut)
+    dangling = tmp_path / "dangling.step"
+    dangling.write_text(re.sub(r"CARTESIAN_POINT\('',\(", "CARTESIAN_POINT('',#9999,(", good,
+                               count=1))
+    with pytest.raises(ValueError, match="#"):
+        geomkit.read_step(dangling)
+    pm = geomkit.PointModel.fit({"t": [0.0, 0.5, 1.0]}, [0.0, 1.0, 0.0])
+    with pytest.raises(ValueError, match="point"):
+        pm.save(tmp_path / "pm.step")
+    assert not (tmp_path / "pm.step").exists()
+    with pytest.raises(ValueError, match="schema"):
+        geomkit.BezierCurve([[0, 0], [1, 1]]).to_step(schema="ap203")
