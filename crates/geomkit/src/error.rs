@@ -97,6 +97,16 @@ pub enum Error {
         /// Why it is invalid.
         reason: &'static str,
     },
+    /// A row of a rational surface's weights whose length is not the net's row length.
+    #[error("row {row} of the weights has {got} weights for {expected} control points")]
+    WeightRow {
+        /// The row index i.
+        row: usize,
+        /// The net's row length.
+        expected: usize,
+        /// The length of this row of weights.
+        got: usize,
+    },
     /// A weight of a rational surface's net that is not strictly positive.
     #[error("weight ({row}, {col}) of the net is {value}; weights must be finite and > 0")]
     InvalidNetWeight {

@@ -45,7 +45,7 @@ pub struct RationalBezierSurface {
     weights: Vec<f64>,
 }
 
-/// A weight error of the row-major net position `k` named by its row and column.
+/// An invalid weight at a row-major net index, named by its row and column.
 fn net_weight_error(error: Error, cols: usize) -> Error {
     match error {
         Error::InvalidWeight { index, value } => Error::InvalidNetWeight {
@@ -64,15 +64,22 @@ impl RationalBezierSurface {
     /// power of two (the same surface).
     ///
     /// Errors: those of [`BezierSurface::new`]; [`Error::WeightCount`] when `weights` has
-    /// another number of rows or a row another length than the net (the counts of all
-    /// weights and points); [`Error::InvalidNetWeight`] naming the first weight that is not
-    /// finite and > 0.
+    /// another number of rows than the net (the counts of all weights and points),
+    /// [`Error::WeightRow`] when a row has another length; [`Error::InvalidNetWeight`] naming
+    /// the first weight that is not finite and > 0.
     pub fn new(net: Vec<Vec<Vec<f64>>>, weights: Vec<Vec<f64>>) -> Result<Self> {
         let (rows, cols, dim, flat) = flatten_grid("control net", &net)?;
-        if weights.len() != rows || weights.iter().any(|w| w.len() != cols) {
+        if weights.len() != rows {
             return Err(Error::WeightCount {
                 expected: rows * cols,
                 got: weights.iter().map(Vec::len).sum(),
+            });
+        }
+        if let Some(row) = weights.iter().position(|w| w.len() != cols) {
+            return Err(Error::WeightRow {
+                row,
+                expected: cols,
+                got: weights[row].len(),
             });
         }
         Self::from_flat(rows, cols, dim, flat, weights.concat())
@@ -390,10 +397,18 @@ mod tests {
             })
         );
         assert_eq!(
-            RationalBezierSurface::new(net, vec![vec![1.0, 1.0], vec![1.0]]),
+            RationalBezierSurface::new(net.clone(), vec![vec![1.0, 1.0], vec![1.0]]),
+            Err(Error::WeightRow {
+                row: 1,
+                expected: 2,
+                got: 1
+            })
+        );
+        assert_eq!(
+            RationalBezierSurface::new(net, vec![vec![1.0, 1.0]]),
             Err(Error::WeightCount {
                 expected: 4,
-                got: 3
+                got: 2
             })
         );
     }
