@@ -608,19 +608,24 @@ const removePoint = act(async (i) => {
 // ---------------------------------------------------------------------------------------
 // Degree controls
 
+/** Takes the API's answer of an exact change of degree as the new curve (one undo step). */
+async function takeDegreeChange(r, message) {
+  proposal = null;
+  hideApprox();
+  doc.bezier.points = r.model.points;
+  commit();
+  lastFormulaKey = '';
+  needFit = 'if-hidden';
+  refresh();
+  await scheduler.idle();
+  status(message);
+}
+
 $('deg-up').addEventListener('click', act(async () => {
   try {
     const n = doc.bezier.points.length - 1;
     const r = await post('/api/bezier/elevate', { model: model(), to: n + 1 });
-    proposal = null;
-    hideApprox();
-    doc.bezier.points = r.model.points;
-    commit();
-    lastFormulaKey = '';
-    needFit = 'if-hidden';
-    refresh();
-    await scheduler.idle();
-    status(`Elevated to degree ${n + 1}: the same curve, one more control point.`);
+    await takeDegreeChange(r, `Elevated to degree ${n + 1}: the same curve, one more control point.`);
   } catch (e) { showError(e); }
 }));
 
@@ -629,15 +634,7 @@ $('deg-down').addEventListener('click', act(async () => {
   if (n === 0) return;
   try {
     const r = await post('/api/bezier/reduce', { model: model(), to: n - 1 });
-    proposal = null;
-    hideApprox();
-    doc.bezier.points = r.model.points;
-    commit();
-    lastFormulaKey = '';
-    needFit = 'if-hidden';
-    refresh();
-    await scheduler.idle();
-    status(`Reduced exactly to degree ${n - 1}: the same curve.`);
+    await takeDegreeChange(r, `Reduced exactly to degree ${n - 1}: the same curve.`);
   } catch (e) {
     if (e instanceof ApiError && e.body.reason === 'real_degree') {
       showRefusal(e, n - 1);

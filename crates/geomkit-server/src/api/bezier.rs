@@ -162,24 +162,40 @@ pub async fn elevate(
                 BezierModel::Rational(r.elevate_degree(n).map_err(geometry)?)
             }
             (BezierModel::Surface(_) | BezierModel::RationalSurface(_), Degrees::Two([n, m])) => {
-                let (a, b) = model.surface_degrees().unwrap_or((0, 0));
-                if n < a || m < b {
-                    return Err(ApiError::unprocessable(format!(
-                        "cannot elevate degrees ({a}, {b}) to ({n}, {m}): elevation needs \
-                         degrees >= the current ones"
-                    )));
-                }
                 check_points("to", (n + 1) * (m + 1), &limits)?;
-                model
-                    .change_surface_degree(n, m, None)
-                    .expect("a surface")
-                    .map_err(geometry)?
+                change_surface(&model, [n, m], true, None)?.map_err(geometry)?
             }
             _ => unreachable!("checked by target()"),
         };
         changed(new, None)
     })
     .await
+}
+
+/// Formula (14) on a (rational) surface, elevating (`up`) or reducing both degrees; a 422
+/// when a target goes the other way. The library's error, if any, is for the caller to map.
+fn change_surface(
+    model: &BezierModel,
+    [n, m]: [usize; 2],
+    up: bool,
+    tol: Option<f64>,
+) -> ApiResult<Result<BezierModel, geomkit::Error>> {
+    let (a, b) = model.surface_degrees().unwrap_or((0, 0));
+    let wrong_way = if up { n < a || m < b } else { n > a || m > b };
+    if wrong_way {
+        let (verb, noun, cmp) = if up {
+            ("elevate", "elevation", ">=")
+        } else {
+            ("reduce", "reduction", "<=")
+        };
+        return Err(ApiError::unprocessable(format!(
+            "cannot {verb} degrees ({a}, {b}) to ({n}, {m}): {noun} needs degrees {cmp} the \
+             current ones"
+        )));
+    }
+    Ok(model
+        .change_surface_degree(n, m, tol)
+        .expect("called for surfaces only"))
 }
 
 /// The library's refusal of an exact reduction as a 422 naming the real degree.
@@ -222,17 +238,7 @@ pub async fn reduce(
                 BezierModel::Rational(r.reduce_degree(n, tol).map_err(refusal)?)
             }
             (BezierModel::Surface(_) | BezierModel::RationalSurface(_), Degrees::Two([n, m])) => {
-                let (a, b) = model.surface_degrees().unwrap_or((0, 0));
-                if n > a || m > b {
-                    return Err(ApiError::unprocessable(format!(
-                        "cannot reduce degrees ({a}, {b}) to ({n}, {m}): reduction needs \
-                         degrees <= the current ones"
-                    )));
-                }
-                model
-                    .change_surface_degree(n, m, tol)
-                    .expect("a surface")
-                    .map_err(refusal)?
+                change_surface(&model, [n, m], false, tol)?.map_err(refusal)?
             }
             _ => unreachable!("checked by target()"),
         };
