@@ -46,6 +46,21 @@ def test_not_a_knot_every_degree(k, trailing):
     compare(x, y, k, bc_type="not-a-knot")
 
 
+@pytest.mark.parametrize("uniform", [False, True])
+def test_long_cubic_not_a_knot(uniform):
+    """From 2**16 points the default cubic is solved in the extended form and converted to
+    SciPy's basis (crates/geomkit/src/bspline/scipy_cubic.rs): the same knots, the same
+    coefficients to rounding, ends and seams included."""
+    n = (1 << 16) + 11
+    x, y = data(n, (3,), seed=5)
+    if uniform:
+        x = np.arange(n, dtype=np.float64) * 0.25 - 7.0
+    ours, theirs = compare(x, y, 3, rel=1e-12)
+    assert_near(ours(x), y, rel=1e-13, what="at the data")
+    for part in (slice(0, 8), slice(n - 8, n), slice(n // 2 - 4, n // 2 + 4)):
+        assert_near(ours.c[part], theirs.c[part], rel=1e-13, what=f"c[{part}]")
+
+
 @pytest.mark.parametrize("bc", ["natural", "clamped", ("natural", "clamped"),
                                 ("clamped", None), (None, "natural")])
 def test_named_conditions_cubic(bc):

@@ -794,16 +794,20 @@ impl Solver1d {
         // by a power of two (exact) that brings their span near 1, where d/ds = 2^e d/dt;
         // a given or estimated tangent (order 1) is scaled to match (`tangent_scale`).
         let e = ((knots[n + 5] - knots[0]).log2().floor() as i32).clamp(-1000, 1000);
-        let scaled: Vec<f64> = knots.iter().map(|k| k * 2f64.powi(-e)).collect();
+        let s = 2f64.powi(-e);
         let tangent_scale = 2f64.powi(e);
-        let t = &scaled[3..n + 3];
+        let t = [knots[3] * s, knots[n + 2] * s];
+        // The rows at the ends read the scaled knots around their span only (a copy of all
+        // of them was a pass and an allocation as large as the parameters).
         let deriv = |span: usize, at: f64, k: usize| -> Vec<f64> {
-            basis_funs_derivs(&scaled, span, at, 3, k)[k][..4].to_vec()
+            let local: Vec<f64> = knots[span - 3..=span + 4].iter().map(|v| v * s).collect();
+            basis_funs_derivs(&local, 3, at, 3, k)[k][..4].to_vec()
         };
         // Jump of the third derivative at the knot after span `left`.
         let jump = |left: usize| -> Vec<f64> {
-            let l = deriv(left, scaled[left + 1], 3);
-            let r = deriv(left + 1, scaled[left + 1], 3);
+            let at = knots[left + 1] * s;
+            let l = deriv(left, at, 3);
+            let r = deriv(left + 1, at, 3);
             let mut c = vec![0.0; 5];
             for k in 0..4 {
                 c[k] += l[k];
@@ -816,7 +820,7 @@ impl Solver1d {
             let (span, at, first) = if at_start {
                 (3, t[0], 0)
             } else {
-                (nc - 1, t[n - 1], nc - 4)
+                (nc - 1, t[1], nc - 4)
             };
             Ok(match cond {
                 EndCondition::Natural => (first, deriv(span, at, 2), EndRhs::Zero),
@@ -880,7 +884,8 @@ impl Solver1d {
         let start = equilibrate(row_for(start_cond, true)?);
         let finish = equilibrate(row_for(end_cond, false)?);
         let end_rows = || ((start.0, start.1.clone()), (finish.0, finish.1.clone()));
-        let (sys, interp_scale) = match is_uniform(t) {
+        // Uniform on the scaled knots exactly when on the given ones (a power of two).
+        let (sys, interp_scale) = match is_uniform(&knots[3..n + 3]) {
             true => (TridiagSystem::toeplitz(nc, end_rows().0, end_rows().1), 6.0),
             false => (None, 1.0),
         };

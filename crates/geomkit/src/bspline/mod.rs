@@ -28,6 +28,7 @@ mod interpolate;
 mod locate;
 mod piecewise;
 mod sample;
+mod scipy_cubic;
 mod spline;
 mod surface;
 mod tiles;
