@@ -52,6 +52,24 @@ def test_knots_coefficients_and_values(kx, ky):
     assert_near(ours.ev(px, 0.5), theirs.ev(px, 0.5), rel=1e-8)
 
 
+def test_large_bicubic_grid():
+    """From 2**16 heights the bicubic is solved in the extended form and changed to
+    FITPACK's basis per direction (crates/geomkit/src/bspline/scipy_cubic.rs): the same
+    knots, the same coefficients to rounding, edges and corners included."""
+    x, y, z = grid(300, 231, seed=7)
+    ours, theirs = both(x, y, z)
+    for a, b in zip(ours.get_knots(), theirs.get_knots()):
+        assert_near(a, b, rel=1e-15, what="knots")
+    c, d = ours.get_coeffs().reshape(300, 231), theirs.get_coeffs().reshape(300, 231)
+    assert_near(c, d, rel=1e-12, what="coefficients")
+    for rows in (slice(0, 5), slice(-5, None)):
+        for cols in (slice(0, 5), slice(-5, None)):
+            assert_near(c[rows, cols], d[rows, cols], rel=1e-13, what="a corner")
+    assert_near(ours(x, y), z, rel=1e-13, what="interpolates")
+    xs, ys = np.linspace(x[0] - 1, x[-1] + 1, 97), np.linspace(y[0] - 1, y[-1] + 1, 89)
+    assert_near(ours(xs, ys, dx=1, dy=1), theirs(xs, ys, dx=1, dy=1), rel=1e-11, what="d2/dxdy")
+
+
 @pytest.mark.parametrize("kx, ky", [(1, 1), (3, 3), (2, 5)])
 def test_integral(kx, ky):
     x, y, z = grid(8, 10, seed=3)

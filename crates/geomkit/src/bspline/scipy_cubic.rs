@@ -1,8 +1,10 @@
-//! The long cubic not-a-knot interpolant of [`make_interp_spline`](super::make_interp_spline)
-//! (SciPy's default, k = 3) through the paper's extended form: geomkit's cubic solver
-//! (`interpolate.rs`: the knots at every x, three more beyond each end, N + 2 coefficients,
-//! the C3 conditions at x_1 and x_(N-2) as its end rows, Thomas sweeps in parallel chunks)
-//! followed by a change of basis to SciPy's knots.
+//! Long cubic not-a-knot interpolants of [`make_interp_spline`](super::make_interp_spline)
+//! and bicubic ones of [`make_interp_surface`](super::make_interp_surface) (SciPy's
+//! defaults, k = 3, `RectBivariateSpline` with s = 0) through the paper's extended form:
+//! geomkit's cubic solvers (`interpolate.rs`, `surface.rs`: the knots at every x, three more
+//! beyond each end, N + 2 coefficients per direction, the C3 conditions at x_1 and x_(N-2)
+//! as end rows, Thomas sweeps in parallel chunks) followed by a change of basis to SciPy's
+//! knots, per direction.
 //!
 //! Both represent the one cubic spline through the data that is C3 at x_1 and x_(N-2), so
 //! the change of basis is exact in real arithmetic: a B-spline coefficient is the blossom
@@ -18,21 +20,86 @@
 //!   c_2 = Q(x_0, x_2, x_3) = e_3 + (x_0 - x_1)/(x_4 - x_1) (e_4 - e_3);
 //! - Q(x_2, x_0, x_1) = e_2 and c_2 give c_1 = Q(x_2, x_0, x_0) = e_2 + (x_0 - x_1)/(x_3 - x_1)
 //!   (c_2 - e_2);
-//! - c_0 = Q(x_0, x_0, x_0) = y_0 (the interpolation condition itself);
+//! - c_0 = Q(x_0, x_0, x_0), the value at x_0: e_0 B_0(x_0) + e_1 B_1(x_0) + e_2 B_2(x_0) in
+//!   the extended basis (y_0 for a curve through data, to rounding);
 //!
 //! and the mirror images at the right end. The ratios lie in (-1, 0): no cancellation.
 //!
-//! The cost is the cubic solve (memory-bound, in parallel) and one move of the coefficients
-//! by one row, against LU with partial pivoting of the general band (`spline.rs`) on every
-//! window: about 3 times fewer passes over the data.
+//! A surface takes the map along v in every row of its net, then along u with whole rows
+//! as the points. The cost is the cubic solve (memory-bound, in parallel) and one move of
+//! the coefficients, in place, against LU with partial pivoting of the general band
+//! (`spline.rs`) on every window: several times fewer passes over the data.
 
-use super::curve::BsplineCurve;
+use super::curve::{basis_funs, BsplineCurve};
 use super::interpolate::{knots_around, EndCondition, Parametrization, Solver1d};
+use super::spline::not_a_knot_knots;
+use super::surface::{interpolate_heights_at, BsplineSurface};
 use crate::par::*;
 
-/// Fewest points for [`not_a_knot_cubic`]: below this the general band solve (with its
-/// iterative refinement) is as fast, and its results stay those it has always given.
+/// Fewest numbers (points, or grid values) for the fast paths: below this the general band
+/// solve (with its iterative refinement) is as fast, and its results stay those it has
+/// always given.
 pub(super) const MIN_POINTS: usize = 1 << 16;
+
+/// How SciPy's three coefficients at one end come from the extended form's five there
+/// (e_0..e_4 counted from that end; module docs).
+#[derive(Debug, Clone, Copy)]
+struct EndMap {
+    /// B_0, B_1, B_2 of the extended knots at the end knot.
+    b: [f64; 3],
+    /// (x_0 - x_1) / (x_4 - x_1): c_2 = e_3 + a (e_4 - e_3).
+    a: f64,
+    /// (x_0 - x_1) / (x_3 - x_1): c_1 = e_2 + r (c_2 - e_2).
+    r: f64,
+}
+
+impl EndMap {
+    /// The maps of the two ends for the extended knots `t` (N + 6 of them, x_i at t[i + 3];
+    /// N >= 5).
+    fn pair(t: &[f64]) -> [EndMap; 2] {
+        let n = t.len() - 6;
+        let x = |i: usize| t[i + 3];
+        // B_0..B_3 at x_0 (B_3 = 0) and B_(N-2)..B_(N+1) at x_(N-1) (B_(N-2) = 0).
+        let (mut left, mut right) = ([0.0; 4], [0.0; 4]);
+        basis_funs(t, 3, x(0), 3, &mut left);
+        basis_funs(t, n + 1, x(n - 1), 3, &mut right);
+        let map = |b, [x0, x1, x3, x4]: [f64; 4]| EndMap {
+            b,
+            a: (x0 - x1) / (x4 - x1),
+            r: (x0 - x1) / (x3 - x1),
+        };
+        [
+            map([left[0], left[1], left[2]], [x(0), x(1), x(3), x(4)]),
+            map(
+                [right[3], right[2], right[1]],
+                [x(n - 1), x(n - 2), x(n - 4), x(n - 5)],
+            ),
+        ]
+    }
+
+    /// c_0, c_1, c_2 from e_0..e_4 (points of any one length), written into `out`.
+    fn apply(&self, e: [&[f64]; 5], out: [&mut [f64]; 3]) {
+        let [c0, c1, c2] = out;
+        for k in 0..e[0].len() {
+            c0[k] = self.b[0] * e[0][k] + self.b[1] * e[1][k] + self.b[2] * e[2][k];
+            c2[k] = e[3][k] + self.a * (e[4][k] - e[3][k]);
+            c1[k] = e[2][k] + self.r * (c2[k] - e[2][k]);
+        }
+    }
+
+    /// The three coefficients of one scalar sequence `e` at this end (`from_right`: counted
+    /// from its end).
+    fn scalars(&self, e: &[f64], from_right: bool) -> [f64; 3] {
+        let m = e.len() - 1;
+        let at = |i: usize| if from_right { e[m - i] } else { e[i] };
+        let (mut c0, mut c1, mut c2) = ([0.0], [0.0], [0.0]);
+        self.apply(
+            [&[at(0)], &[at(1)], &[at(2)], &[at(3)], &[at(4)]],
+            [&mut c0, &mut c1, &mut c2],
+        );
+        [c0[0], c1[0], c2[0]]
+    }
+}
 
 /// SciPy's not-a-knot cubic through (x_i, y_i) (x strictly increasing and finite, y of N
 /// finite rows; N >= [`MIN_POINTS`]), or `None` where the general band solve must decide:
@@ -60,31 +127,29 @@ pub(super) fn not_a_knot_cubic(
         .into_curve()
         .into_parts();
     debug_assert_eq!(e.len(), (n + 2) * dim);
-    let row = |e: &[f64], i: usize| e[i * dim..(i + 1) * dim].to_vec();
     // The three coefficients at each end, from rows the move overwrites.
-    let ends = |at: [usize; 3], [x0, x1, x3, x4]: [f64; 4]| -> [Vec<f64>; 2] {
-        let (e2, e3, e4) = (row(&e, at[0]), row(&e, at[1]), row(&e, at[2]));
-        let (a, b) = ((x0 - x1) / (x4 - x1), (x0 - x1) / (x3 - x1));
-        let c2: Vec<f64> = (0..dim).map(|k| e3[k] + a * (e4[k] - e3[k])).collect();
-        let c1 = (0..dim).map(|k| e2[k] + b * (c2[k] - e2[k])).collect();
-        [c1, c2]
-    };
-    let [l1, l2] = ends([2, 3, 4], [x[0], x[1], x[3], x[4]]);
-    let [r1, r2] = ends(
-        [n - 1, n - 2, n - 3],
-        [x[n - 1], x[n - 2], x[n - 4], x[n - 5]],
-    );
+    let [left, right] = EndMap::pair(&t);
+    let mut ends = vec![0.0; 6 * dim];
+    {
+        let row = |i: usize| &e[i * dim..(i + 1) * dim];
+        let mut out = ends.chunks_exact_mut(dim);
+        let mut next = || out.next().expect("six rows");
+        left.apply(
+            [row(0), row(1), row(2), row(3), row(4)],
+            [next(), next(), next()],
+        );
+        right.apply(
+            [row(n + 1), row(n), row(n - 1), row(n - 2), row(n - 3)],
+            [next(), next(), next()],
+        );
+    }
     // c_j = e_(j+1); then the ends.
     let bounded = shift_left(&mut e, dim, limit);
     e.truncate(n * dim);
-    for (j, v) in [
-        (0, &y[..dim]),
-        (1, &l1[..]),
-        (2, &l2[..]),
-        (n - 3, &r2[..]),
-        (n - 2, &r1[..]),
-        (n - 1, &y[(n - 1) * dim..]),
-    ] {
+    for (j, v) in [0, 1, 2, n - 1, n - 2, n - 3]
+        .into_iter()
+        .zip(ends.chunks_exact(dim))
+    {
         e[j * dim..(j + 1) * dim].copy_from_slice(v);
     }
     // The extended knots [.., .., .., x_0, x_1, .., x_(N-1), .., .., ..] moved by one hold
@@ -94,6 +159,78 @@ pub(super) fn not_a_knot_cubic(
     t[..4].fill(x[0]);
     t[n..].fill(x[n - 1]);
     bounded.then(|| BsplineCurve::from_trusted(3, t, dim, e))
+}
+
+/// SciPy's not-a-knot bicubic through the heights z (row-major, x.len() × y.len(), at
+/// least 8 per direction, checked as [`super::make_interp_surface`] checks them) from the
+/// extended form's surface ([`interpolate_heights_at`]), its net changed to SciPy's basis in
+/// place; `None` as for [`not_a_knot_cubic`].
+pub(super) fn not_a_knot_bicubic(
+    x: &[f64],
+    y: &[f64],
+    z: &[f64],
+    limit: f64,
+) -> Option<BsplineSurface> {
+    let (nx, ny) = (x.len(), y.len());
+    debug_assert!(nx >= 8 && ny >= 8 && z.len() == nx * ny);
+    let (tu, tv, mut e) = interpolate_heights_at(z, x, y, &EndCondition::NotAKnot)
+        .ok()?
+        .into_parts();
+    let w = ny + 2;
+    debug_assert_eq!(e.len(), (nx + 2) * w);
+    let [vl, vr] = EndMap::pair(&tv);
+    // One row of the extended net along v: SciPy's ny numbers (`src`, `dst` apart).
+    let along_v = |src: &[f64], dst: &mut [f64]| {
+        dst[3..ny - 3].copy_from_slice(&src[4..ny - 2]);
+        let [c0, c1, c2] = vl.scalars(&src[..5], false);
+        let [d0, d1, d2] = vr.scalars(&src[w - 5..], true);
+        (dst[0], dst[1], dst[2]) = (c0, c1, c2);
+        (dst[ny - 1], dst[ny - 2], dst[ny - 3]) = (d0, d1, d2);
+    };
+    // The five rows at each end along v, then SciPy's three end rows from them.
+    let converted = |rows: [usize; 5]| -> Vec<Vec<f64>> {
+        rows.iter()
+            .map(|&i| {
+                let mut d = vec![0.0; ny];
+                along_v(&e[i * w..(i + 1) * w], &mut d);
+                d
+            })
+            .collect()
+    };
+    let [ul, ur] = EndMap::pair(&tu);
+    let mut ends = vec![0.0; 6 * ny];
+    {
+        let (l, r) = (
+            converted([0, 1, 2, 3, 4]),
+            converted([nx + 1, nx, nx - 1, nx - 2, nx - 3]),
+        );
+        fn refs(v: &[Vec<f64>]) -> [&[f64]; 5] {
+            [&v[0], &v[1], &v[2], &v[3], &v[4]]
+        }
+        let mut out = ends.chunks_exact_mut(ny);
+        let mut next = || out.next().expect("six rows");
+        ul.apply(refs(&l), [next(), next(), next()]);
+        ur.apply(refs(&r), [next(), next(), next()]);
+    }
+    // Inner rows: SciPy's row i is extended row i + 1 along v, moved forward in place (row i
+    // ends before row i + 2 begins: nothing is overwritten before it is read).
+    let mut row = vec![0.0; ny];
+    for i in 3..nx - 3 {
+        along_v(&e[(i + 1) * w..(i + 2) * w], &mut row);
+        e[i * ny..(i + 1) * ny].copy_from_slice(&row);
+    }
+    e.truncate(nx * ny);
+    for (i, v) in [0, 1, 2, nx - 1, nx - 2, nx - 3]
+        .into_iter()
+        .zip(ends.chunks_exact(ny))
+    {
+        e[i * ny..(i + 1) * ny].copy_from_slice(v);
+    }
+    let bounded = e
+        .par_chunks(1 << 16)
+        .all(|c| c.iter().fold(true, |ok, v| ok & (v.abs() <= limit)));
+    let (tx, ty) = (not_a_knot_knots(x, 3), not_a_knot_knots(y, 3));
+    bounded.then(|| BsplineSurface::from_trusted((3, 3), tx, ty, nx, ny, 1, e))
 }
 
 /// Moves `v[by..]` to `v[..len - by]` in parallel chunks (memmove is one thread): each
@@ -155,8 +292,61 @@ mod tests {
             .fold(0.0, f64::max);
         let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         assert!(worst <= 1e-14 * scale, "{worst} against data up to {scale}");
-        assert_eq!(fast[..2], y[..2]);
-        assert_eq!(fast[(n - 1) * 2..], y[(n - 1) * 2..]);
+        for (c, y) in [
+            (&fast[..2], &y[..2]),
+            (&fast[(n - 1) * 2..], &y[(n - 1) * 2..]),
+        ] {
+            assert!(
+                (c[0] - y[0]).abs() + (c[1] - y[1]).abs() <= 1e-14 * scale,
+                "end {c:?} {y:?}"
+            );
+        }
+    }
+
+    /// The bicubic against SciPy's two directions one after the other, each by the general
+    /// band solve (`make_interp_spline` of the rows of z as points, then of the transposed
+    /// net): the same knots, the same net to rounding.
+    #[test]
+    fn bicubic_equals_the_band_solves_direction_by_direction() {
+        use super::super::spline::{make_interp_spline, SplineOptions};
+        use super::super::surface::transpose;
+        let (nx, ny) = (300, 227);
+        let axis = |n: usize, s: f64| -> Vec<f64> {
+            (0..n)
+                .map(|i| i as f64 * s + ((i * 31) % 7) as f64 * s / 9.0)
+                .collect()
+        };
+        let (x, y) = (axis(nx, 0.5), axis(ny, 1.25));
+        let z: Vec<f64> = x
+            .iter()
+            .flat_map(|&a| {
+                y.iter()
+                    .map(move |&b| (a / 7.0).sin() * (b / 11.0).cos() + a * b / 1e3)
+            })
+            .collect();
+        let scale = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let s = not_a_knot_bicubic(&x, &y, &z, f64::MAX).unwrap();
+        let sx = make_interp_spline(&x, &z, ny, &SplineOptions::new(3)).unwrap();
+        let t = transpose(sx.control_flat(), nx, ny, 1);
+        let sy = make_interp_spline(&y, &t, nx, &SplineOptions::new(3)).unwrap();
+        let net = transpose(sy.control_flat(), ny, nx, 1);
+        assert_eq!(s.knots(), (sx.knots(), sy.knots()));
+        let worst = s
+            .control_flat()
+            .iter()
+            .zip(&net)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst <= 1e-13 * scale,
+            "{worst} against heights up to {scale}"
+        );
+        for (i, a) in x.iter().enumerate().step_by(13) {
+            for (j, b) in y.iter().enumerate().step_by(11) {
+                let v = s.eval(*a, *b)[0];
+                assert!((v - z[i * ny + j]).abs() <= 1e-13 * scale, "({i}, {j})");
+            }
+        }
     }
 
     #[test]

@@ -42,6 +42,11 @@ pub struct BsplineSurface {
 }
 
 impl BsplineSurface {
+    /// The knots in u and v and the net, moved out.
+    pub(crate) fn into_parts(self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        (self.knots_u, self.knots_v, self.control)
+    }
+
     /// A surface from its degrees (each 1..=7), knots in u and v, and a row-major net of
     /// `n_u × n_v` control points with `dim` coordinates.
     pub fn from_flat(
