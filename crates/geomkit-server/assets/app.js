@@ -221,15 +221,31 @@ async function computeBspline() {
     return;
   }
   const end = b.end === 'outer' ? { kind: 'outer', offset: 1 } : b.end;
-  const r = await post('/api/bspline/interpolate', {
+  const request = {
     points: b.points,
     end,
     parametrization: b.param,
     closed: b.closed,
     samples_per_span: samplesPerSpan(n),
     comb: { per_span: b.comb ? combPerSpan(n) : 0 },
-  });
+  };
+  // Dragging a point of a long open curve: only the samples and comb near it (the server's
+  // window; the rest moves by rounding only), spliced into the last full drawing. Released,
+  // the whole curve again.
+  const key = JSON.stringify([n, b.end, b.param, b.closed, b.comb]);
+  if (dragging && dragging.index >= 0 && n > WINDOW_FROM && !b.closed && drawn.model && drawn.key === key) {
+    request.window = { around: dragging.index };
+    if (drawn.comb) request.comb.scale = drawn.comb.scale;
+    const r = await post('/api/bspline/interpolate', request);
+    if (r.window && spliceWindow(r)) {
+      drawSoon();
+      return;
+    }
+  }
+  delete request.window;
+  const r = await post('/api/bspline/interpolate', request);
   drawn = {
+    key,
     curve: r.samples.points,
     t: r.samples.t,
     control: r.model.control_points,
@@ -244,6 +260,33 @@ async function computeBspline() {
   $('bs-kmax').textContent = r.comb ? fmt(r.comb.max_curvature) : '–';
   drawSoon();
   if (!dragging) status(`${r.what} through ${n} points.`);
+}
+
+/** Above this many reference points a drag asks the server for a window of the drawing. */
+const WINDOW_FROM = 200;
+
+/** Puts a window answer's samples and teeth into the drawing; false when they do not fit
+ * (the drawing changed meanwhile). */
+function spliceWindow(r) {
+  const s = r.samples;
+  if (drawn.curve.length !== s.total) return false;
+  if (r.comb && (!drawn.comb || drawn.comb.tip.length !== r.comb.total)) return false;
+  const put = (into, from, at) => { for (let i = 0; i < from.length; i++) into[at + i] = from[i]; };
+  put(drawn.curve, s.points, s.first);
+  const [a, b] = drawn.dirty || [0, 0];
+  drawn.dirty = a === b ? [s.first, s.first + s.points.length] : [Math.min(a, s.first), Math.max(b, s.first + s.points.length)];
+  put(drawn.t, s.t, s.first);
+  if (r.comb) {
+    const [c0, c1] = drawn.combDirty || [0, 0];
+    const end = r.comb.first + r.comb.tip.length;
+    drawn.combDirty = c0 === c1 ? [r.comb.first, end] : [Math.min(c0, r.comb.first), Math.max(c1, end)];
+    put(drawn.comb.base, r.comb.base, r.comb.first);
+    put(drawn.comb.tip, r.comb.tip, r.comb.first);
+    put(drawn.comb.curvature, r.comb.curvature, r.comb.first);
+    put(drawn.comb.t, r.comb.t, r.comb.first);
+  }
+  drawn.refs = doc.bspline.points;
+  return true;
 }
 
 async function computeBody() {
@@ -318,13 +361,47 @@ function drawPointsLayer(pts, r) {
   }
   const g = layer.getContext('2d');
   g.setTransform(ratio, 0, 0, ratio, 0, 0);
+  if (!pts.length) {
+    if (layer.dataset.drawn) { g.clearRect(0, 0, w, h); delete layer.dataset.drawn; }
+    return;
+  }
   g.clearRect(0, 0, w, h);
-  if (!pts.length) return;
-  const style = getComputedStyle(document.documentElement);
-  g.fillStyle = style.getPropertyValue('--ref').trim() || '#e0731c';
+  layer.dataset.drawn = '1';
+  // The colour of the stylesheet, read once (getComputedStyle in every frame recomputes style).
+  if (!refColour) refColour = getComputedStyle(document.documentElement).getPropertyValue('--ref').trim() || '#e0731c';
+  const moving = dragging && dragging.index >= 0 ? dragging.index : -1;
+  if (moving < 0) {
+    dragLayer = null;
+    dots(g, pts, -1, r, w, h);
+    return;
+  }
+  // While one point is dragged the others stay: they are drawn once into an image.
+  const key = `${view.key()}|${moving}|${pts.length}`;
+  if (!dragLayer || dragLayer.key !== key) {
+    const image = document.createElement('canvas');
+    image.width = layer.width;
+    image.height = layer.height;
+    const ig = image.getContext('2d');
+    ig.setTransform(ratio, 0, 0, ratio, 0, 0);
+    dots(ig, pts, moving, r, w, h);
+    dragLayer = { key, image };
+  }
+  g.setTransform(1, 0, 0, 1, 0, 0);
+  g.drawImage(dragLayer.image, 0, 0);
+  g.setTransform(ratio, 0, 0, ratio, 0, 0);
+  dots(g, [pts[moving]], -1, r, w, h);
+}
+
+/** The other points while one is dragged, as an image (see drawPointsLayer). */
+let dragLayer = null;
+
+/** Fills dots of radius r - 1 at the points (but point `skip`) inside the w × h view. */
+function dots(g, pts, skip, r, w, h) {
+  g.fillStyle = refColour;
   g.beginPath();
-  for (const p of pts) {
-    const [x, y] = view.toScreen(p);
+  for (let i = 0; i < pts.length; i++) {
+    if (i === skip) continue;
+    const [x, y] = view.toScreen(pts[i]);
     if (x < -r || y < -r || x > w + r || y > h + r) continue;
     g.moveTo(x + r - 1, y);
     g.arc(x, y, r - 1, 0, 2 * Math.PI);
@@ -335,62 +412,145 @@ function drawPointsLayer(pts, r) {
 /** Above this many points, they are drawn on the canvas layer. */
 const MANY_POINTS = 300;
 
-function drawSoon() {
+/** What the queued frame redraws: 'all', or only 'vertices' (a dragged point before the
+ * server's curve arrives). */
+let drawWhat = 'vertices';
+
+function drawSoon(what = 'all') {
+  if (what === 'all') drawWhat = 'all';
   if (drawQueued) return;
   drawQueued = true;
   requestAnimationFrame(() => {
     drawQueued = false;
-    draw();
+    const all = drawWhat === 'all';
+    drawWhat = 'vertices';
+    if (all) draw();
+    else drawVertices();
   });
 }
 
+/** The drawing's SVG paths, kept from frame to frame (in this order, below the vertices):
+ * a frame sets only the `d` attributes that changed, so a drag of one point of a long
+ * B-spline does not rebuild the grid, the legend or the document's elements. */
+const SLOTS = [
+  ['grid', 'grid-line', null],
+  ['axes', 'axis-line', null],
+  ['band', 'band', 'band-path'],
+  ['comb', 'comb', null],
+  ['combEdge', 'comb-edge', null],
+  ['polygon', 'polygon', 'polygon-path'],
+  ['curve', 'curve', 'curve-path'],
+  ['approx', 'curve approx', 'approx-path'],
+];
+const slots = new Map(SLOTS.map(([name, cls, id]) => {
+  const e = el('path', id ? { class: cls, id } : { class: cls });
+  return [name, e];
+}));
+const vertexGroup = el('g', { class: 'vertices' });
+svg.append(...slots.values(), vertexGroup);
+let legendKey = '';
+/** The formatted points of the drawn curve (only a drag's window is formatted again). */
+const curveCache = {};
+let refColour = null;
+
+/** Sets path `name` to `d`, or takes it out of the drawing when `d` is null. */
+function setSlot(name, d) {
+  const e = slots.get(name);
+  if (d === null) {
+    if (e.isConnected) e.remove();
+    return;
+  }
+  if (e.getAttribute('d') !== d) e.setAttribute('d', d);
+  if (!e.isConnected) {
+    // Before the next slot in the drawing (the order of SLOTS), or the vertices.
+    const at = SLOTS.findIndex(([n]) => n === name);
+    const next = SLOTS.slice(at + 1).map(([n]) => slots.get(n)).find((x) => x.isConnected);
+    svg.insertBefore(e, next || vertexGroup);
+  }
+}
+
 function draw() {
-  svg.replaceChildren();
+  if (!vertexGroup.isConnected) svg.append(...slots.values(), vertexGroup);
   const [w, h] = view.size();
-  svg.setAttribute('viewBox', `0 0 ${w} ${h}`);
+  const box = `0 0 ${w} ${h}`;
+  if (svg.getAttribute('viewBox') !== box) svg.setAttribute('viewBox', box);
   drawGrid(w, h);
   if (drawn.band && drawn.band.upper) {
     const ring = drawn.band.upper.concat(drawn.band.lower.slice().reverse());
-    el('path', { class: 'band', d: view.pathData(ring, true), id: 'band-path' }, svg);
-  }
+    setSlot('band', view.pathData(ring, true));
+  } else setSlot('band', null);
   if (drawn.comb && doc.mode === 'bspline' && doc.bspline.comb) {
-    const k = doc.bspline.combScale;
-    const tips = drawn.comb.tip.map((t, i) => {
-      const b = drawn.comb.base[i];
-      return [b[0] + (t[0] - b[0]) * k, b[1] + (t[1] - b[1]) * k];
-    });
-    let d = '';
-    const stride = Math.max(1, Math.ceil(tips.length / 600));
-    for (let i = 0; i < tips.length; i += stride) {
-      const [x0, y0] = view.toScreen(drawn.comb.base[i]);
+    const dirty = drawn.combDirty || [0, Infinity];
+    drawn.combDirty = [0, 0];
+    const [teeth, edge] = combPaths(dirty);
+    setSlot('comb', teeth);
+    setSlot('combEdge', edge);
+  } else {
+    setSlot('comb', null);
+    setSlot('combEdge', null);
+  }
+  setSlot('polygon', doc.mode === 'bezier' && drawn.control ? view.pathData(drawn.control) : null);
+  const dirty = drawn.dirty || [0, Infinity];
+  drawn.dirty = [0, 0];
+  setSlot('curve', view.pathDataCached(drawn.curve, curveCache, dirty[0], dirty[1]));
+  setSlot('approx', drawn.approx ? view.pathData(drawn.approx) : null);
+  drawVertices();
+  drawLegend();
+}
+
+/** The formatted teeth and tips of the comb (a drag formats its window only). */
+const combCache = { key: '', tips: [], teeth: [], edge: {} };
+
+/** The comb's teeth (at most about 600 drawn) and the line of their tips, as path data;
+ * the teeth `dirty[0]..dirty[1]` changed since the last call. */
+function combPaths(dirty) {
+  const k = doc.bspline.combScale;
+  const { base, tip } = drawn.comb;
+  const key = `${view.key()}|${k}|${tip.length}`;
+  let [from, to] = dirty;
+  if (combCache.key !== key) {
+    combCache.key = key;
+    combCache.tips = new Array(tip.length);
+    combCache.teeth = new Array(tip.length).fill('');
+    combCache.edge = {};
+    from = 0;
+    to = tip.length;
+  }
+  const { tips, teeth } = combCache;
+  const stride = Math.max(1, Math.ceil(tip.length / 600));
+  for (let i = Math.max(0, from); i < Math.min(to, tip.length); i++) {
+    const t = tip[i], b = base[i];
+    tips[i] = [b[0] + (t[0] - b[0]) * k, b[1] + (t[1] - b[1]) * k];
+    if (i % stride === 0) {
+      const [x0, y0] = view.toScreen(b);
       const [x1, y1] = view.toScreen(tips[i]);
-      d += `M${x0.toFixed(1)} ${y0.toFixed(1)}L${x1.toFixed(1)} ${y1.toFixed(1)}`;
+      teeth[i] = `M${x0.toFixed(1)} ${y0.toFixed(1)}L${x1.toFixed(1)} ${y1.toFixed(1)}`;
     }
-    el('path', { class: 'comb', d }, svg);
-    el('path', { class: 'comb-edge', d: view.pathData(tips) }, svg);
   }
-  if (doc.mode === 'bezier' && drawn.control) {
-    el('path', { class: 'polygon', d: view.pathData(drawn.control), id: 'polygon-path' }, svg);
-  }
-  el('path', { class: 'curve', d: view.pathData(drawn.curve), id: 'curve-path' }, svg);
-  if (drawn.approx) {
-    el('path', { class: 'curve approx', d: view.pathData(drawn.approx), id: 'approx-path' }, svg);
-  }
+  return [teeth.join(''), view.pathDataCached(tips, combCache.edge, from, to)];
+}
+
+/** The control or reference points: SVG circles (few) or the canvas layer (many). */
+function drawVertices() {
   const pts = doc.mode === 'bezier' ? doc.bezier.points : doc.mode === 'bspline' ? doc.bspline.points : [];
   const cls = doc.mode === 'bezier' ? 'vertex' : 'ref';
   const r = doc.mode === 'bezier' ? 6 : 5;
+  const shapes = [];
   if (pts.length <= MANY_POINTS) {
     pts.forEach((p, i) => {
       const [x, y] = view.toScreen(p);
-      const c = el('circle', { class: cls, cx: x, cy: y, r, 'data-index': i }, svg);
+      const c = el('circle', { class: cls, cx: x, cy: y, r, 'data-index': i });
       if (dragging && dragging.index === i) c.classList.add('active');
+      shapes.push(c);
       if (doc.mode === 'bezier' && pts.length <= 40) {
-        el('text', { class: 'label', x: x + 9, y: y - 9 }, svg).textContent = `P${i}`;
+        const label = el('text', { class: 'label', x: x + 9, y: y - 9 });
+        label.textContent = `P${i}`;
+        shapes.push(label);
       }
     });
   }
+  if (shapes.length || vertexGroup.firstChild) vertexGroup.replaceChildren(...shapes);
   drawPointsLayer(pts.length > MANY_POINTS ? pts : [], r);
-  drawLegend();
 }
 
 function drawGrid(w, h) {
@@ -406,9 +566,9 @@ function drawGrid(w, h) {
     const [, sy] = view.toScreen([0, y]);
     d += `M0 ${sy.toFixed(1)}H${w}`;
   }
-  el('path', { class: 'grid-line', d }, svg);
+  setSlot('grid', d);
   const [ax, ay] = view.toScreen([0, 0]);
-  el('path', { class: 'axis-line', d: `M${ax.toFixed(1)} 0V${h}M0 ${ay.toFixed(1)}H${w}` }, svg);
+  setSlot('axes', `M${ax.toFixed(1)} 0V${h}M0 ${ay.toFixed(1)}H${w}`);
 }
 
 function drawLegend() {
@@ -420,6 +580,9 @@ function drawLegend() {
     items.push(['l-curve', 'B-spline'], ['l-ref', 'reference points']);
     if (doc.bspline.comb) items.push(['l-comb', 'curvature comb']);
   }
+  const key = JSON.stringify(items) + doc.mode;
+  if (key === legendKey) return;
+  legendKey = key;
   $('legend').replaceChildren(...items.map(([c, t]) => {
     const s = document.createElement('span');
     s.className = c;
@@ -487,8 +650,9 @@ svg.addEventListener('pointermove', (ev) => {
   if (!dragging.moved) return;
   if (dragging.index >= 0) {
     points()[dragging.index] = view.toWorld(sx, sy);
-    if (proposal) { proposal = null; hideApprox(); }
-    drawSoon();
+    if (proposal) { proposal = null; hideApprox(); drawSoon(); }
+    // The point follows the mouse now; the curve when the server answers (compute draws).
+    drawSoon('vertices');
     refresh();
   } else {
     view.panBy(sx - dragging.last[0], sy - dragging.last[1]);

@@ -41,6 +41,26 @@ pub struct InterpolateRequest {
     /// unit of curvature (default: the longest tooth 1/6 of the points' extent).
     #[serde(default)]
     pub comb: Option<CombRequest>,
+    /// Only the drawing near one reference point (a drag): samples and comb teeth of the
+    /// knot spans between the parameters of points `around - points` and `around + points`,
+    /// without the model file. See [`WindowRequest`].
+    #[serde(default)]
+    pub window: Option<WindowRequest>,
+}
+
+/// A drawing window around one reference point: what a page needs to redraw while that
+/// point is dragged. A moved point changes a cubic interpolant far from it only by rounding
+/// (the interpolation system's inverse decays by a factor of about 2 − √3 ≈ 0.27 per span),
+/// so the samples outside the window are the page's previous ones.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WindowRequest {
+    /// The index of the reference point that moved.
+    pub around: usize,
+    /// How many reference points on each side the window spans (default 40: 0.27^40 ≈
+    /// 1e-23 of the move is left outside).
+    #[serde(default)]
+    pub points: Option<usize>,
 }
 
 /// Options of the curvature comb.
@@ -139,9 +159,8 @@ pub fn span_ends(curve: &dyn Curve) -> Vec<f64> {
     ends
 }
 
-/// Parameters `per_span` per knot span (the last one closing the domain).
-fn span_params(curve: &dyn Curve, per_span: usize) -> Vec<f64> {
-    let breaks = span_ends(curve);
+/// Parameters `per_span` per span of `breaks` (the span ends), closing with the last end.
+fn span_params_of(breaks: &[f64], per_span: usize) -> Vec<f64> {
     let mut ts = Vec::with_capacity(breaks.len() * per_span + 1);
     for w in breaks.windows(2) {
         for i in 0..per_span {
@@ -247,7 +266,15 @@ pub async fn interpolate(
             ))
             .with("path", "samples_per_span"));
         }
-        let ts = span_params(curve, per_span);
+        // The spans drawn: all, or those of the window (open curves; a window that wraps
+        // around a closed curve's seam draws all).
+        let ends = span_ends(curve);
+        let window = match &req.window {
+            Some(w) if !req.closed => Some(window_spans(w, fit.parameters(), &ends)?),
+            _ => None,
+        };
+        let (first, last) = window.unwrap_or((0, spans));
+        let ts = span_params_of(&ends[first..=last], per_span);
         let mut out = vec![0.0; ts.len() * dim];
         curve
             .eval_batch(&ts, &mut out, &BatchOptions::default())
@@ -261,10 +288,33 @@ pub async fn interpolate(
                     .with("path", "comb.per_span"));
             }
             let extent = extent(&flat, dim);
-            comb(curve, &span_params(curve, teeth), comb_req.scale, extent)?
+            let mut c = comb(
+                curve,
+                &span_params_of(&ends[first..=last], teeth),
+                comb_req.scale,
+                extent,
+            )?;
+            if window.is_some() {
+                c["first"] = json!(first * teeth);
+                c["total"] = json!(spans * teeth + 1);
+            }
+            c
         } else {
             Value::Null
         };
+        if window.is_some() {
+            return Ok(Json(json!({
+                "model": null,
+                "window": {"first_span": first, "last_span": last, "spans": spans},
+                "samples": {
+                    "t": ts,
+                    "points": rows(&out, dim),
+                    "first": first * per_span,
+                    "total": spans * per_span + 1,
+                },
+                "comb": comb,
+            })));
+        }
         let parameters = fit.parameters().to_vec();
         let file = BsplineCurveModel::file_of(curve, Some(&parameters));
         let what = AnyModel::BsplineCurve(BsplineCurveModel {
@@ -281,6 +331,38 @@ pub async fn interpolate(
         })))
     })
     .await
+}
+
+/// The knot spans `(first, last)` (span `first` up to the end of span `last - 1`) between
+/// the parameters of reference points `around ± points` (the whole domain at the ends).
+fn window_spans(w: &WindowRequest, parameters: &[f64], ends: &[f64]) -> ApiResult<(usize, usize)> {
+    let n = parameters.len();
+    if w.around >= n {
+        return Err(ApiError::bad_request(format!(
+            "window.around is {} but there are {n} points",
+            w.around
+        ))
+        .with("path", "window.around"));
+    }
+    let reach = w.points.unwrap_or(40);
+    let spans = ends.len() - 1;
+    let first = if w.around <= reach {
+        0
+    } else {
+        let lo = parameters[w.around - reach];
+        // The last span starting at or before `lo`.
+        ends[..spans]
+            .partition_point(|&e| e <= lo)
+            .saturating_sub(1)
+    };
+    let last = if w.around + reach >= n - 1 {
+        spans
+    } else {
+        let hi = parameters[w.around + reach];
+        // The first span end at or after `hi`.
+        ends.partition_point(|&e| e < hi).clamp(first + 1, spans)
+    };
+    Ok((first, last.max(first + 1).min(spans)))
 }
 
 /// The largest side of the points' bounding box (1 when they coincide).
