@@ -115,3 +115,253 @@ async fn a_drag_window_near_the_ends_and_bad_windows() {
     let w: Value = ok(&app, "/api/bspline/interpolate", closed).await;
     assert!(w["model"].is_object());
 }
+
+/// A point-calculus model of one or two factors through `values`.
+async fn fit(app: &axum::Router, factors: Value, values: Vec<f64>) -> Value {
+    let v = ok(
+        app,
+        "/api/pointcalc/fit",
+        json!({"factors": factors, "values": values}),
+    )
+    .await;
+    v["model"].clone()
+}
+
+fn shares_of(v: &Value) -> Vec<f64> {
+    v["shares"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["share"].as_f64().unwrap())
+        .collect()
+}
+
+#[tokio::test]
+async fn shares_are_the_function_parameters_of_equations_1_to_3() {
+    // spec/point-calculus.md §2: M = A·a(t) + C·c(t) + B·b(t) with C at t = 1/2, 1/3, 2/3;
+    // the shares of the source points (A, C, B in node order) at t = 0.3 are those
+    // function-parameters.
+    let app = app();
+    let t: f64 = 0.3;
+    let tb = 1.0 - t;
+    let equations: [(f64, [f64; 3]); 3] = [
+        (
+            0.5,
+            [tb * (1.0 - 2.0 * t), 4.0 * t * tb, t * (2.0 * t - 1.0)],
+        ),
+        (
+            1.0 / 3.0,
+            [
+                tb * (1.0 - 3.0 * t),
+                4.5 * t * tb,
+                0.5 * t * (3.0 * t - 1.0),
+            ],
+        ),
+        (
+            2.0 / 3.0,
+            [
+                0.5 * tb * (2.0 - 3.0 * t),
+                4.5 * t * tb,
+                t * (3.0 * t - 2.0),
+            ],
+        ),
+    ];
+    for (tc, expected) in equations {
+        let model = fit(
+            &app,
+            json!([{"name": "t", "nodes": [0.0, tc, 1.0]}]),
+            vec![1.0, 5.0, 2.0],
+        )
+        .await;
+        let s = ok(
+            &app,
+            "/api/pointcalc/shares",
+            json!({"model": model, "at": [t]}),
+        )
+        .await;
+        let got = shares_of(&s);
+        for (g, e) in got.iter().zip(expected) {
+            assert!((g - e).abs() < 1e-14, "C at {tc}: {got:?} vs {expected:?}");
+        }
+        let value = expected[0] + 5.0 * expected[1] + 2.0 * expected[2];
+        assert!((s["value"][0].as_f64().unwrap() - value).abs() < 1e-13);
+    }
+}
+
+#[tokio::test]
+async fn nine_point_surface_shares_are_products_rows_first() {
+    // §3, the construction that keeps the invariance: a_ij(u, v) = L_i(u)·L_j(v) with the
+    // quadratic cardinal functions of equation (1) (nodes 0, 1/2, 1 in both directions).
+    let app = app();
+    let l = |t: f64| {
+        [
+            (1.0 - t) * (1.0 - 2.0 * t),
+            4.0 * t * (1.0 - t),
+            t * (2.0 * t - 1.0),
+        ]
+    };
+    let nodes = [0.0, 0.5, 1.0];
+    let values: Vec<f64> = (0..9).map(|i| (i * i) as f64 - 3.0).collect();
+    let model = fit(
+        &app,
+        json!([{"name": "u", "nodes": nodes}, {"name": "v", "nodes": nodes}]),
+        values,
+    )
+    .await;
+    let (u, v) = (0.3, 0.8);
+    let s = ok(
+        &app,
+        "/api/pointcalc/shares",
+        json!({"model": model, "at": [u, v]}),
+    )
+    .await;
+    let got = shares_of(&s);
+    let (lu, lv) = (l(u), l(v));
+    for i in 0..3 {
+        for j in 0..3 {
+            assert!((got[i * 3 + j] - lu[i] * lv[j]).abs() < 1e-14);
+        }
+    }
+    assert!((s["sum"].as_f64().unwrap() - 1.0).abs() < 1e-14);
+    // The printed geomatrix (9) is not this: its a_11(1/2, 1/2) is 1/16, the product's 0.
+    assert!(got[0].abs() < 1e-15);
+}
+
+#[tokio::test]
+async fn grid_and_contours_of_a_bilinear_model() {
+    // f(a, b) = 1 + 2a + 3b + ab on nodes {0, 1, 2} × {0, 1}: reproduced exactly; a contour
+    // point of level h has f = h (f is linear along every grid edge, where marching squares
+    // puts its points).
+    let app = app();
+    let f = |a: f64, b: f64| 1.0 + 2.0 * a + 3.0 * b + a * b;
+    let (na, nb) = ([0.0, 1.0, 2.0], [0.0, 1.0]);
+    let values: Vec<f64> = na
+        .iter()
+        .flat_map(|&a| nb.iter().map(move |&b| f(a, b)))
+        .collect();
+    let model = fit(
+        &app,
+        json!([{"name": "a", "nodes": na}, {"name": "b", "nodes": nb}]),
+        values,
+    )
+    .await;
+    let g = ok(
+        &app,
+        "/api/pointcalc/grid",
+        json!({"model": model, "samples": 9, "contours": 5}),
+    )
+    .await;
+    let (xs, ys) = (numbers(&g["axes"][0]), numbers(&g["axes"][1]));
+    assert_eq!((xs.len(), ys.len()), (9, 9));
+    assert_eq!((xs[0], xs[8], ys[0], ys[8]), (0.0, 2.0, 0.0, 1.0));
+    let rows = g["values"].as_array().unwrap();
+    for (i, row) in rows.iter().enumerate() {
+        for (j, z) in numbers(row).iter().enumerate() {
+            assert!((z - f(xs[i], ys[j])).abs() < 1e-13);
+        }
+    }
+    assert_eq!(numbers(&g["range"]), vec![1.0, 10.0]);
+    let contours = g["contours"].as_array().unwrap();
+    assert_eq!(contours.len(), 5);
+    for (l, c) in contours.iter().enumerate() {
+        let h = c["level"].as_f64().unwrap();
+        assert!((h - (1.0 + 9.0 * (l + 1) as f64 / 6.0)).abs() < 1e-13);
+        let segments = c["segments"].as_array().unwrap();
+        assert!(!segments.is_empty());
+        for s in segments {
+            for p in s.as_array().unwrap() {
+                let p = numbers(p);
+                assert!((f(p[0], p[1]) - h).abs() < 1e-12, "{p:?} on level {h}");
+            }
+        }
+    }
+}
+
+#[tokio::test]
+async fn slices_of_a_three_factor_model() {
+    // g(x, y, z) = x·y + z² + 1 on {0, 1} × {0, 1, 2} × {-1, 0, 1}: reproduced (degree below
+    // the node counts); a slice along y through (0.5, ·, 0.25) is 0.5·y + 1.0625.
+    let app = app();
+    let g = |x: f64, y: f64, z: f64| x * y + z * z + 1.0;
+    let (nx, ny, nz) = ([0.0, 1.0], [0.0, 1.0, 2.0], [-1.0, 0.0, 1.0]);
+    let mut values = Vec::new();
+    for &x in &nx {
+        for &y in &ny {
+            for &z in &nz {
+                values.push(g(x, y, z));
+            }
+        }
+    }
+    let model = fit(
+        &app,
+        json!([{"name": "x", "nodes": nx}, {"name": "y", "nodes": ny}, {"name": "z", "nodes": nz}]),
+        values,
+    )
+    .await;
+    let s = ok(
+        &app,
+        "/api/pointcalc/grid",
+        json!({"model": model, "at": [0.5, 7.0, 0.25], "free": [1], "samples": 5}),
+    )
+    .await;
+    let ys = numbers(&s["axes"][0]);
+    assert_eq!(ys, vec![0.0, 0.5, 1.0, 1.5, 2.0]);
+    for (y, v) in ys.iter().zip(numbers(&s["values"])) {
+        assert!((v - g(0.5, *y, 0.25)).abs() < 1e-13);
+    }
+    // A map over (z, x) through y = 1.5.
+    let m = ok(
+        &app,
+        "/api/pointcalc/grid",
+        json!({"model": model, "at": [0.0, 1.5, 0.0], "free": [2, 0], "samples": 3, "contours": 0}),
+    )
+    .await;
+    let (zs, xs) = (numbers(&m["axes"][0]), numbers(&m["axes"][1]));
+    for (i, row) in m["values"].as_array().unwrap().iter().enumerate() {
+        for (j, v) in numbers(row).iter().enumerate() {
+            assert!((v - g(xs[j], 1.5, zs[i])).abs() < 1e-13);
+        }
+    }
+    assert_eq!(m["contours"].as_array().unwrap().len(), 0);
+    // Bad requests name their field.
+    for (body, path) in [
+        (json!({"model": model, "free": [0, 0]}), "free"),
+        (json!({"model": model, "free": [3]}), "free"),
+        (json!({"model": model, "at": [0.0, 1.0]}), "at"),
+        (json!({"model": model, "samples": 1}), "samples"),
+        (json!({"model": model, "response": 1}), "response"),
+    ] {
+        let a = send(&app, "POST", "/api/pointcalc/grid", Some(&body)).await;
+        assert_eq!(a.status, 400, "{body}");
+        assert_eq!(a.json()["path"], path);
+    }
+}
+
+#[tokio::test]
+async fn a_rational_quarter_circle_is_drawn_on_the_circle() {
+    // Points (1, 0), (1, 1), (0, 1) with weights 1, 1/√2, 1: the exact quarter of the unit
+    // circle; also after exact elevation (the weights are the page's rational curve).
+    let app = app();
+    let model = json!({"type": "bezier_curve", "points": [[1, 0], [1, 1], [0, 1]],
+        "weights": [1.0, std::f64::consts::FRAC_1_SQRT_2, 1.0]});
+    let up = ok(
+        &app,
+        "/api/bezier/elevate",
+        json!({"model": model, "to": 4}),
+    )
+    .await;
+    assert_eq!(up["model"]["weights"].as_array().unwrap().len(), 5);
+    for m in [model, up["model"].clone()] {
+        let s = ok(&app, "/api/samples", json!({"model": m, "samples": 101})).await;
+        for p in points(&s["points"]) {
+            assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-14, "{p:?}");
+        }
+    }
+    // Weight 2 on the middle point: the quotient (w0 b0 P0 + w1 b1 P1 + w2 b2 P2) / Σ w b,
+    // here at t = 1/2: ((1, 0)/4 + 2 (1, 1)/2 + (0, 1)/4) / (1/4 + 1 + 1/4) = (5/6, 5/6).
+    let heavy =
+        json!({"type": "bezier_curve", "points": [[1, 0], [1, 1], [0, 1]], "weights": [1, 2, 1]});
+    let s = ok(&app, "/api/samples", json!({"model": heavy, "samples": 3})).await;
+    let mid = &points(&s["points"])[1];
+    assert!(dist(mid, &[5.0 / 6.0, 5.0 / 6.0]) < 1e-15);
+}
