@@ -223,8 +223,18 @@ async fn nine_point_surface_shares_are_products_rows_first() {
         }
     }
     assert!((s["sum"].as_f64().unwrap() - 1.0).abs() < 1e-14);
-    // The printed geomatrix (9) is not this: its a_11(1/2, 1/2) is 1/16, the product's 0.
-    assert!(got[0].abs() < 1e-15);
+    // The printed geomatrix (9) is not this: its a_11(1/2, 1/2) is 1/16 and its sum 1.156
+    // there; the product passes through the centre point: shares 0 but its own 1.
+    let centre = ok(
+        &app,
+        "/api/pointcalc/shares",
+        json!({"model": model, "at": [0.5, 0.5]}),
+    )
+    .await;
+    let at_centre = shares_of(&centre);
+    for (i, share) in at_centre.iter().enumerate() {
+        assert_eq!(*share, if i == 4 { 1.0 } else { 0.0 }, "{at_centre:?}");
+    }
 }
 
 #[tokio::test]
