@@ -296,15 +296,18 @@ try {
   await page.screenshot({ path: path.join(shots, 'editor-tables-help.png') });
   await page.keyboard.press('Escape');
 
-  // The README's picture: the default 2-factor table, hovered.
+  // The README's picture (docs/images/editor-tables.png is a copy): the default 2-factor
+  // table, hovered, tall enough for the share bars.
   await page.evaluate(() => {
     const d = window.geomkit.doc();
     d.mode = 'pointcalc';
     d.pointcalc = { factors: [{ name: 'temp', levels: [60, 75, 90] }, { name: 'time', levels: [1, 2, 4] }], response: 'yield', values: [52, 61, 58, 60, 74, 69, 55, 66, 57], at: null, free: [0, 1], goal: 'max' };
     window.geomkit.setDoc(d);
   });
+  await page.setViewportSize({ width: 1280, height: 1080 });
   await idle();
-  await page.mouse.move(plot.x + plot.width * 0.3, plot.y + plot.height * 0.62);
+  const tall = await page.locator('#pc-plot').boundingBox();
+  await page.mouse.move(tall.x + tall.width * 0.3, tall.y + tall.height * 0.62);
   await page.waitForTimeout(200);
   await idle();
   await page.screenshot({ path: path.join(shots, 'editor-tables-readme.png') });
