@@ -13,7 +13,7 @@
 // interpolating polynomials exactly, and the rational Bézier curve as the quotient
 // Σ w_i b_i P_i / Σ w_i b_i. Screenshots: editor-tables-*.png. Exits 1 on any failure.
 
-import { mkdtemp, readFile } from 'node:fs/promises';
+import { mkdtemp, readFile, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
 import { chromium } from 'playwright-core';
@@ -77,7 +77,9 @@ page.on('console', (m) => {
   if (m.type() === 'error' && !/status of 422/.test(m.text())) consoleErrors.push(m.text());
 });
 page.on('pageerror', (e) => consoleErrors.push(e.message));
-page.on('dialog', (d) => d.accept('experiment.json'));
+/** The name the page's Save prompt is answered with. */
+let saveAs = 'experiment.json';
+page.on('dialog', (d) => d.accept(saveAs));
 
 const idle = () => page.evaluate(() => window.geomkit.idle());
 const doc = () => page.evaluate(() => window.geomkit.doc());
@@ -279,6 +281,23 @@ try {
   check(up.points.length === d.points.length + 1 && up.weights.length === up.points.length && same < 1e-12, `+ elevates the rational curve to degree ${+deg + 1}: the same curve (max ${same.toExponential(1)})`);
   await checkRational('elevated');
   await page.screenshot({ path: path.join(shots, 'editor-tables-rational.png') });
+  // Saved as the CLI's rational bezier_curve file, and a rational quarter circle opened.
+  saveAs = 'rational.json';
+  await page.locator('#canvas').focus();
+  await page.keyboard.press('Control+s');
+  await page.waitForSelector('#status:has-text("Saved rational.json")');
+  const savedCurve = JSON.parse(await readFile(path.join(dir, 'rational.json'), 'utf8'));
+  check(savedCurve.type === 'bezier_curve' && JSON.stringify(savedCurve.weights) === JSON.stringify(up.weights) && savedCurve.points.length === up.points.length, 'Ctrl+S saved rational.json: a bezier_curve with its weights');
+  await writeFile(path.join(dir, 'quarter.json'), JSON.stringify({ type: 'bezier_curve', points: [[1, 0], [1, 1], [0, 1]], weights: [1, Math.SQRT1_2, 1] }));
+  await page.click('#open');
+  await page.click('#file-list button:has-text("quarter.json")');
+  await idle();
+  const quarter = await checkRational('opened quarter.json');
+  const circle = await api('/api/samples', { model: { type: 'bezier_curve', points: quarter.points, weights: quarter.weights }, samples: 50 });
+  check(circle.points.every((q) => Math.abs(Math.hypot(q[0], q[1]) - 1) < 1e-14), 'the opened quarter circle is drawn on the unit circle');
+  await page.keyboard.press('Control+z');
+  await idle();
+  check((await doc()).bezier.points.length === up.points.length, 'undo: the elevated curve again');
   await page.click('#deg-down');
   await idle();
   const down = (await doc()).bezier;
