@@ -140,6 +140,16 @@ try {
   check(dist([(star[0][0] + star[1][0]) / 2, star[0][1]], [ox, oy]) < 0.5, 'the optimum is marked at (7/12, 73/24)');
   check(/max 3\.04167/.test(await page.textContent('#pc-optimum text')), `its label: "${await page.textContent('#pc-optimum text')}"`);
 
+  // The formula panel: the point equation in JavaScript, run here, is 1 + 7t − 6t².
+  await page.selectOption('#syntax', 'js');
+  await idle();
+  const js = await page.textContent('#formula');
+  const y = new Function(`${js}\nreturn ${s.doc.response};`)();
+  const jsWorst = [0, 0.1, 0.3, 7 / 12, 0.9, 1].reduce((m, u) => Math.max(m, Math.abs(y(u) - poly(u))), 0);
+  check(jsWorst < 1e-13, `the formula panel's JavaScript point equation = 1 + 7t − 6t² (max ${jsWorst.toExponential(1)})`);
+  await page.selectOption('#syntax', 'maple');
+  await idle();
+
   // 3. Hover at t ≈ 0.3: the bars are the API's shares and equation (1)'s functions.
   const plot = await page.locator('#pc-plot').boundingBox();
   const [hx, hy] = (await toPlot([[0.3, 2]]))[0];

@@ -322,12 +322,6 @@ async function computeBody() {
 async function computeFormula() {
   let request;
   if (doc.mode === 'body') return; // done with the body
-  if (doc.mode === 'pointcalc') {
-    formulaText = '';
-    $('formula').textContent = '';
-    $('formula-info').textContent = 'The point equation of a k-factor model: geomkit pointcalc formula MODEL.json (the CLI); Save keeps the model file.';
-    return;
-  }
   const m = model();
   if (!m) { formulaText = ''; $('formula').textContent = ''; $('formula-info').textContent = ''; return; }
   request = { model: m, format: syntax };

@@ -375,3 +375,31 @@ async fn a_rational_quarter_circle_is_drawn_on_the_circle() {
     let mid = &points(&s["points"])[1];
     assert!(dist(mid, &[5.0 / 6.0, 5.0 / 6.0]) < 1e-15);
 }
+
+#[tokio::test]
+async fn the_point_equation_as_a_formula() {
+    // Nodes 0, 1/2, 1 and values 1, 3, 2: the point equation of spec §2 (1) is the
+    // polynomial 1 + 7t − 6t²; its Python (NumPy) text evaluated term by term is checked in
+    // the editor's e2e test by a JavaScript engine; here the shape of the answer.
+    let app = app();
+    let model = fit(
+        &app,
+        json!([{"name": "t", "nodes": [0.0, 0.5, 1.0]}]),
+        vec![1.0, 3.0, 2.0],
+    )
+    .await;
+    let f = ok(
+        &app,
+        "/api/formula",
+        json!({"model": model, "format": "js"}),
+    )
+    .await;
+    assert_eq!(f["variables"], json!(["t"]));
+    assert_eq!(f["coordinates"], json!(["y"]));
+    assert!(f["op_count"].as_u64().unwrap() > 0);
+    assert!(
+        f["formula"].as_str().unwrap().contains("(t)"),
+        "{}",
+        f["formula"]
+    );
+}
