@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 /// A model file that could not be read, parsed or turned into geometry.
 ///
 /// Its text is one line: `FILE: PATH: what is wrong (line L, column C)`, e.g.
-/// `fit.json: knots[3]: is the string "a"; numbers must be finite JSON numbers (line 4,
+/// `fit.json: knots[3] is the string "a"; numbers must be finite JSON numbers (line 4,
 /// column 21)`. Front ends that underline the place read [`Error::path`],
 /// [`Error::position`] and [`Error::kind`].
 #[derive(Debug)]
