@@ -178,6 +178,17 @@ try {
   await idle();
   check((await doc()).pointcalc.values[2] === 2 && (await pc(() => window.geomkit.pointcalc.model().values[2])) === 2, 'redo: 2 again, refitted');
 
+  // M: the minimum instead — 1 at t = 0 (1 + 7t − 6t² is concave); M again: the maximum.
+  await page.locator('#pc-plot').click({ position: { x: 5, y: 5 } });
+  await page.keyboard.press('m');
+  await idle();
+  let o = (await drawnState()).optimum;
+  check((await page.inputValue('#pc-goal')) === 'min' && o.certified && Math.abs(o.value - 1) < 1e-9 && Math.abs(o.at[0]) < 1e-6, `M: certified minimum ${o.value} at ${o.at[0]} (exact 1 at 0)`);
+  await page.keyboard.press('m');
+  await idle();
+  o = (await drawnState()).optimum;
+  check((await page.inputValue('#pc-goal')) === 'max' && Math.abs(o.value - 73 / 24) < 1e-9, 'M again: the maximum');
+
   // 5. Two factors from pasted CSV (rows in any order): f(a, b) = 1 + 2a + 3b + ab.
   const f = (a, b) => 1 + 2 * a + 3 * b + a * b;
   const rows = [];
