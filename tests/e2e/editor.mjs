@@ -337,7 +337,7 @@ try {
     return { frames: f.length, seconds: (t1 - t0) / 1000, moves: i };
   }, [gx, gy]);
   const fps = rate.frames / rate.seconds;
-  console.log(`editor: redraw rate while dragging a point of a 2000-point B-spline: ${fps.toFixed(1)} frames/s (${rate.frames} curves drawn for ${rate.moves} pointer moves in ${rate.seconds.toFixed(2)} s; each a round trip to the server: interpolation, samples, comb)`);
+  console.log(`editor: redraw rate while dragging a point of a 2000-point B-spline: ${fps.toFixed(1)} frames/s (${rate.frames} curves drawn for ${rate.moves} pointer moves in ${rate.seconds.toFixed(2)} s; each a round trip to the server: the interpolation and the window of samples and comb near the point)`);
   await checkSpline('2000 points after the drag');
   await writeFile(path.join(shots, 'editor-fps.txt'), `${fps.toFixed(1)}\n`);
 

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 /// A model file that could not be read, parsed or turned into geometry.
 ///
 /// Its text is one line: `FILE: PATH: what is wrong (line L, column C)`, e.g.
-/// `fit.json: knots[3]: is the string "a"; numbers must be finite JSON numbers (line 4,
+/// `fit.json: knots[3] is the string "a"; numbers must be finite JSON numbers (line 4,
 /// column 21)`. Front ends that underline the place read [`Error::path`],
 /// [`Error::position`] and [`Error::kind`].
 #[derive(Debug)]
@@ -190,8 +190,18 @@ impl Error {
                 message,
             }
         } else {
+            let path = if path == "." { String::new() } else { path };
+            // A file whose "type" is not its first field is read from a buffer, whose
+            // reader names the place inside the message ("points[1][1]: is the string
+            // ..."): the place goes to the path, below the path of the buffer itself.
+            let (path, message) = match message.split_once(": ") {
+                Some((place, rest)) if is_json_path(place) => {
+                    (join_path(&path, place), rest.to_string())
+                }
+                _ => (path, message),
+            };
             ErrorKind::Schema {
-                path: if path == "." { String::new() } else { path },
+                path,
                 line,
                 column,
                 message,
@@ -199,6 +209,14 @@ impl Error {
         };
         Error::from_kind(kind)
     }
+}
+
+/// Whether `s` is a JSON path of a model file (`points[1][1]`, `factors[0].nodes`): a
+/// field name first, then names, dots and indices only.
+fn is_json_path(s: &str) -> bool {
+    s.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '[' | ']'))
 }
 
 /// `a` then `b` as one JSON path: `patches[0]` + `bezier[1]` = `patches[0].bezier[1]`.

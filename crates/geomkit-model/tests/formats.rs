@@ -474,7 +474,7 @@ fn bad_files_are_refused_with_clear_messages() {
         ),
         (
             r#"{"points":[[0,0],[1,"NaN"]],"type":"bezier_curve"}"#,
-            "points[1][1]: is the string \"NaN\"",
+            "points[1][1] is the string \"NaN\"",
         ),
         (
             r#"{"type":"bezier_curve","points":[[0,1e999]]}"#,

@@ -4,6 +4,7 @@
 
 import { ApiError, download, get, post, put } from './api.js';
 import { View, el } from './view.js';
+import { INITIAL as POINTCALC, PointcalcMode } from './pointcalc.js';
 
 const $ = (id) => document.getElementById(id);
 const svg = $('canvas');
@@ -16,7 +17,7 @@ const clone = (x) => JSON.parse(JSON.stringify(x));
 const initial = {
   mode: 'bezier',
   // Nikulin's Example 2: a quintic of real degree 3.
-  bezier: { points: [[10, 0], [22, 6], [19, 12], [11, 15], [8, 12], [20, 0]] },
+  bezier: { points: [[10, 0], [22, 6], [19, 12], [11, 15], [8, 12], [20, 0]], weights: null },
   bspline: {
     points: [[0, 0], [2, 3], [5, 3.5], [7, 1], [10, 0.5], [12, 3], [14, 4]],
     end: 'not-a-knot',
@@ -26,6 +27,7 @@ const initial = {
     combScale: 1,
   },
   body: { kind: 'cube' },
+  pointcalc: POINTCALC,
 };
 
 let doc = clone(initial);
@@ -39,6 +41,10 @@ let degree = null;
 let proposal = null;
 let syntax = 'maple';
 let dragging = null;
+/** The selected vertex of the Bézier curve (its weight is in the panel). */
+let selected = 0;
+/** The last weight edit: a run of wheel steps on one vertex is one undo step. */
+let weightRun = null;
 let filesAvailable = false;
 let lastFormulaKey = '';
 /** Frame the drawing once the server has answered (after a mode change or a file opened). */
@@ -69,16 +75,21 @@ window.geomkit = {
   toScreen: (p) => view.toScreen(p),
   toWorld: (x, y) => view.toWorld(x, y),
   frames,
-  busy: () => actions > 0 || scheduler.busy(),
+  busy: () => actions > 0 || scheduler.busy() || pointcalc.busy(),
   /** Resolves when no user action and no computation is under way. */
   idle: async () => {
-    while (actions > 0 || scheduler.busy() || drawQueued) await new Promise((r) => setTimeout(r, 5));
+    while (actions > 0 || scheduler.busy() || drawQueued || pointcalc.busy()) await new Promise((r) => setTimeout(r, 5));
   },
   setDoc: (d) => { doc = clone(d); commit(); syncControls(); needFit = 'always'; refresh(); },
 };
 
 function model() {
-  if (doc.mode === 'bezier') return { type: 'bezier_curve', points: doc.bezier.points };
+  if (doc.mode === 'bezier') {
+    const { points, weights } = doc.bezier;
+    // With weights: the rational Bézier curve p = Σ w_i b_i P_i / Σ w_i b_i (BezierModel::Rational).
+    return weights ? { type: 'bezier_curve', points, weights } : { type: 'bezier_curve', points };
+  }
+  if (doc.mode === 'pointcalc') return pointcalc.model();
   if (doc.mode === 'bspline') return drawn.model || null;
   return null;
 }
@@ -164,6 +175,10 @@ const scheduler = {
 
 function refresh() { scheduler.request(); }
 
+/** The point-calculus mode (pointcalc.js): its table lives in doc.pointcalc. */
+const pointcalc = new PointcalcMode({ doc: () => doc, commit, status, showError, refresh });
+window.geomkit.pointcalc = pointcalc;
+
 function fmt(x, digits = 4) {
   if (x === null || x === undefined) return '–';
   if (x === 0) return '0';
@@ -174,12 +189,13 @@ function fmt(x, digits = 4) {
 async function compute() {
   if (doc.mode === 'bezier') await computeBezier();
   else if (doc.mode === 'bspline') await computeBspline();
+  else if (doc.mode === 'pointcalc') await pointcalc.compute();
   else await computeBody();
   if (dragging) frames.push(performance.now());
   else {
     const fit = needFit;
     needFit = false;
-    if (doc.mode !== 'body' && (fit === 'always' || (fit && !allVisible()))) {
+    if (doc.mode !== 'body' && doc.mode !== 'pointcalc' && (fit === 'always' || (fit && !allVisible()))) {
       fitView();
       draw();
     }
@@ -221,15 +237,31 @@ async function computeBspline() {
     return;
   }
   const end = b.end === 'outer' ? { kind: 'outer', offset: 1 } : b.end;
-  const r = await post('/api/bspline/interpolate', {
+  const request = {
     points: b.points,
     end,
     parametrization: b.param,
     closed: b.closed,
     samples_per_span: samplesPerSpan(n),
     comb: { per_span: b.comb ? combPerSpan(n) : 0 },
-  });
+  };
+  // Dragging a point of a long open curve: only the samples and comb near it (the server's
+  // window; the rest moves by rounding only), spliced into the last full drawing. Released,
+  // the whole curve again.
+  const key = JSON.stringify([n, b.end, b.param, b.closed, b.comb]);
+  if (dragging && dragging.index >= 0 && n > WINDOW_FROM && !b.closed && drawn.model && drawn.key === key) {
+    request.window = { around: dragging.index };
+    if (drawn.comb) request.comb.scale = drawn.comb.scale;
+    const r = await post('/api/bspline/interpolate', request);
+    if (r.window && spliceWindow(r)) {
+      drawSoon();
+      return;
+    }
+  }
+  delete request.window;
+  const r = await post('/api/bspline/interpolate', request);
   drawn = {
+    key,
     curve: r.samples.points,
     t: r.samples.t,
     control: r.model.control_points,
@@ -244,6 +276,33 @@ async function computeBspline() {
   $('bs-kmax').textContent = r.comb ? fmt(r.comb.max_curvature) : '–';
   drawSoon();
   if (!dragging) status(`${r.what} through ${n} points.`);
+}
+
+/** Above this many reference points a drag asks the server for a window of the drawing. */
+const WINDOW_FROM = 200;
+
+/** Puts a window answer's samples and teeth into the drawing; false when they do not fit
+ * (the drawing changed meanwhile). */
+function spliceWindow(r) {
+  const s = r.samples;
+  if (drawn.curve.length !== s.total) return false;
+  if (r.comb && (!drawn.comb || drawn.comb.tip.length !== r.comb.total)) return false;
+  const put = (into, from, at) => { for (let i = 0; i < from.length; i++) into[at + i] = from[i]; };
+  put(drawn.curve, s.points, s.first);
+  const [a, b] = drawn.dirty || [0, 0];
+  drawn.dirty = a === b ? [s.first, s.first + s.points.length] : [Math.min(a, s.first), Math.max(b, s.first + s.points.length)];
+  put(drawn.t, s.t, s.first);
+  if (r.comb) {
+    const [c0, c1] = drawn.combDirty || [0, 0];
+    const end = r.comb.first + r.comb.tip.length;
+    drawn.combDirty = c0 === c1 ? [r.comb.first, end] : [Math.min(c0, r.comb.first), Math.max(c1, end)];
+    put(drawn.comb.base, r.comb.base, r.comb.first);
+    put(drawn.comb.tip, r.comb.tip, r.comb.first);
+    put(drawn.comb.curvature, r.comb.curvature, r.comb.first);
+    put(drawn.comb.t, r.comb.t, r.comb.first);
+  }
+  drawn.refs = doc.bspline.points;
+  return true;
 }
 
 async function computeBody() {
@@ -298,7 +357,8 @@ function showDegree() {
   $('defect').textContent = degree.defect;
   $('residual').textContent = fmt(degree.residual, 2);
   $('deg-down').disabled = degree.degree === 0;
-  if (!dragging && !proposal) status(`Bézier curve of degree ${degree.degree}, real degree ${degree.real_degree} (defect ${degree.defect}).`);
+  showWeight();
+  if (!dragging && !proposal) status(`${doc.bezier.weights ? 'Rational ' : ''}Bézier curve of degree ${degree.degree}, real degree ${degree.real_degree} (defect ${degree.defect}).`);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -318,13 +378,47 @@ function drawPointsLayer(pts, r) {
   }
   const g = layer.getContext('2d');
   g.setTransform(ratio, 0, 0, ratio, 0, 0);
+  if (!pts.length) {
+    if (layer.dataset.drawn) { g.clearRect(0, 0, w, h); delete layer.dataset.drawn; }
+    return;
+  }
   g.clearRect(0, 0, w, h);
-  if (!pts.length) return;
-  const style = getComputedStyle(document.documentElement);
-  g.fillStyle = style.getPropertyValue('--ref').trim() || '#e0731c';
+  layer.dataset.drawn = '1';
+  // The colour of the stylesheet, read once (getComputedStyle in every frame recomputes style).
+  if (!refColour) refColour = getComputedStyle(document.documentElement).getPropertyValue('--ref').trim() || '#e0731c';
+  const moving = dragging && dragging.index >= 0 ? dragging.index : -1;
+  if (moving < 0) {
+    dragLayer = null;
+    dots(g, pts, -1, r, w, h);
+    return;
+  }
+  // While one point is dragged the others stay: they are drawn once into an image.
+  const key = `${view.key()}|${moving}|${pts.length}`;
+  if (!dragLayer || dragLayer.key !== key) {
+    const image = document.createElement('canvas');
+    image.width = layer.width;
+    image.height = layer.height;
+    const ig = image.getContext('2d');
+    ig.setTransform(ratio, 0, 0, ratio, 0, 0);
+    dots(ig, pts, moving, r, w, h);
+    dragLayer = { key, image };
+  }
+  g.setTransform(1, 0, 0, 1, 0, 0);
+  g.drawImage(dragLayer.image, 0, 0);
+  g.setTransform(ratio, 0, 0, ratio, 0, 0);
+  dots(g, [pts[moving]], -1, r, w, h);
+}
+
+/** The other points while one is dragged, as an image (see drawPointsLayer). */
+let dragLayer = null;
+
+/** Fills dots of radius r - 1 at the points (but point `skip`) inside the w × h view. */
+function dots(g, pts, skip, r, w, h) {
+  g.fillStyle = refColour;
   g.beginPath();
-  for (const p of pts) {
-    const [x, y] = view.toScreen(p);
+  for (let i = 0; i < pts.length; i++) {
+    if (i === skip) continue;
+    const [x, y] = view.toScreen(pts[i]);
     if (x < -r || y < -r || x > w + r || y > h + r) continue;
     g.moveTo(x + r - 1, y);
     g.arc(x, y, r - 1, 0, 2 * Math.PI);
@@ -335,62 +429,147 @@ function drawPointsLayer(pts, r) {
 /** Above this many points, they are drawn on the canvas layer. */
 const MANY_POINTS = 300;
 
-function drawSoon() {
+/** What the queued frame redraws: 'all', or only 'vertices' (a dragged point before the
+ * server's curve arrives). */
+let drawWhat = 'vertices';
+
+function drawSoon(what = 'all') {
+  if (what === 'all') drawWhat = 'all';
   if (drawQueued) return;
   drawQueued = true;
   requestAnimationFrame(() => {
     drawQueued = false;
-    draw();
+    const all = drawWhat === 'all';
+    drawWhat = 'vertices';
+    if (all) draw();
+    else drawVertices();
   });
 }
 
+/** The drawing's SVG paths, kept from frame to frame (in this order, below the vertices):
+ * a frame sets only the `d` attributes that changed, so a drag of one point of a long
+ * B-spline does not rebuild the grid, the legend or the document's elements. */
+const SLOTS = [
+  ['grid', 'grid-line', null],
+  ['axes', 'axis-line', null],
+  ['band', 'band', 'band-path'],
+  ['comb', 'comb', null],
+  ['combEdge', 'comb-edge', null],
+  ['polygon', 'polygon', 'polygon-path'],
+  ['curve', 'curve', 'curve-path'],
+  ['approx', 'curve approx', 'approx-path'],
+];
+const slots = new Map(SLOTS.map(([name, cls, id]) => {
+  const e = el('path', id ? { class: cls, id } : { class: cls });
+  return [name, e];
+}));
+const vertexGroup = el('g', { class: 'vertices' });
+svg.append(...slots.values(), vertexGroup);
+let legendKey = '';
+/** The formatted points of the drawn curve (only a drag's window is formatted again). */
+const curveCache = {};
+let refColour = null;
+
+/** Sets path `name` to `d`, or takes it out of the drawing when `d` is null. */
+function setSlot(name, d) {
+  const e = slots.get(name);
+  if (d === null) {
+    if (e.isConnected) e.remove();
+    return;
+  }
+  if (e.getAttribute('d') !== d) e.setAttribute('d', d);
+  if (!e.isConnected) {
+    // Before the next slot in the drawing (the order of SLOTS), or the vertices.
+    const at = SLOTS.findIndex(([n]) => n === name);
+    const next = SLOTS.slice(at + 1).map(([n]) => slots.get(n)).find((x) => x.isConnected);
+    svg.insertBefore(e, next || vertexGroup);
+  }
+}
+
 function draw() {
-  svg.replaceChildren();
+  if (!vertexGroup.isConnected) svg.append(...slots.values(), vertexGroup);
   const [w, h] = view.size();
-  svg.setAttribute('viewBox', `0 0 ${w} ${h}`);
+  const box = `0 0 ${w} ${h}`;
+  if (svg.getAttribute('viewBox') !== box) svg.setAttribute('viewBox', box);
   drawGrid(w, h);
   if (drawn.band && drawn.band.upper) {
     const ring = drawn.band.upper.concat(drawn.band.lower.slice().reverse());
-    el('path', { class: 'band', d: view.pathData(ring, true), id: 'band-path' }, svg);
-  }
+    setSlot('band', view.pathData(ring, true));
+  } else setSlot('band', null);
   if (drawn.comb && doc.mode === 'bspline' && doc.bspline.comb) {
-    const k = doc.bspline.combScale;
-    const tips = drawn.comb.tip.map((t, i) => {
-      const b = drawn.comb.base[i];
-      return [b[0] + (t[0] - b[0]) * k, b[1] + (t[1] - b[1]) * k];
-    });
-    let d = '';
-    const stride = Math.max(1, Math.ceil(tips.length / 600));
-    for (let i = 0; i < tips.length; i += stride) {
-      const [x0, y0] = view.toScreen(drawn.comb.base[i]);
+    const dirty = drawn.combDirty || [0, Infinity];
+    drawn.combDirty = [0, 0];
+    const [teeth, edge] = combPaths(dirty);
+    setSlot('comb', teeth);
+    setSlot('combEdge', edge);
+  } else {
+    setSlot('comb', null);
+    setSlot('combEdge', null);
+  }
+  setSlot('polygon', doc.mode === 'bezier' && drawn.control ? view.pathData(drawn.control) : null);
+  const dirty = drawn.dirty || [0, Infinity];
+  drawn.dirty = [0, 0];
+  setSlot('curve', view.pathDataCached(drawn.curve, curveCache, dirty[0], dirty[1]));
+  setSlot('approx', drawn.approx ? view.pathData(drawn.approx) : null);
+  drawVertices();
+  drawLegend();
+}
+
+/** The formatted teeth and tips of the comb (a drag formats its window only). */
+const combCache = { key: '', tips: [], teeth: [], edge: {} };
+
+/** The comb's teeth (at most about 600 drawn) and the line of their tips, as path data;
+ * the teeth `dirty[0]..dirty[1]` changed since the last call. */
+function combPaths(dirty) {
+  const k = doc.bspline.combScale;
+  const { base, tip } = drawn.comb;
+  const key = `${view.key()}|${k}|${tip.length}`;
+  let [from, to] = dirty;
+  if (combCache.key !== key) {
+    combCache.key = key;
+    combCache.tips = new Array(tip.length);
+    combCache.teeth = new Array(tip.length).fill('');
+    combCache.edge = {};
+    from = 0;
+    to = tip.length;
+  }
+  const { tips, teeth } = combCache;
+  const stride = Math.max(1, Math.ceil(tip.length / 600));
+  for (let i = Math.max(0, from); i < Math.min(to, tip.length); i++) {
+    const t = tip[i], b = base[i];
+    tips[i] = [b[0] + (t[0] - b[0]) * k, b[1] + (t[1] - b[1]) * k];
+    if (i % stride === 0) {
+      const [x0, y0] = view.toScreen(b);
       const [x1, y1] = view.toScreen(tips[i]);
-      d += `M${x0.toFixed(1)} ${y0.toFixed(1)}L${x1.toFixed(1)} ${y1.toFixed(1)}`;
+      teeth[i] = `M${x0.toFixed(1)} ${y0.toFixed(1)}L${x1.toFixed(1)} ${y1.toFixed(1)}`;
     }
-    el('path', { class: 'comb', d }, svg);
-    el('path', { class: 'comb-edge', d: view.pathData(tips) }, svg);
   }
-  if (doc.mode === 'bezier' && drawn.control) {
-    el('path', { class: 'polygon', d: view.pathData(drawn.control), id: 'polygon-path' }, svg);
-  }
-  el('path', { class: 'curve', d: view.pathData(drawn.curve), id: 'curve-path' }, svg);
-  if (drawn.approx) {
-    el('path', { class: 'curve approx', d: view.pathData(drawn.approx), id: 'approx-path' }, svg);
-  }
+  return [teeth.join(''), view.pathDataCached(tips, combCache.edge, from, to)];
+}
+
+/** The control or reference points: SVG circles (few) or the canvas layer (many). */
+function drawVertices() {
   const pts = doc.mode === 'bezier' ? doc.bezier.points : doc.mode === 'bspline' ? doc.bspline.points : [];
   const cls = doc.mode === 'bezier' ? 'vertex' : 'ref';
   const r = doc.mode === 'bezier' ? 6 : 5;
+  const shapes = [];
   if (pts.length <= MANY_POINTS) {
     pts.forEach((p, i) => {
       const [x, y] = view.toScreen(p);
-      const c = el('circle', { class: cls, cx: x, cy: y, r, 'data-index': i }, svg);
+      const c = el('circle', { class: cls, cx: x, cy: y, r, 'data-index': i });
       if (dragging && dragging.index === i) c.classList.add('active');
+      if (doc.mode === 'bezier' && i === selected) c.classList.add('selected');
+      shapes.push(c);
       if (doc.mode === 'bezier' && pts.length <= 40) {
-        el('text', { class: 'label', x: x + 9, y: y - 9 }, svg).textContent = `P${i}`;
+        const label = el('text', { class: 'label', x: x + 9, y: y - 9 });
+        const w = doc.bezier.weights ? doc.bezier.weights[i] : 1;
+        label.textContent = Math.abs(w - 1) < 1e-9 ? `P${i}` : `P${i} w=${+w.toPrecision(3)}`;
+        shapes.push(label);
       }
     });
   }
+  if (shapes.length || vertexGroup.firstChild) vertexGroup.replaceChildren(...shapes);
   drawPointsLayer(pts.length > MANY_POINTS ? pts : [], r);
-  drawLegend();
 }
 
 function drawGrid(w, h) {
@@ -406,9 +585,9 @@ function drawGrid(w, h) {
     const [, sy] = view.toScreen([0, y]);
     d += `M0 ${sy.toFixed(1)}H${w}`;
   }
-  el('path', { class: 'grid-line', d }, svg);
+  setSlot('grid', d);
   const [ax, ay] = view.toScreen([0, 0]);
-  el('path', { class: 'axis-line', d: `M${ax.toFixed(1)} 0V${h}M0 ${ay.toFixed(1)}H${w}` }, svg);
+  setSlot('axes', `M${ax.toFixed(1)} 0V${h}M0 ${ay.toFixed(1)}H${w}`);
 }
 
 function drawLegend() {
@@ -420,13 +599,16 @@ function drawLegend() {
     items.push(['l-curve', 'B-spline'], ['l-ref', 'reference points']);
     if (doc.bspline.comb) items.push(['l-comb', 'curvature comb']);
   }
+  const key = JSON.stringify(items) + doc.mode;
+  if (key === legendKey) return;
+  legendKey = key;
   $('legend').replaceChildren(...items.map(([c, t]) => {
     const s = document.createElement('span');
     s.className = c;
     s.textContent = t;
     return s;
   }));
-  $('legend').hidden = items.length === 0 || doc.mode === 'body';
+  $('legend').hidden = items.length === 0 || doc.mode === 'body' || doc.mode === 'pointcalc';
 }
 
 function fitView() {
@@ -477,7 +659,11 @@ svg.addEventListener('pointerdown', (ev) => {
     return;
   }
   if (ev.button !== 0) return;
-  dragging = { index: i, start: [sx, sy], last: [sx, sy], moved: false };
+  // Shift+drag on a vertex of a Bézier curve: its weight (up: heavier), not its place.
+  const weight = ev.shiftKey && doc.mode === 'bezier' && i >= 0;
+  if (weight && !doc.bezier.weights) doc.bezier.weights = doc.bezier.points.map(() => 1);
+  if (i >= 0 && doc.mode === 'bezier') { selected = i; showWeight(); }
+  dragging = { index: i, start: [sx, sy], last: [sx, sy], moved: false, weight, w0: weight ? doc.bezier.weights[i] : 1 };
 });
 
 svg.addEventListener('pointermove', (ev) => {
@@ -485,10 +671,17 @@ svg.addEventListener('pointermove', (ev) => {
   const [sx, sy] = view.eventPoint(ev);
   if (Math.hypot(sx - dragging.start[0], sy - dragging.start[1]) > 3) dragging.moved = true;
   if (!dragging.moved) return;
-  if (dragging.index >= 0) {
-    points()[dragging.index] = view.toWorld(sx, sy);
+  if (dragging.weight) {
+    // Up by 100 px: the weight times e.
+    doc.bezier.weights[dragging.index] = clampWeight(dragging.w0 * Math.exp((dragging.start[1] - sy) / 100));
+    showWeight();
     if (proposal) { proposal = null; hideApprox(); }
-    drawSoon();
+    refresh();
+  } else if (dragging.index >= 0) {
+    points()[dragging.index] = view.toWorld(sx, sy);
+    if (proposal) { proposal = null; hideApprox(); drawSoon(); }
+    // The point follows the mouse now; the curve when the server answers (compute draws).
+    drawSoon('vertices');
     refresh();
   } else {
     view.panBy(sx - dragging.last[0], sy - dragging.last[1]);
@@ -502,7 +695,9 @@ svg.addEventListener('pointerup', (ev) => {
   const d = dragging;
   dragging = null;
   const [sx, sy] = view.eventPoint(ev);
-  if (d.moved && d.index >= 0) {
+  if (!d.moved && d.index >= 0) {
+    draw();
+  } else if (d.moved && d.index >= 0) {
     commit();
     lastFormulaKey = '';
     refresh();
@@ -518,6 +713,13 @@ svg.addEventListener('contextmenu', (ev) => ev.preventDefault());
 svg.addEventListener('wheel', (ev) => {
   ev.preventDefault();
   const [sx, sy] = view.eventPoint(ev);
+  // The wheel over a vertex of a Bézier curve: its weight (up: heavier).
+  const on = doc.mode === 'bezier' ? hit(sx, sy) : -1;
+  if (on >= 0) {
+    selected = on;
+    setWeight(on, weightOf(on) * Math.exp(-ev.deltaY * 0.002), 'wheel');
+    return;
+  }
   view.zoomAt(sx, sy, Math.exp(-ev.deltaY * 0.0015));
   drawSoon();
 }, { passive: false });
@@ -542,6 +744,7 @@ const addPoint = act(async (p, sx, sy) => {
     if (doc.mode === 'bezier') {
       const pts = doc.bezier.points;
       let index = pts.length;
+      const rational = !!doc.bezier.weights;
       if (pts.length >= 2) {
         let best = Infinity;
         for (let i = 0; i + 1 < pts.length; i++) {
@@ -552,9 +755,20 @@ const addPoint = act(async (p, sx, sy) => {
           }
         }
       }
-      const r = await post('/api/bezier/edit', { model: model(), insert: { index, point: p } });
       proposal = null;
       hideApprox();
+      if (rational) {
+        // A rational curve: the vertex goes in with weight 1 (the server draws the result).
+        pts.splice(index, 0, p);
+        doc.bezier.weights.splice(index, 0, 1);
+        selected = index;
+        commit();
+        status(`Inserted vertex ${index} with weight 1: degree ${pts.length - 1}.`);
+        lastFormulaKey = '';
+        refresh();
+        return;
+      }
+      const r = await post('/api/bezier/edit', { model: model(), insert: { index, point: p } });
       doc.bezier.points = r.model.points;
       commit();
       status(`Inserted vertex ${index}: degree ${r.degree.degree}; the curve moved by up to ${fmt(r.deviation.upper_bound)} (found ${fmt(r.deviation.max_found)} at t = ${fmt(r.deviation.at, 3)}).`);
@@ -589,6 +803,18 @@ const removePoint = act(async (i) => {
   try {
     if (doc.mode === 'bezier') {
       if (doc.bezier.points.length <= 1) { status('A Bézier curve keeps at least one vertex.', true); return; }
+      if (doc.bezier.weights) {
+        proposal = null;
+        hideApprox();
+        doc.bezier.points.splice(i, 1);
+        doc.bezier.weights.splice(i, 1);
+        selected = Math.min(selected, doc.bezier.points.length - 1);
+        status(`Removed vertex ${i}: degree ${doc.bezier.points.length - 1}.`);
+        commit();
+        lastFormulaKey = '';
+        refresh();
+        return;
+      }
       const r = await post('/api/bezier/edit', { model: model(), remove: i });
       proposal = null;
       hideApprox();
@@ -606,6 +832,53 @@ const removePoint = act(async (i) => {
 });
 
 // ---------------------------------------------------------------------------------------
+// Rational weights: the selected vertex's weight (a field, Shift+drag, the wheel, W / Shift+W)
+
+
+function weightOf(i) { return doc.bezier.weights ? doc.bezier.weights[i] : 1; }
+function clampWeight(w) { return Math.min(1e6, Math.max(1e-6, w)); }
+
+function showWeight() {
+  const n = doc.bezier.points.length;
+  if (selected >= n) selected = n - 1;
+  $('weight-name').textContent = `P${selected}`;
+  if (document.activeElement !== $('weight')) $('weight').value = +weightOf(selected).toPrecision(6);
+  $('weight-reset').disabled = !doc.bezier.weights;
+  $('rational-kind').textContent = doc.bezier.weights ? 'rational' : 'polynomial (all weights 1)';
+}
+
+/** Sets the weight of vertex i (> 0); `how` groups wheel steps into one undo step. */
+function setWeight(i, w, how = 'field') {
+  if (!(Number.isFinite(w) && w > 0)) {
+    status(`The weight of P${i} must be a number > 0 (got ${w}).`, true);
+    showWeight();
+    return;
+  }
+  if (!doc.bezier.weights) doc.bezier.weights = doc.bezier.points.map(() => 1);
+  doc.bezier.weights[i] = clampWeight(w);
+  if (proposal) { proposal = null; hideApprox(); }
+  const run = `${how}:${i}`;
+  if (how !== 'wheel' || weightRun !== run) commit();
+  else history.states[history.at] = clone(doc);
+  weightRun = how === 'wheel' ? run : null;
+  showWeight();
+  lastFormulaKey = '';
+  refresh();
+}
+
+$('weight').addEventListener('change', () => setWeight(selected, Number($('weight').value)));
+$('weight-reset').addEventListener('click', () => {
+  doc.bezier.weights = null;
+  proposal = null;
+  hideApprox();
+  commit();
+  showWeight();
+  lastFormulaKey = '';
+  refresh();
+  status('All weights 1: a polynomial Bézier curve again.');
+});
+
+// ---------------------------------------------------------------------------------------
 // Degree controls
 
 /** Takes the API's answer of an exact change of degree as the new curve (one undo step). */
@@ -613,6 +886,8 @@ async function takeDegreeChange(r, message) {
   proposal = null;
   hideApprox();
   doc.bezier.points = r.model.points;
+  doc.bezier.weights = r.model.weights || null;
+  selected = Math.min(selected, r.model.points.length - 1);
   commit();
   lastFormulaKey = '';
   needFit = 'if-hidden';
@@ -625,7 +900,7 @@ $('deg-up').addEventListener('click', act(async () => {
   try {
     const n = doc.bezier.points.length - 1;
     const r = await post('/api/bezier/elevate', { model: model(), to: n + 1 });
-    await takeDegreeChange(r, `Elevated to degree ${n + 1}: the same curve, one more control point.`);
+    await takeDegreeChange(r, `Elevated to degree ${n + 1}: the same curve, one more control point${doc.bezier.weights ? ' and weight' : ''}.`);
   } catch (e) { showError(e); }
 }));
 
@@ -638,7 +913,14 @@ $('deg-down').addEventListener('click', act(async () => {
   } catch (e) {
     if (e instanceof ApiError && e.body.reason === 'real_degree') {
       showRefusal(e, n - 1);
-      await propose(n - 1);
+      if (doc.bezier.weights) {
+        $('refusal').textContent = `Cannot reduce exactly to degree ${n - 1}: the real degree of the rational curve is ${e.body.real_degree}. The best approximation of lower degree is for polynomial curves (all weights 1).`;
+        status($('refusal').textContent, true);
+        return;
+      }
+      try {
+        await propose(n - 1);
+      } catch (e2) { showError(e2); }
     } else showError(e);
   }
 }));
@@ -674,6 +956,7 @@ $('approx-norm').addEventListener('change', () => { if (proposal) propose(propos
 $('approx-accept').addEventListener('click', () => {
   if (!proposal) return;
   doc.bezier.points = proposal.model.points;
+  doc.bezier.weights = proposal.model.weights || null;
   proposal = null;
   hideApprox();
   commit();
@@ -694,6 +977,7 @@ function syncControls() {
   $('comb').checked = b.comb;
   $('comb-scale').value = b.combScale;
   $('body-kind').value = doc.body.kind;
+  pointcalc.sync();
   setMode(doc.mode, false);
 }
 
@@ -717,12 +1001,17 @@ function setMode(mode, record = true) {
   $('bezier-panel').hidden = mode !== 'bezier';
   $('bspline-panel').hidden = mode !== 'bspline';
   $('body-panel').hidden = mode !== 'body';
+  const pc = mode === 'pointcalc';
+  for (const id of ['pointcalc-panel', 'pc-result-card']) $(id).hidden = !pc;
+  $('pc-plot').toggleAttribute('hidden', !pc); // an SVG element: no .hidden property
+  $('pc-slice-card').hidden = !pc || doc.pointcalc.factors.length <= 2;
   $('picture').hidden = mode !== 'body';
-  layer.hidden = mode === 'body';
-  svg.style.visibility = mode === 'body' ? 'hidden' : 'visible';
-  $('fit').hidden = mode === 'body';
-  $('legend').hidden = mode === 'body';
-  $('hint').textContent = mode === 'body' ? '' : 'Wheel: zoom · drag the background: pan · F: fit';
+  const flat = mode === 'body' || pc;
+  layer.hidden = flat;
+  svg.style.visibility = flat ? 'hidden' : 'visible';
+  $('fit').hidden = flat;
+  $('legend').hidden = flat;
+  $('hint').textContent = flat ? '' : 'Wheel: zoom · drag the background: pan · F: fit · ?: shortcuts';
   if (changed) {
     proposal = null;
     hideApprox();
@@ -778,16 +1067,22 @@ function currentModelOrBody() {
 }
 
 async function loadModel(m, name) {
-  if (m.type === 'bezier_curve' && !m.weights) {
+  if (m.type === 'bezier_curve') {
     doc.mode = 'bezier';
     doc.bezier.points = m.points.map((p) => [p[0], p[1] ?? 0]);
+    doc.bezier.weights = m.weights ? [...m.weights] : null;
+    selected = 0;
   } else if (m.type === 'bspline_curve' && m.parameters) {
     // Its reference points: the curve at the parameters of its points.
     const s = await post('/api/samples', { model: m, samples: 2 });
     doc.mode = 'bspline';
     doc.bspline.points = s.references.map((r) => [r.point[0], r.point[1] ?? 0]);
+  } else if (m.type === 'pointcalc-model') {
+    doc.mode = 'pointcalc';
+    const dim = pointcalc.load(m);
+    if (dim > 1) status(`${name}: ${dim} responses; the table edits the first`);
   } else {
-    throw new Error(`${name}: the editor edits 2-D Bézier curves and interpolating B-spline curves for now (this is a ${m.type})`);
+    throw new Error(`${name}: the editor edits 2-D Bézier curves, interpolating B-spline curves and point-calculus models (this is a ${m.type})`);
   }
   proposal = null;
   hideApprox();
@@ -843,7 +1138,7 @@ async function save() {
   if (!m) { status('Nothing to save in this mode; export the formula instead.', true); return; }
   try {
     if (filesAvailable) {
-      const name = prompt('Save as (a .json name in the server\'s folder):', doc.mode === 'bezier' ? 'bezier.json' : 'bspline.json');
+      const name = prompt('Save as (a .json name in the server\'s folder):', `${doc.mode}.json`);
       if (!name) return;
       const r = await put(`/api/files/${encodeURIComponent(name)}`, { model: m });
       status(`Saved ${r.name} (${r.what}, ${r.bytes} bytes).`);
@@ -874,16 +1169,92 @@ $('export').addEventListener('change', async () => {
 // ---------------------------------------------------------------------------------------
 // Keyboard
 
+/** Every shortcut: [keys, what, mode or null for all, action]. The help overlay (?) lists them. */
+const SHORTCUTS = [
+  ['Ctrl+Z', 'undo', null, () => undo()],
+  ['Ctrl+Shift+Z, Ctrl+Y', 'redo', null, () => redo()],
+  ['Ctrl+S', 'save the model', null, () => save()],
+  ['Ctrl+O', 'open a model file', null, () => $('open').click()],
+  ['1 2 3 4', 'Bézier, B-spline, bodies, point calculus', null, null],
+  ['F', 'fit the drawing to the view', null, () => { fitView(); draw(); }],
+  ['+', 'raise the degree (the same curve)', 'bezier', () => $('deg-up').click()],
+  ['−', 'lower the degree (exact, or the best approximation)', 'bezier', () => $('deg-down').click()],
+  ['Enter, Esc', 'accept / cancel the proposed approximation', 'bezier', null],
+  ['Tab, Shift+Tab', 'select the next / previous vertex', 'bezier', null],
+  ['W, Shift+W', 'the selected vertex\'s weight × 1.25 / ÷ 1.25', 'bezier', null],
+  ['Delete', 'remove the selected vertex', 'bezier', () => removePoint(selected)],
+  ['C', 'curvature comb on / off', 'bspline', () => $('comb').click()],
+  ['L', 'closed curve on / off', 'bspline', () => $('closed').click()],
+  ['M', 'optimum: maximum / minimum', 'pointcalc', () => { const g = $('pc-goal'); g.value = g.value === 'max' ? 'min' : 'max'; g.dispatchEvent(new Event('change')); }],
+  ['?', 'this list', null, () => showHelp()],
+];
+
+function showHelp() {
+  const rows = SHORTCUTS.map(([keys, what, mode]) => {
+    const tr = document.createElement('tr');
+    const k = document.createElement('td');
+    for (const [i, part] of keys.split(', ').entries()) {
+      if (i) k.append(' or ');
+      const kbd = document.createElement('kbd');
+      kbd.textContent = part;
+      k.appendChild(kbd);
+    }
+    const w = document.createElement('td');
+    w.textContent = mode ? `${what} (${mode === 'bspline' ? 'B-spline' : mode === 'pointcalc' ? 'point calculus' : 'Bézier'})` : what;
+    tr.append(k, w);
+    return tr;
+  });
+  const mouse = [
+    ['drag a point', 'move it; drag the background: pan; wheel: zoom'],
+    ['click', 'insert a vertex / add a reference point'],
+    ['Alt+click, right-click', 'remove the point'],
+    ['Shift+drag, wheel on a vertex', 'its weight (a rational Bézier curve)'],
+  ].map(([keys, what]) => {
+    const tr = document.createElement('tr');
+    const k = document.createElement('td');
+    k.textContent = keys;
+    const w = document.createElement('td');
+    w.textContent = what;
+    tr.append(k, w);
+    return tr;
+  });
+  $('help-keys').replaceChildren(...rows, ...mouse);
+  if (!$('help-dialog').open) $('help-dialog').showModal();
+}
+
 window.addEventListener('keydown', (ev) => {
   const mod = ev.ctrlKey || ev.metaKey;
-  if (ev.target instanceof HTMLInputElement || ev.target instanceof HTMLSelectElement) return;
-  if (mod && ev.key.toLowerCase() === 'z') { ev.preventDefault(); if (ev.shiftKey) redo(); else undo(); }
-  else if (mod && ev.key.toLowerCase() === 'y') { ev.preventDefault(); redo(); }
-  else if (mod && ev.key.toLowerCase() === 's') { ev.preventDefault(); save(); }
-  else if (!mod && ev.key === 'f') { fitView(); draw(); }
-  else if (!mod && (ev.key === '+' || ev.key === '=') && doc.mode === 'bezier') $('deg-up').click();
-  else if (!mod && ev.key === '-' && doc.mode === 'bezier') $('deg-down').click();
+  if (ev.target instanceof HTMLInputElement || ev.target instanceof HTMLSelectElement || ev.target instanceof HTMLTextAreaElement) return;
+  if ($('help-dialog').open || $('open-dialog').open) return;
+  const key = ev.key.length === 1 ? ev.key.toLowerCase() : ev.key;
+  const bezier = doc.mode === 'bezier';
+  const run = (fn) => { ev.preventDefault(); fn(); };
+  if (mod && key === 'z') run(ev.shiftKey ? redo : undo);
+  else if (mod && key === 'y') run(redo);
+  else if (mod && key === 's') run(save);
+  else if (mod && key === 'o') run(() => $('open').click());
+  else if (mod || ev.altKey) return;
+  else if (key === '?') run(showHelp);
+  else if (['1', '2', '3', '4'].includes(key)) run(() => setMode(['bezier', 'bspline', 'body', 'pointcalc'][+key - 1]));
+  else if (key === 'f' && doc.mode !== 'body' && doc.mode !== 'pointcalc') run(() => { fitView(); draw(); });
+  else if ((key === '+' || key === '=') && bezier) run(() => $('deg-up').click());
+  else if (key === '-' && bezier) run(() => $('deg-down').click());
+  else if (key === 'Enter' && bezier && proposal) run(() => $('approx-accept').click());
+  else if (key === 'Escape' && bezier && proposal) run(() => $('approx-cancel').click());
+  else if (key === 'Tab' && bezier && ev.target === svg) {
+    run(() => {
+      const n = doc.bezier.points.length;
+      selected = (selected + (ev.shiftKey ? n - 1 : 1)) % n;
+      showWeight();
+      draw();
+    });
+  } else if (key === 'w' && bezier) run(() => setWeight(selected, weightOf(selected) * (ev.shiftKey ? 1 / 1.25 : 1.25), 'key'));
+  else if ((key === 'Delete' || key === 'Backspace') && bezier) run(() => removePoint(selected));
+  else if (key === 'c' && doc.mode === 'bspline') run(() => $('comb').click());
+  else if (key === 'l' && doc.mode === 'bspline') run(() => $('closed').click());
+  else if (key === 'm' && doc.mode === 'pointcalc') run(SHORTCUTS.find((s) => s[0] === 'M')[3]);
 });
+$('help').addEventListener('click', showHelp);
 $('undo').addEventListener('click', undo);
 $('redo').addEventListener('click', redo);
 $('fit').addEventListener('click', () => { fitView(); draw(); });

@@ -79,6 +79,33 @@ export class View {
     this.cy += dsy / this.scale;
   }
 
+  /** A key of the mapping: equal keys map every world point to the same screen point. */
+  key() {
+    const [w, h] = this.size();
+    return `${this.cx} ${this.cy} ${this.scale} ${w} ${h}`;
+  }
+
+  /**
+   * SVG path data of a polyline whose points `from..to` (exclusive) changed since the last
+   * call with the same `cache` object: only those are formatted again (a drag of one point
+   * of a long curve changes a window of its samples).
+   */
+  pathDataCached(points, cache, from = 0, to = points.length) {
+    const key = this.key();
+    if (!cache.parts || cache.parts.length !== points.length || cache.key !== key) {
+      cache.parts = new Array(points.length);
+      cache.key = key;
+      from = 0;
+      to = points.length;
+    }
+    const parts = cache.parts;
+    for (let i = Math.max(0, from); i < Math.min(to, points.length); i++) {
+      const [x, y] = this.toScreen(points[i]);
+      parts[i] = (i ? 'L' : 'M') + x.toFixed(2) + ' ' + y.toFixed(2);
+    }
+    return parts.join('');
+  }
+
   /** SVG path data of a polyline of world points (closed: back to the first). */
   pathData(points, closed = false) {
     if (!points || !points.length) return '';

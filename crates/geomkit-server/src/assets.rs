@@ -37,6 +37,11 @@ pub const ASSETS: &[Asset] = &[
         body: include_str!("../assets/view.js"),
     },
     Asset {
+        name: "pointcalc.js",
+        mime: "text/javascript; charset=utf-8",
+        body: include_str!("../assets/pointcalc.js"),
+    },
+    Asset {
         name: "style.css",
         mime: "text/css; charset=utf-8",
         body: include_str!("../assets/style.css"),

@@ -90,14 +90,6 @@ impl ApiError {
             ),
             _ => (StatusCode::BAD_REQUEST, String::new(), err.to_string()),
         };
-        // The model crate names the place inside the message when the reader lost the path
-        // (inside a tagged file): "points[1][1]: is the string ...".
-        let (path, message) = match message.split_once(": ") {
-            Some((place, rest)) if path.is_empty() && is_json_path(place) => {
-                (place.trim_matches('"').to_string(), rest.to_string())
-            }
-            _ => (path, message),
-        };
         let full = join(field, &path);
         let text = if ["is ", "has ", "must "]
             .iter()
@@ -109,15 +101,6 @@ impl ApiError {
         };
         Self::new(status, text).with("path", full)
     }
-}
-
-/// Whether `s` looks like a JSON path: `points[1][0]`, `net.rows`, `"knots"`.
-fn is_json_path(s: &str) -> bool {
-    let s = s.trim_matches('"');
-    !s.is_empty()
-        && s.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '[' | ']'))
 }
 
 /// `a.b` or `a[1]`.

@@ -24,6 +24,7 @@ const ENDPOINTS: &[&str] = &[
     "/api/pointcalc/shares",
     "/api/pointcalc/optimum",
     "/api/export",
+    "/api/pointcalc/grid",
 ];
 
 /// Valid requests (endpoint, body), the seeds of the mutations.
@@ -69,6 +70,14 @@ fn seeds() -> Vec<(&'static str, Value)> {
         (
             "/api/export",
             json!({"model": surface, "format": "stl", "samples": 3}),
+        ),
+        (
+            "/api/pointcalc/grid",
+            json!({"model": pc, "at": [0.5], "free": [0], "samples": 7, "contours": 3}),
+        ),
+        (
+            "/api/bspline/interpolate",
+            json!({"points": [[0, 0], [1, 2], [3, 1], [4, 4], [6, 0]], "samples_per_span": 2, "window": {"around": 2, "points": 1}, "comb": {"per_span": 1, "scale": 0.5}}),
         ),
     ]
 }
@@ -203,8 +212,9 @@ proptest! {
     }
 
     #[test]
-    fn fuzz_api_mutated_bodies(which in 0..ENDPOINTS.len(), seed in 0..13usize, pick in any::<u64>(), by in value(), cut in any::<u16>()) {
-        let mut body = seeds()[seed].1.clone();
+    fn fuzz_api_mutated_bodies(which in 0..ENDPOINTS.len(), seed in 0..64usize, pick in any::<u64>(), by in value(), cut in any::<u16>()) {
+        let seeds = seeds();
+        let mut body = seeds[seed % seeds.len()].1.clone();
         let mut p = pick;
         mutate(&mut body, &mut p, &by);
         let text = body.to_string();

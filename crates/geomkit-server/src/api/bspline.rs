@@ -4,18 +4,19 @@
 //! model file, the parameter of each point, samples for drawing and, in 2-D, the curvature
 //! comb.
 
-use super::{check_points, finite, model_json, rows};
+use super::{check_points, finite};
 use crate::error::{blocking, ApiError, ApiJson, ApiResult};
 use crate::AppState;
 use axum::extract::State;
-use axum::Json;
+use axum::http::header;
+use axum::response::{IntoResponse, Response};
 use geomkit::bspline::{
     interpolate_curve_flat, BsplineCurve, EndCondition, InterpolationOptions, Parametrization,
 };
 use geomkit::geom::{BatchOptions, Curve};
-use geomkit_model::{AnyModel, BsplineCurveModel};
-use serde::Deserialize;
-use serde_json::{json, Value};
+use geomkit_model::{AnyModel, BsplineCurveModel, ModelFile};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
 
 /// The request.
 #[derive(Debug, Deserialize)]
@@ -41,6 +42,26 @@ pub struct InterpolateRequest {
     /// unit of curvature (default: the longest tooth 1/6 of the points' extent).
     #[serde(default)]
     pub comb: Option<CombRequest>,
+    /// Only the drawing near one reference point (a drag): samples and comb teeth of the
+    /// knot spans between the parameters of points `around - points` and `around + points`,
+    /// without the model file. See [`WindowRequest`].
+    #[serde(default)]
+    pub window: Option<WindowRequest>,
+}
+
+/// A drawing window around one reference point: what a page needs to redraw while that
+/// point is dragged. A moved point changes a cubic interpolant far from it only by rounding
+/// (the interpolation system's inverse decays by a factor of about 2 − √3 ≈ 0.27 per span),
+/// so the samples outside the window are the page's previous ones.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WindowRequest {
+    /// The index of the reference point that moved.
+    pub around: usize,
+    /// How many reference points on each side the window spans (default 40: 0.27^40 ≈
+    /// 1e-23 of the move is left outside).
+    #[serde(default)]
+    pub points: Option<usize>,
 }
 
 /// Options of the curvature comb.
@@ -139,9 +160,8 @@ pub fn span_ends(curve: &dyn Curve) -> Vec<f64> {
     ends
 }
 
-/// Parameters `per_span` per knot span (the last one closing the domain).
-fn span_params(curve: &dyn Curve, per_span: usize) -> Vec<f64> {
-    let breaks = span_ends(curve);
+/// Parameters `per_span` per span of `breaks` (the span ends), closing with the last end.
+fn span_params_of(breaks: &[f64], per_span: usize) -> Vec<f64> {
     let mut ts = Vec::with_capacity(breaks.len() * per_span + 1);
     for w in breaks.windows(2) {
         for i in 0..per_span {
@@ -152,12 +172,57 @@ fn span_params(curve: &dyn Curve, per_span: usize) -> Vec<f64> {
     ts
 }
 
+/// Points stored flat (`dim` numbers each), written as JSON rows `[[x, y], ...]` without
+/// building a row per point.
+#[derive(Debug, Clone, Copy)]
+pub struct Rows<'a> {
+    /// The coordinates, point after point.
+    pub flat: &'a [f64],
+    /// Numbers per point.
+    pub dim: usize,
+}
+
+impl Serialize for Rows<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.flat.chunks_exact(self.dim.max(1)))
+    }
+}
+
+/// The curvature comb of a plane curve (see [`comb`]), as the API writes it.
+#[derive(Debug, Serialize)]
+pub struct Comb {
+    /// The parameters of the teeth.
+    pub t: Vec<f64>,
+    /// The curve at `t`, flat (x, y).
+    #[serde(serialize_with = "plane_rows")]
+    pub base: Vec<f64>,
+    /// The signed curvature at `t`.
+    pub curvature: Vec<f64>,
+    /// The tips of the teeth, flat (x, y).
+    #[serde(serialize_with = "plane_rows")]
+    pub tip: Vec<f64>,
+    /// Tooth length per unit of curvature.
+    pub scale: f64,
+    /// The largest |curvature| of the teeth.
+    pub max_curvature: f64,
+    /// In a window: the index of the first tooth in the whole curve's list.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub first: Option<usize>,
+    /// In a window: the teeth of the whole curve.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub total: Option<usize>,
+}
+
+fn plane_rows<S: serde::Serializer>(flat: &[f64], s: S) -> Result<S::Ok, S::Error> {
+    Rows { flat, dim: 2 }.serialize(s)
+}
+
 /// The curvature comb of a plane curve at `ts`: base points, signed curvature
 /// κ = (x'y'' - y'x'')/|c'|³ and teeth `base - scale·κ·n` (n the unit left normal, so the
 /// teeth point away from the centre of curvature).
-pub fn comb(curve: &BsplineCurve, ts: &[f64], scale: Option<f64>, extent: f64) -> ApiResult<Value> {
+pub fn comb(curve: &BsplineCurve, ts: &[f64], scale: Option<f64>, extent: f64) -> ApiResult<Comb> {
     let (mut p, mut d1, mut d2) = ([0.0; 2], [0.0; 2], [0.0; 2]);
-    let mut base = Vec::with_capacity(ts.len());
+    let mut base = Vec::with_capacity(2 * ts.len());
     let mut kappa = Vec::with_capacity(ts.len());
     let mut normal = Vec::with_capacity(ts.len());
     for &t in ts {
@@ -175,7 +240,7 @@ pub fn comb(curve: &BsplineCurve, ts: &[f64], scale: Option<f64>, extent: f64) -
         } else {
             (0.0, [0.0, 0.0])
         };
-        base.push(p.to_vec());
+        base.extend_from_slice(&p);
         kappa.push(if k.is_finite() { k } else { 0.0 });
         normal.push(n);
     }
@@ -191,21 +256,57 @@ pub fn comb(curve: &BsplineCurve, ts: &[f64], scale: Option<f64>, extent: f64) -
         None if most > 0.0 => extent / 6.0 / most,
         None => 0.0,
     };
-    let tips: Vec<Vec<f64>> = base
-        .iter()
+    let tip: Vec<f64> = base
+        .chunks_exact(2)
         .zip(&kappa)
         .zip(&normal)
-        .map(|((b, k), n)| vec![b[0] - scale * k * n[0], b[1] - scale * k * n[1]])
+        .flat_map(|((b, k), n)| [b[0] - scale * k * n[0], b[1] - scale * k * n[1]])
         .collect();
-    finite("the comb", &tips.concat())?;
-    Ok(json!({
-        "t": ts,
-        "base": base,
-        "curvature": kappa,
-        "tip": tips,
-        "scale": scale,
-        "max_curvature": most,
-    }))
+    finite("the comb", &tip)?;
+    Ok(Comb {
+        t: ts.to_vec(),
+        base,
+        curvature: kappa,
+        tip,
+        scale,
+        max_curvature: most,
+        first: None,
+        total: None,
+    })
+}
+
+/// The curve's samples as the API writes them.
+#[derive(Debug, Serialize)]
+struct Samples<'a> {
+    t: &'a [f64],
+    points: Rows<'a>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    first: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    total: Option<usize>,
+}
+
+/// The knot spans of a window answer.
+#[derive(Debug, Serialize)]
+struct WindowAnswer {
+    first_span: usize,
+    last_span: usize,
+    spans: usize,
+}
+
+/// The answer, written straight to JSON text (a 2000-point curve answers about 600 KB:
+/// no tree of JSON values is built for it).
+#[derive(Debug, Serialize)]
+struct Answer<'a> {
+    model: Option<&'a ModelFile>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    what: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    parameters: Option<&'a [f64]>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    window: Option<WindowAnswer>,
+    samples: Samples<'a>,
+    comb: Option<Comb>,
 }
 
 /// `POST /api/bspline/interpolate`: `{"model", "what", "parameters", "samples": {"t",
@@ -213,7 +314,7 @@ pub fn comb(curve: &BsplineCurve, ts: &[f64], scale: Option<f64>, extent: f64) -
 pub async fn interpolate(
     State(state): State<AppState>,
     ApiJson(req): ApiJson<InterpolateRequest>,
-) -> ApiResult<Json<Value>> {
+) -> ApiResult<Response> {
     blocking(move || {
         let limits = state.config.limits;
         check_points("points", req.points.len(), &limits)?;
@@ -247,7 +348,15 @@ pub async fn interpolate(
             ))
             .with("path", "samples_per_span"));
         }
-        let ts = span_params(curve, per_span);
+        // The spans drawn: all, or those of the window (open curves; a window that wraps
+        // around a closed curve's seam draws all).
+        let ends = span_ends(curve);
+        let window = match &req.window {
+            Some(w) if !req.closed => Some(window_spans(w, fit.parameters(), &ends)?),
+            _ => None,
+        };
+        let (first, last) = window.unwrap_or((0, spans));
+        let ts = span_params_of(&ends[first..=last], per_span);
         let mut out = vec![0.0; ts.len() * dim];
         curve
             .eval_batch(&ts, &mut out, &BatchOptions::default())
@@ -261,26 +370,98 @@ pub async fn interpolate(
                     .with("path", "comb.per_span"));
             }
             let extent = extent(&flat, dim);
-            comb(curve, &span_params(curve, teeth), comb_req.scale, extent)?
+            let mut c = comb(
+                curve,
+                &span_params_of(&ends[first..=last], teeth),
+                comb_req.scale,
+                extent,
+            )?;
+            if window.is_some() {
+                c.first = Some(first * teeth);
+                c.total = Some(spans * teeth + 1);
+            }
+            Some(c)
         } else {
-            Value::Null
+            None
         };
-        let parameters = fit.parameters().to_vec();
-        let file = BsplineCurveModel::file_of(curve, Some(&parameters));
-        let what = AnyModel::BsplineCurve(BsplineCurveModel {
-            curve: curve.clone(),
-            parameters: None,
-        })
-        .describe();
-        Ok(Json(json!({
-            "model": model_json(&file)?,
-            "what": what,
-            "parameters": parameters,
-            "samples": {"t": ts, "points": rows(&out, dim)},
-            "comb": comb,
-        })))
+        let windowed = window.is_some();
+        let samples = Samples {
+            t: &ts,
+            points: Rows { flat: &out, dim },
+            first: windowed.then_some(first * per_span),
+            total: windowed.then_some(spans * per_span + 1),
+        };
+        let parameters = fit.parameters();
+        let file;
+        let answer = if windowed {
+            Answer {
+                model: None,
+                what: None,
+                parameters: None,
+                window: Some(WindowAnswer {
+                    first_span: first,
+                    last_span: last,
+                    spans,
+                }),
+                samples,
+                comb,
+            }
+        } else {
+            file = BsplineCurveModel::file_of(curve, Some(parameters));
+            finite("the curve's knots", curve.knots())?;
+            finite("the curve's control points", curve.control_flat())?;
+            let what = AnyModel::BsplineCurve(BsplineCurveModel {
+                curve: curve.clone(),
+                parameters: None,
+            })
+            .describe();
+            Answer {
+                model: Some(&file),
+                what: Some(what),
+                parameters: Some(parameters),
+                window: None,
+                samples,
+                comb,
+            }
+        };
+        let body = serde_json::to_vec(&answer).map_err(|e| {
+            ApiError::unprocessable(format!("the answer cannot be written as JSON: {e}"))
+        })?;
+        Ok(([(header::CONTENT_TYPE, "application/json")], body).into_response())
     })
     .await
+}
+
+/// The knot spans `(first, last)` (span `first` up to the end of span `last - 1`) between
+/// the parameters of reference points `around ± points` (the whole domain at the ends).
+fn window_spans(w: &WindowRequest, parameters: &[f64], ends: &[f64]) -> ApiResult<(usize, usize)> {
+    let n = parameters.len();
+    if w.around >= n {
+        return Err(ApiError::bad_request(format!(
+            "window.around is {} but there are {n} points",
+            w.around
+        ))
+        .with("path", "window.around"));
+    }
+    let reach = w.points.unwrap_or(40);
+    let spans = ends.len() - 1;
+    let first = if w.around <= reach {
+        0
+    } else {
+        let lo = parameters[w.around - reach];
+        // The last span starting at or before `lo`.
+        ends[..spans]
+            .partition_point(|&e| e <= lo)
+            .saturating_sub(1)
+    };
+    let last = if w.around + reach >= n - 1 {
+        spans
+    } else {
+        let hi = parameters[w.around + reach];
+        // The first span end at or after `hi`.
+        ends.partition_point(|&e| e < hi).clamp(first + 1, spans)
+    };
+    Ok((first, last.max(first + 1).min(spans)))
 }
 
 /// The largest side of the points' bounding box (1 when they coincide).

@@ -4,8 +4,9 @@
 //!
 //! Models: composite surfaces (parametric or explicit), B-spline surfaces (their cells as
 //! patches), Bézier surfaces (one patch), ruled surfaces, piecewise functions and composite
-//! curves, B-spline and polynomial Bézier curves (their spans as pieces), and formula files
-//! (their stored text).
+//! curves, B-spline and polynomial Bézier curves (their spans as pieces), point-calculus
+//! models (the point equation: one formula per response over the factors), and formula
+//! files (their stored text).
 
 use super::{model_json, read_model};
 use crate::error::{blocking, ApiError, ApiJson, ApiResult};
@@ -18,7 +19,7 @@ use geomkit::compose::{
     bodies, CompositeSurface, ContinuityReport, Formula, GridLine, Piecewise, RuledSurface,
     SurfaceKind,
 };
-use geomkit::expr::Format;
+use geomkit::expr::{Format, Graph};
 use geomkit_model::{AnyModel, BezierModel, ModelFile};
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -187,6 +188,26 @@ pub fn model_formula(model: AnyModel) -> ApiResult<(Formula, Value)> {
             Ok((p.formula().map_err(geometry)?, report))
         }
         AnyModel::Ruled(s) => Ok((s.formula().map_err(geometry)?, Value::Null)),
+        AnyModel::Pointcalc(m) => {
+            // The point equation of spec/point-calculus.md: one formula per response in the
+            // factors' names (what `geomkit pointcalc formula` prints).
+            let mut graph = Graph::new();
+            let vars: Vec<String> = m
+                .model
+                .factors()
+                .iter()
+                .map(|f| f.name().to_string())
+                .collect();
+            let ids: Vec<_> = vars.iter().map(|v| graph.var(v)).collect();
+            let roots = m.model.to_expr(&mut graph, &ids).map_err(geometry)?;
+            let formula = Formula {
+                graph,
+                roots,
+                names: m.response,
+                vars,
+            };
+            Ok((formula, Value::Null))
+        }
         AnyModel::Formula(f) => match f.model {
             Some(m) => model_formula(*m),
             None => Err(ApiError::unprocessable(
@@ -194,8 +215,7 @@ pub fn model_formula(model: AnyModel) -> ApiResult<(Formula, Value)> {
             )),
         },
         other => Err(ApiError::unprocessable(format!(
-            "no single formula for a {} here (point-calculus formulas: geomkit pointcalc \
-             formula)",
+            "no single formula for a {} here",
             other.describe()
         ))
         .with("path", "model")),

@@ -16,6 +16,7 @@
 //! | `POST /api/bspline/interpolate` | a B-spline through points, its samples and curvature comb |
 //! | `POST /api/formula` | a model's single formula in one of 11 syntaxes + continuity report |
 //! | `POST /api/pointcalc/fit`, `/shares`, `/optimum` | point-calculus models |
+//! | `POST /api/pointcalc/grid` | a point-calculus model along one factor or over two (contours) |
 //! | `POST /api/export` | SVG, PNG, STL, GLB, OBJ or formula text of a model |
 //! | `GET /api/files`, `GET`/`PUT /api/files/{name}` | model files in the `--dir` folder |
 
@@ -26,6 +27,7 @@ pub mod files;
 pub mod formula;
 pub mod model;
 pub mod pointcalc;
+pub mod pointcalc_view;
 
 use crate::error::{ApiError, ApiResult};
 use crate::{AppState, Limits};
@@ -50,6 +52,7 @@ pub fn routes() -> Router<AppState> {
         .route("/api/pointcalc/fit", post(pointcalc::fit))
         .route("/api/pointcalc/shares", post(pointcalc::shares))
         .route("/api/pointcalc/optimum", post(pointcalc::optimum))
+        .route("/api/pointcalc/grid", post(pointcalc_view::grid))
         .route("/api/export", post(export::export))
         .route("/api/files", get(files::list))
         .route("/api/files/{name}", get(files::open).put(files::save))

@@ -83,7 +83,7 @@ pub async fn fit(
     .await
 }
 
-fn pointcalc_of(value: &Value, limits: &Limits) -> ApiResult<PointcalcModel> {
+pub(crate) fn pointcalc_of(value: &Value, limits: &Limits) -> ApiResult<PointcalcModel> {
     match read_model("model", value, limits)? {
         AnyModel::Pointcalc(m) => Ok(m),
         other => Err(ApiError::unprocessable(format!(
