@@ -28,6 +28,12 @@ pub struct ExportArgs {
     /// The product's name in the file [default: the model file's name without extension].
     #[arg(long)]
     pub name: Option<String>,
+    /// Formulas without an exact B-spline form (sqrt, sin, exp, ... in composite patches,
+    /// ruled curves, composite curves) are written as interpolating B-splines refined until
+    /// their largest deviation from the formula is at most this times the diagonal of the
+    /// model's bounding box; each is named in a `warning:` line with its deviation.
+    #[arg(long, value_name = "REL", default_value_t = 1e-6)]
+    pub tolerance: f64,
 }
 
 /// Arguments of `geomkit import`.

@@ -28,12 +28,20 @@ pub fn export(args: ExportArgs) -> Result<()> {
         SchemaArg::Ap214 => Schema::Ap214,
         SchemaArg::Ap242 => Schema::Ap242,
     };
-    let options = WriteOptions::default().with_name(name).with_schema(schema);
-    let text = step::write(&model, &options)
+    let options = WriteOptions::default()
+        .with_name(name)
+        .with_schema(schema)
+        .with_tolerance(args.tolerance);
+    let export = step::export(&model, &options)
         .with_context(|| format!("{}: cannot export", args.model.display()))?;
+    let text = export.text;
     write_atomic(&args.output, text.as_bytes())?;
+    let mut err = std::io::stderr();
+    for a in &export.approximations {
+        let _ = writeln!(err, "warning: approximated {}", a.describe());
+    }
     let _ = writeln!(
-        std::io::stderr(),
+        err,
         "wrote {}: {} as STEP ({} entities, {} bytes)",
         args.output.display(),
         model.describe(),

@@ -4,6 +4,7 @@
 //! or a plane face (a cap: a point in the plane of a polygon or circle); closed bodies as a
 //! solid with every face oriented outwards.
 
+use super::approx::{self, absolute_tolerance, finite, Approximation, SurfacePiece};
 use super::convert::{bezier_knots, natural_face};
 use super::nurbs::{cross, dot, NurbsCurve, NurbsSurface};
 use super::write::{Content, FaceSpec};
@@ -18,24 +19,33 @@ fn binomial(n: usize, k: usize) -> f64 {
 /// A composite surface of polynomial patches as one Bézier face per patch (on its cell,
 /// reparametrized to [0, 1]²), sewn where neighbouring patches share a boundary. Explicit
 /// surfaces z(x, y) become the parametric patches (x, y, z(x, y)).
-pub(crate) fn composite(s: &CompositeSurface) -> StepResult<Content> {
+pub(crate) fn composite(
+    s: &CompositeSurface,
+    tolerance: f64,
+) -> StepResult<(Content, Vec<Approximation>)> {
+    if s.patch(0, 0).is_none() {
+        return formula_composite(s, tolerance);
+    }
     let (n, m) = s.cells();
     let (uk, vk) = s.knots();
     let mut faces = Vec::with_capacity(n * m);
     for i in 0..n {
         for j in 0..m {
             let Some(p) = s.patch(i, j) else {
-                return Err(StepError::Unsupported(
-                    "a composite surface of formula patches has no exact B-spline form \
-                     (export composites of Bézier or polynomial patches)"
-                        .into(),
-                ));
+                return Err(StepError::Unsupported(format!(
+                    "patch ({i}, {j}) of a composite surface is neither a polynomial nor a formula"
+                )));
             };
             let (du, dv) = p.degrees();
             let dim = p.dim();
-            // Bernstein coefficients b_kl = Σ_(a<=k, b<=l) C(k,a)/C(du,a) C(l,b)/C(dv,b) c_ab.
+            // The Bézier net the patch came from, exactly; else the Bernstein coefficients
+            // b_kl = Σ_(a<=k, b<=l) C(k,a)/C(du,a) C(l,b)/C(dv,b) c_ab.
             let mut net = Vec::with_capacity((du + 1) * (dv + 1));
-            for k in 0..=du {
+            let given = p.bezier_net();
+            if let Some(given) = given {
+                net.extend(given.chunks_exact(dim).map(<[f64]>::to_vec));
+            }
+            for k in (0..=du).filter(|_| given.is_none()) {
                 for l in 0..=dv {
                     let mut b = vec![0.0; dim];
                     for a in 0..=k {
@@ -87,7 +97,71 @@ pub(crate) fn composite(s: &CompositeSurface) -> StepResult<Content> {
             }));
         }
     }
-    Ok(Content::Faces(faces))
+    Ok((Content::Faces(faces), Vec::new()))
+}
+
+/// A composite surface of formula patches: one face per patch, the interpolating B-spline
+/// of the patch on its cell (the patch's own domain mapped onto the cell, as geomkit
+/// evaluates it; explicit patches z(x, y) as the points (x, y, z)).
+fn formula_composite(
+    s: &CompositeSurface,
+    tolerance: f64,
+) -> StepResult<(Content, Vec<Approximation>)> {
+    let (n, m) = s.cells();
+    let (uk, vk) = s.knots();
+    let (dim, kind) = (s.dim(), s.kind());
+    if !matches!((kind, dim), (SurfaceKind::Explicit, 1) | (_, 2) | (_, 3)) {
+        return Err(StepError::Unsupported(format!(
+            "a composite surface in R^{dim}: STEP geometry lives in R^3"
+        )));
+    }
+    let mut pieces = Vec::with_capacity(n * m);
+    for i in 0..n {
+        for j in 0..m {
+            let Some(patch) = s.expr_patch(i, j) else {
+                return Err(StepError::Unsupported(format!(
+                    "patch ({i}, {j}) of a composite surface is neither a polynomial nor a formula"
+                )));
+            };
+            let cell = ((uk[i], uk[i + 1]), (vk[j], vk[j + 1]));
+            let own = patch.domain().map(|d| (d[0], d[1]));
+            let name = format!("patch ({i}, {j})");
+            let label = name.clone();
+            let eval = move |u: f64, v: f64| -> StepResult<[f64; 3]> {
+                let (a, b) = match own {
+                    Some(((a0, a1), (b0, b1))) => {
+                        let ((u0, u1), (v0, v1)) = cell;
+                        (
+                            a0 + (a1 - a0) * ((u - u0) / (u1 - u0)),
+                            b0 + (b1 - b0) * ((v - v0) / (v1 - v0)),
+                        )
+                    }
+                    None => (u, v),
+                };
+                let at = format!("(u, v) = ({u}, {v})");
+                let q = patch.eval(&[a, b]).map_err(|e| {
+                    StepError::Unsupported(format!("{label}: cannot evaluate at {at}: {e}"))
+                })?;
+                let p = match (kind, dim) {
+                    (SurfaceKind::Explicit, _) => [u, v, q[0]],
+                    (_, 2) => [q[0], q[1], 0.0],
+                    _ => [q[0], q[1], q[2]],
+                };
+                finite(&label, &at, p)
+            };
+            pieces.push(SurfacePiece {
+                name,
+                domain: cell,
+                group: (i, j),
+                eval: Box::new(eval),
+            });
+        }
+    }
+    let absolute = absolute_tolerance(tolerance, &pieces, &[])?;
+    let fitted = approx::surfaces(&pieces, absolute)?;
+    let (surfaces, approximations): (Vec<_>, Vec<_>) = fitted.into_iter().unzip();
+    let faces = surfaces.into_iter().map(natural_face).collect();
+    Ok((Content::Faces(faces), approximations))
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -331,7 +405,10 @@ fn cap(p: [f64; 3], other: &Section, reference: (f64, f64)) -> StepResult<Option
 
 /// A ruled surface as faces: the strips between consecutive curves. A body whose first and
 /// last curves are points (the caps' centres or an apex) is a closed solid.
-pub(crate) fn ruled(s: &RuledSurface) -> StepResult<Content> {
+pub(crate) fn ruled(s: &RuledSurface, tolerance: f64) -> StepResult<(Content, Vec<Approximation>)> {
+    if s.curves().iter().any(|c| matches!(c, RuledCurve::Expr(_))) {
+        return formula_ruled(s, tolerance);
+    }
     let sections = s
         .curves()
         .iter()
@@ -373,11 +450,62 @@ pub(crate) fn ruled(s: &RuledSurface) -> StepResult<Content> {
         face.same_sense = if closed { along == outward } else { along };
         faces.push(face);
     }
-    Ok(if closed {
+    let content = if closed {
         Content::Solid(faces)
     } else {
         Content::Faces(faces)
-    })
+    };
+    Ok((content, Vec::new()))
+}
+
+/// A ruled surface over formula curves: each strip between consecutive curves the
+/// interpolating B-spline of the surface on [u0, u1] × [v_(k-1), v_k] (all strips with the
+/// same samples in u, so that consecutive strips share their curve as one edge); a closed
+/// solid when the first and last curves are points.
+fn formula_ruled(s: &RuledSurface, tolerance: f64) -> StepResult<(Content, Vec<Approximation>)> {
+    let ((u0, u1), _) = s.domain();
+    let vs = s.v_values();
+    let pieces: Vec<SurfacePiece<'_>> = vs
+        .windows(2)
+        .enumerate()
+        .map(|(k, w)| {
+            let name = format!("strip {} (v in [{}, {}])", k + 1, w[0], w[1]);
+            let label = name.clone();
+            let (v0, v1) = (w[0], w[1]);
+            let eval = move |u: f64, v: f64| -> StepResult<[f64; 3]> {
+                let mut q = [0.0; 3];
+                s.eval_into(u, v.clamp(v0, v1), &mut q);
+                finite(&label, &format!("(u, v) = ({u}, {v})"), q)
+            };
+            SurfacePiece {
+                name,
+                domain: ((u0, u1), (v0, v1)),
+                group: (0, k),
+                eval: Box::new(eval) as approx::SurfaceEval<'_>,
+            }
+        })
+        .collect();
+    let absolute = absolute_tolerance(tolerance, &pieces, &[])?;
+    let fitted = approx::surfaces(&pieces, absolute)?;
+    let closed = matches!(s.curves().first(), Some(RuledCurve::Point(_)))
+        && matches!(s.curves().last(), Some(RuledCurve::Point(_)));
+    let strips = vs.len().max(2) - 1;
+    // The faces have the ruled surface's parameters: their normals are its normals.
+    let outward = signed_volume(ruled_eval(s), s.domain(), (256, 16 * strips)) > 0.0;
+    let mut faces = Vec::with_capacity(fitted.len());
+    let mut approximations = Vec::with_capacity(fitted.len());
+    for (surface, a) in fitted {
+        let mut face = natural_face(surface);
+        face.same_sense = !closed || outward;
+        faces.push(face);
+        approximations.push(a);
+    }
+    let content = if closed {
+        Content::Solid(faces)
+    } else {
+        Content::Faces(faces)
+    };
+    Ok((content, approximations))
 }
 
 /// The strip between sections a (at v_(k-1)) and b (at v_k) of `s`.
