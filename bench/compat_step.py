@@ -37,7 +37,10 @@ from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace
 from OCP.BRepCheck import BRepCheck_Analyzer
 from OCP.BRepGProp import BRepGProp
 from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox
-from OCP.Geom import Geom_BezierCurve, Geom_BSplineSurface
+from OCP.Geom import (Geom_BezierCurve, Geom_BSplineSurface, Geom_Circle,
+                      Geom_SphericalSurface)
+from OCP.GeomConvert import (GeomConvert, GeomConvert_BSplineCurveToBezierCurve,
+                             GeomConvert_BSplineSurfaceToBezierSurface)
 from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.GProp import GProp_GProps
 from OCP.IFSelect import IFSelect_RetDone
@@ -48,7 +51,7 @@ from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
-from OCP.gp import gp_Pnt
+from OCP.gp import gp_Ax2, gp_Ax3, gp_Dir, gp_Pnt
 
 N_PARAMS = 1000
 REL = 1e-12
@@ -358,6 +361,16 @@ def occt_files(work):
     files["occt_bezier_curve"] = (work / "occt_bezier_curve.step", edge, bez)
     box = BRepPrimAPI_MakeBox(gp_Pnt(-1, -2, -0.5), 2.0, 4.0, 1.5).Shape()
     files["occt_box"] = (work / "occt_box.step", box, None)
+    # Rational B-splines of several spans: OCCT's B-spline form of a circle of radius 2 about
+    # (1, -1, 0.5) in a tilted plane, and of a sphere of radius 1.5 (GeomConvert).
+    axis = gp_Ax2(gp_Pnt(1, -1, 0.5), gp_Dir(0.3, -0.2, 1.0))
+    circle = GeomConvert.CurveToBSplineCurve_s(Geom_Circle(axis, 2.0))
+    edge = BRepBuilderAPI_MakeEdge(circle).Edge()
+    files["occt_rational_circle"] = (work / "occt_rational_circle.step", edge, circle)
+    sphere = GeomConvert.SurfaceToBSplineSurface_s(
+        Geom_SphericalSurface(gp_Ax3(gp_Pnt(0.5, 0.25, -1), gp_Dir(0, 0, 1)), 1.5))
+    face = BRepBuilderAPI_MakeFace(sphere, 1e-7).Face()
+    files["occt_rational_sphere"] = (work / "occt_rational_sphere.step", face, sphere)
     for path, shape, _ in files.values():
         write_step(shape, path)
     return files

@@ -72,8 +72,9 @@ pub fn import(args: ImportArgs) -> Result<()> {
         let path = if single {
             args.output.clone()
         } else {
+            let span: String = m.span.iter().map(|k| format!("-{k}")).collect();
             args.output
-                .join(format!("{}-{}.json", m.file.type_name(), m.id))
+                .join(format!("{}-{}{span}.json", m.file.type_name(), m.id))
         };
         let model = geomkit_model::AnyModel::from_file(m.file.clone())
             .with_context(|| format!("{name}: #{}", m.id))?;
@@ -108,6 +109,18 @@ pub fn import(args: ImportArgs) -> Result<()> {
         let _ = writeln!(
             err,
             "note: lengths are in the file's unit ({unit}), as written"
+        );
+    }
+    for t in &import.trimmed {
+        let holes = match t.loops {
+            0 | 1 => String::new(),
+            n => format!(" and {} hole(s)", n - 1),
+        };
+        let _ = writeln!(
+            err,
+            "warning: face #{} is trimmed (its outline{holes}): imported as the whole surface \
+             #{}, the trimming is not kept",
+            t.face, t.surface
         );
     }
     if !import.skipped.is_empty() {

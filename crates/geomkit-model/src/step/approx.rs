@@ -314,7 +314,7 @@ pub(crate) fn surfaces(
             let can_v = refined(nv[gv]) <= MAX_SURFACE_SAMPLES;
             let mut want_u = f.along_u > tolerance / 4.0;
             let mut want_v = f.along_v > tolerance / 4.0;
-            if !(want_u && can_u) && !(want_v && can_v) {
+            if !((want_u && can_u) || (want_v && can_v)) {
                 // The error is in the cells' inside, or one direction is at its limit.
                 want_u = true;
                 want_v = true;

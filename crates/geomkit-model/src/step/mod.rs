@@ -26,10 +26,17 @@
 //! millimetre (geomkit's numbers unchanged), the uncertainty [`WriteOptions::uncertainty`].
 //! The same model gives the same bytes (the header's time stamp is fixed unless given).
 //!
+//! Formulas without an exact B-spline form (formula patches of composite surfaces, ruled
+//! surfaces over formula curves, composite curves of formula pieces) are written as the
+//! nearest exact-through-points B-spline within [`WriteOptions::tolerance`]; [`export`]
+//! reports each such piece and its measured deviation ([`Approximation`]), also in the
+//! file's header.
+//!
 //! [`read`] takes the B-spline and Bézier curve and surface entities of a file (simple and
-//! complex instances, rational ones where geomkit has the type) and plane faces bounded by
-//! straight edges, and gives each as a model file; the curves that only bound faces are
-//! the faces' edges and are not given separately.
+//! complex instances, rational ones of several spans split into rational Bézier pieces by
+//! knot insertion) and plane faces bounded by straight edges, and gives each as a model
+//! file; the curves that only bound faces are the faces' edges and are not given
+//! separately; trimmed faces are reported ([`Import::trimmed`]).
 //!
 //! ```
 //! use geomkit_model::step;
@@ -48,10 +55,11 @@ mod convert;
 mod nurbs;
 mod part21;
 mod read;
+mod split;
 mod write;
 
 pub use approx::{Approximation, CHECK, MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
-pub use read::{read, Import, Imported};
+pub use read::{read, Import, Imported, TrimmedFace};
 
 use crate::AnyModel;
 
