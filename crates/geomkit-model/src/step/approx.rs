@@ -16,6 +16,7 @@
 //! faces are sewn.
 
 use super::nurbs::{NurbsCurve, NurbsSurface};
+use super::split;
 use super::{StepError, StepResult};
 use geomkit::bspline::{
     interpolate_curve_at, interpolate_surface_flat, BsplineSurface, EndCondition, Parametrization,
@@ -222,9 +223,31 @@ fn fit_surface(piece: &SurfacePiece<'_>, nu: usize, nv: usize) -> StepResult<Sur
     };
     let (ku, kv) = fit.surface.knots();
     let (ku, kv) = (rescale(ku, u0, u1, nu), rescale(kv, v0, v1, nv));
-    let (rows, cols) = fit.surface.net_size();
+    let cols = fit.surface.net_size().1;
     let degrees = fit.surface.degrees();
-    let control = fit.surface.control_flat().to_vec();
+    // Clamped in both directions (the interpolation's knots reach beyond the ends): the
+    // boundary curves are the net's first and last rows and columns, as CAD systems expect.
+    let net = fit.surface.control_flat();
+    let u_rows: Vec<Vec<f64>> = net.chunks_exact(cols * 3).map(<[f64]>::to_vec).collect();
+    let (ku, u_rows) = split::clamp(degrees.0, &ku, &u_rows);
+    let rows = u_rows.len();
+    let columns: Vec<Vec<f64>> = (0..cols)
+        .map(|j| {
+            u_rows
+                .iter()
+                .flat_map(|r| r[3 * j..3 * j + 3].to_vec())
+                .collect()
+        })
+        .collect();
+    let (kv, columns) = split::clamp(degrees.1, &kv, &columns);
+    let cols = columns.len();
+    let mut control = vec![0.0; rows * cols * 3];
+    for (j, col) in columns.iter().enumerate() {
+        for i in 0..rows {
+            control[(i * cols + j) * 3..(i * cols + j) * 3 + 3]
+                .copy_from_slice(&col[3 * i..3 * i + 3]);
+        }
+    }
     let surface = BsplineSurface::from_flat(
         degrees,
         ku.clone(),
@@ -397,12 +420,14 @@ fn fit_curve(piece: &CurvePiece<'_>, n: usize) -> StepResult<(NurbsCurve, f64)> 
         }
         deviation = deviation.max(d);
     }
-    let control: Vec<[f64; 3]> = curve
+    let rows: Vec<Vec<f64>> = curve
         .control_flat()
         .chunks_exact(3)
-        .map(|p| [p[0], p[1], p[2]])
+        .map(<[f64]>::to_vec)
         .collect();
-    let nurbs = NurbsCurve::new(curve.degree(), curve.knots().to_vec(), control, None)?;
+    let (knots, rows) = split::clamp(curve.degree(), curve.knots(), &rows);
+    let control: Vec<[f64; 3]> = rows.iter().map(|p| [p[0], p[1], p[2]]).collect();
+    let nurbs = NurbsCurve::new(curve.degree(), knots, control, None)?;
     Ok((nurbs, deviation))
 }
 

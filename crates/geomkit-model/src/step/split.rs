@@ -85,6 +85,32 @@ pub(crate) fn spans(p: usize, knots: &[f64], rows: &[Vec<f64>]) -> Vec<Span> {
         .collect()
 }
 
+/// The same B-spline clamped to its domain [u_p, u_n]: each end knot inserted until it has
+/// multiplicity p, then the knots beyond it replaced by one more copy (C(a) = P_(k-p) when
+/// a = u_(k-p+1) = ... = u_k), the control rows outside dropped. Knot vectors already
+/// clamped come back unchanged.
+pub(crate) fn clamp(p: usize, knots: &[f64], rows: &[Vec<f64>]) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let n = rows.len();
+    let (a, b) = (knots[p], knots[n]);
+    let mut knots = knots.to_vec();
+    let mut rows = rows.to_vec();
+    let mut origin: Vec<Option<usize>> = (0..n).map(Some).collect();
+    for x in [a, b] {
+        while knots.iter().filter(|&&u| u == x).count() < p {
+            insert(p, a, &mut knots, &mut rows, &mut origin, x);
+        }
+    }
+    // Start: k the last index of a.
+    let k = knots.partition_point(|&u| u <= a) - 1;
+    let mut out_knots = vec![a; p + 1];
+    let first = k - p;
+    // End: j the first index of b.
+    let j = knots.partition_point(|&u| u < b);
+    out_knots.extend_from_slice(&knots[k + 1..j]);
+    out_knots.extend(std::iter::repeat_n(b, p + 1));
+    (out_knots, rows[first..j].to_vec())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -99,6 +125,24 @@ mod tests {
         assert_eq!(s[1].rows, vec![vec![4.0], vec![6.0], vec![8.0]]);
         assert_eq!(s[1].origin, vec![None, Some(2), Some(3)]);
         assert_eq!((s[1].from, s[1].to), (1.0, 2.0));
+    }
+
+    #[test]
+    fn clamping_keeps_the_curve_on_its_domain() {
+        // The uniform cubic of the next test, clamped: its single span's Bézier points.
+        let rows = vec![vec![0.0], vec![6.0], vec![12.0], vec![6.0]];
+        let knots: Vec<f64> = (0..8).map(f64::from).collect();
+        let (k, r) = clamp(3, &knots, &rows);
+        assert_eq!(k, vec![3.0, 3.0, 3.0, 3.0, 4.0, 4.0, 4.0, 4.0]);
+        assert_eq!(r.len(), 4);
+        assert!(
+            (r[0][0] - 6.0).abs() < 1e-14 && (r[3][0] - 10.0).abs() < 1e-14,
+            "{r:?}"
+        );
+        // Clamped already: unchanged.
+        let k0 = [0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0];
+        let r0 = vec![vec![1.0], vec![2.0], vec![3.0], vec![4.0]];
+        assert_eq!(clamp(2, &k0, &r0), (k0.to_vec(), r0));
     }
 
     #[test]
