@@ -15,8 +15,10 @@ pub enum SchemaArg {
 /// Arguments of `geomkit export`.
 #[derive(Debug, Args)]
 pub struct ExportArgs {
-    /// The model: a Bézier or B-spline curve or surface (rational Bézier curves too), a
-    /// composite surface of polynomial patches, or a closed body (`compose body`).
+    /// The model: a Bézier or B-spline curve or surface (rational Bézier ones too), a
+    /// composite surface, a ruled surface or closed body (`compose body`), a composite curve
+    /// or piecewise function; formulas without an exact B-spline form are approximated
+    /// (see --tolerance).
     #[arg(value_name = "MODEL")]
     pub model: PathBuf,
     /// Output: a .step or .stp file (ISO 10303-21 text), written atomically.
