@@ -589,7 +589,9 @@ def read_step(path: str | os.PathLike[str]) -> StepImport:
     """Reads the B-spline and Bézier curves and surfaces of a STEP file (ISO 10303-21), as
     ``geomkit import`` does: B_SPLINE_CURVE_WITH_KNOTS, BEZIER_CURVE,
     B_SPLINE_SURFACE_WITH_KNOTS, BEZIER_SURFACE (simple and complex instances, rational
-    Bézier curves and surfaces of one span), faces on a PLANE as degree-1 patches. Files
+    Bézier curves and surfaces of one span, rational B-splines of several spans as one
+    rational Bézier object per span: its `note` says which span and interval), faces on a
+    PLANE as degree-1 patches; trimmed faces as their whole surface (the note says so). Files
     written by `Drawable.save` / ``geomkit export`` read back to the same control points,
     weights and knots bit for bit.
 
