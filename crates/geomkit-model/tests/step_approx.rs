@@ -287,3 +287,21 @@ fn bad_tolerances_and_singular_formulas_are_errors_naming_the_piece() {
     .unwrap();
     assert!(out.approximations[0].deviation <= out.approximations[0].tolerance);
 }
+
+#[test]
+fn bezier_patches_among_formula_patches_stay_exact() {
+    let scene = r#"{"type": "composite_surface", "u_knots": [0, 1, 2], "v_knots": [0, 1],
+        "patches": [[{"bezier": [[[0.1, 0, 0.3], [0.1, 1, 0.7]], [[1, 0.1, 0.2], [1, 1, 1.3]]]}],
+                    [{"x": "1 + u", "y": "v", "z": "0.2 + sin(u) * v", "domain": [[0, 1], [0, 1]]}]]}"#;
+    let out = step::export(&parse(scene).unwrap(), &WriteOptions::default()).unwrap();
+    assert_eq!(out.approximations.len(), 1);
+    assert_eq!(out.approximations[0].piece, "patch (1, 0)");
+    let read = step::read(&out.text).unwrap();
+    let geomkit_model::schema::ModelFile::BezierSurface(b) = &read.models[0].file else {
+        panic!("the Bézier patch first");
+    };
+    assert_eq!(
+        b.net.flat,
+        vec![0.1, 0.0, 0.3, 0.1, 1.0, 0.7, 1.0, 0.1, 0.2, 1.0, 1.0, 1.3]
+    );
+}

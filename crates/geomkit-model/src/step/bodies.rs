@@ -9,7 +9,7 @@ use super::convert::{bezier_knots, natural_face};
 use super::nurbs::{cross, dot, NurbsCurve, NurbsSurface};
 use super::write::{Content, FaceSpec};
 use super::{StepError, StepResult};
-use geomkit::compose::{CompositeSurface, RuledCurve, RuledSurface, SurfaceKind};
+use geomkit::compose::{CompositeSurface, PolyPatch, RuledCurve, RuledSurface, SurfaceKind};
 
 /// n choose k as f64 (exact for the degrees of patches).
 fn binomial(n: usize, k: usize) -> f64 {
@@ -36,68 +36,81 @@ pub(crate) fn composite(
                     "patch ({i}, {j}) of a composite surface is neither a polynomial nor a formula"
                 )));
             };
-            let (du, dv) = p.degrees();
-            let dim = p.dim();
-            // The Bézier net the patch came from, exactly; else the Bernstein coefficients
-            // b_kl = Σ_(a<=k, b<=l) C(k,a)/C(du,a) C(l,b)/C(dv,b) c_ab.
-            let mut net = Vec::with_capacity((du + 1) * (dv + 1));
-            let given = p.bezier_net();
-            if let Some(given) = given {
-                net.extend(given.chunks_exact(dim).map(<[f64]>::to_vec));
-            }
-            for k in (0..=du).filter(|_| given.is_none()) {
-                for l in 0..=dv {
-                    let mut b = vec![0.0; dim];
-                    for a in 0..=k {
-                        let wa = binomial(k, a) / binomial(du, a);
-                        for bb in 0..=l {
-                            let w = wa * binomial(l, bb) / binomial(dv, bb);
-                            for (x, c) in b.iter_mut().zip(p.coefficient(a, bb)) {
-                                *x += w * c;
-                            }
-                        }
-                    }
-                    net.push(b);
-                }
-            }
-            let points: Vec<[f64; 3]> = match (s.kind(), dim) {
-                (SurfaceKind::Explicit, 1) => net
-                    .iter()
-                    .enumerate()
-                    .map(|(idx, z)| {
-                        let (k, l) = (idx / (dv + 1), idx % (dv + 1));
-                        let x = uk[i] + (uk[i + 1] - uk[i]) * k as f64 / du.max(1) as f64;
-                        let y = vk[j] + (vk[j + 1] - vk[j]) * l as f64 / dv.max(1) as f64;
-                        [x, y, z[0]]
-                    })
-                    .collect(),
-                (_, 2) => net.iter().map(|b| [b[0], b[1], 0.0]).collect(),
-                (_, 3) => net.iter().map(|b| [b[0], b[1], b[2]]).collect(),
-                (_, d) => {
-                    return Err(StepError::Unsupported(format!(
-                        "a composite surface in R^{d}: STEP geometry lives in R^3"
-                    )))
-                }
-            };
-            if du == 0 || dv == 0 {
-                return Err(StepError::Unsupported(format!(
-                    "patch ({i}, {j}) is constant along one direction (degrees {du}, {dv}): \
-                     not a surface"
-                )));
-            }
-            faces.push(natural_face(NurbsSurface {
-                degrees: (du, dv),
-                knots_u: bezier_knots(du),
-                knots_v: bezier_knots(dv),
-                rows: du + 1,
-                cols: dv + 1,
-                points,
-                weights: None,
-                bezier: true,
-            }));
+            let cell = ((uk[i], uk[i + 1]), (vk[j], vk[j + 1]));
+            faces.push(natural_face(poly_face(p, s.kind(), cell, (i, j))?));
         }
     }
     Ok((Content::Faces(faces), Vec::new()))
+}
+
+/// The Bézier face of polynomial patch (i, j) on its cell: its Bézier net as given when it
+/// was made from one (exact), else the Bernstein form of its power coefficients; explicit
+/// patches z(x, y) as the points (x, y, z).
+fn poly_face(
+    p: &PolyPatch,
+    kind: SurfaceKind,
+    ((u0, u1), (v0, v1)): ((f64, f64), (f64, f64)),
+    (i, j): (usize, usize),
+) -> StepResult<NurbsSurface> {
+    let (du, dv) = p.degrees();
+    let dim = p.dim();
+    // The Bézier net the patch came from, exactly; else the Bernstein coefficients
+    // b_kl = Σ_(a<=k, b<=l) C(k,a)/C(du,a) C(l,b)/C(dv,b) c_ab.
+    let mut net = Vec::with_capacity((du + 1) * (dv + 1));
+    let given = p.bezier_net();
+    if let Some(given) = given {
+        net.extend(given.chunks_exact(dim).map(<[f64]>::to_vec));
+    }
+    for k in (0..=du).filter(|_| given.is_none()) {
+        for l in 0..=dv {
+            let mut b = vec![0.0; dim];
+            for a in 0..=k {
+                let wa = binomial(k, a) / binomial(du, a);
+                for bb in 0..=l {
+                    let w = wa * binomial(l, bb) / binomial(dv, bb);
+                    for (x, c) in b.iter_mut().zip(p.coefficient(a, bb)) {
+                        *x += w * c;
+                    }
+                }
+            }
+            net.push(b);
+        }
+    }
+    let points: Vec<[f64; 3]> = match (kind, dim) {
+        (SurfaceKind::Explicit, 1) => net
+            .iter()
+            .enumerate()
+            .map(|(idx, z)| {
+                let (k, l) = (idx / (dv + 1), idx % (dv + 1));
+                let x = u0 + (u1 - u0) * k as f64 / du.max(1) as f64;
+                let y = v0 + (v1 - v0) * l as f64 / dv.max(1) as f64;
+                [x, y, z[0]]
+            })
+            .collect(),
+        (_, 2) => net.iter().map(|b| [b[0], b[1], 0.0]).collect(),
+        (_, 3) => net.iter().map(|b| [b[0], b[1], b[2]]).collect(),
+        (_, d) => {
+            return Err(StepError::Unsupported(format!(
+                "a composite surface in R^{d}: STEP geometry lives in R^3"
+            )))
+        }
+    };
+    if du == 0 || dv == 0 {
+        return Err(StepError::Unsupported(format!(
+            "patch ({i}, {j}) is constant along one direction (degrees {du}, {dv}): \
+             not a surface"
+        )));
+    }
+    Ok(NurbsSurface {
+        degrees: (du, dv),
+        knots_u: bezier_knots(du),
+        knots_v: bezier_knots(dv),
+        rows: du + 1,
+        cols: dv + 1,
+        points,
+        weights: None,
+        bezier: true,
+    })
 }
 
 /// A composite surface of formula patches: one face per patch, the interpolating B-spline
@@ -116,6 +129,7 @@ fn formula_composite(
         )));
     }
     let mut pieces = Vec::with_capacity(n * m);
+    let mut exact: Vec<Option<NurbsSurface>> = Vec::with_capacity(n * m);
     for i in 0..n {
         for j in 0..m {
             let Some(patch) = s.expr_patch(i, j) else {
@@ -124,6 +138,12 @@ fn formula_composite(
                 )));
             };
             let cell = ((uk[i], uk[i + 1]), (vk[j], vk[j + 1]));
+            if let Some(poly) = patch.poly() {
+                // A Bézier or polynomial patch among formulas: exact.
+                exact.push(Some(poly_face(poly, kind, cell, (i, j))?));
+                continue;
+            }
+            exact.push(None);
             let own = patch.domain().map(|d| (d[0], d[1]));
             let name = format!("patch ({i}, {j})");
             let label = name.clone();
@@ -160,7 +180,12 @@ fn formula_composite(
     let absolute = absolute_tolerance(tolerance, &pieces, &[])?;
     let fitted = approx::surfaces(&pieces, absolute)?;
     let (surfaces, approximations): (Vec<_>, Vec<_>) = fitted.into_iter().unzip();
-    let faces = surfaces.into_iter().map(natural_face).collect();
+    let mut surfaces = surfaces.into_iter();
+    let faces = exact
+        .into_iter()
+        .map(|e| e.or_else(|| surfaces.next()).map(natural_face))
+        .collect::<Option<Vec<_>>>()
+        .expect("one surface per cell");
     Ok((Content::Faces(faces), approximations))
 }
 
