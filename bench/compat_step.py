@@ -24,6 +24,7 @@ Prints a Markdown table; exit code 1 on any failure.
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -37,7 +38,10 @@ from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeEdge, BRepBuilderAPI_MakeFace
 from OCP.BRepCheck import BRepCheck_Analyzer
 from OCP.BRepGProp import BRepGProp
 from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox
-from OCP.Geom import Geom_BezierCurve, Geom_BSplineSurface
+from OCP.Geom import (Geom_BezierCurve, Geom_BSplineSurface, Geom_Circle,
+                      Geom_SphericalSurface)
+from OCP.GeomConvert import (GeomConvert, GeomConvert_BSplineCurveToBezierCurve,
+                             GeomConvert_BSplineSurfaceToBezierSurface)
 from OCP.GeomAPI import GeomAPI_ProjectPointOnSurf
 from OCP.GProp import GProp_GProps
 from OCP.IFSelect import IFSelect_RetDone
@@ -48,7 +52,7 @@ from OCP.TColStd import TColStd_Array1OfInteger, TColStd_Array1OfReal
 from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE, TopAbs_SHELL, TopAbs_SOLID
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
-from OCP.gp import gp_Pnt
+from OCP.gp import gp_Ax2, gp_Ax3, gp_Dir, gp_Pnt
 
 N_PARAMS = 1000
 REL = 1e-12
@@ -358,6 +362,16 @@ def occt_files(work):
     files["occt_bezier_curve"] = (work / "occt_bezier_curve.step", edge, bez)
     box = BRepPrimAPI_MakeBox(gp_Pnt(-1, -2, -0.5), 2.0, 4.0, 1.5).Shape()
     files["occt_box"] = (work / "occt_box.step", box, None)
+    # Rational B-splines of several spans: OCCT's B-spline form of a circle of radius 2 about
+    # (1, -1, 0.5) in a tilted plane, and of a sphere of radius 1.5 (GeomConvert).
+    axis = gp_Ax2(gp_Pnt(1, -1, 0.5), gp_Dir(0.3, -0.2, 1.0))
+    circle = GeomConvert.CurveToBSplineCurve_s(Geom_Circle(axis, 2.0))
+    edge = BRepBuilderAPI_MakeEdge(circle).Edge()
+    files["occt_rational_circle"] = (work / "occt_rational_circle.step", edge, circle)
+    sphere = GeomConvert.SurfaceToBSplineSurface_s(
+        Geom_SphericalSurface(gp_Ax3(gp_Pnt(0.5, 0.25, -1), gp_Dir(0, 0, 1)), 1.5))
+    face = BRepBuilderAPI_MakeFace(sphere, 1e-7).Face()
+    files["occt_rational_sphere"] = (work / "occt_rational_sphere.step", face, sphere)
     for path, shape, _ in files.values():
         write_step(shape, path)
     return files
@@ -403,6 +417,9 @@ def check_import(geomkit, files, work, rng):
             record(name, "patch corners = the box's 8 vertices", str(corners_ok), "True",
                    corners_ok)
             continue
+        if name.startswith("occt_rational"):
+            check_rational_pieces(geomkit, name, models, geom, work, rng)
+            continue
         if len(models) != 1:
             record(name, "geomkit import: one model", f"{len(models)}: {log.strip()[:60]}", "1",
                    False)
@@ -420,6 +437,175 @@ def check_import(geomkit, files, work, rng):
         err = float(np.max(np.abs(ours - theirs))) / extent(theirs)
         record(name, f"imported as {data['type']}: points = OCCT ({N_PARAMS} params)",
                f"{err:.1e}", f"{REL:.0e}", err <= REL)
+
+
+def span_of(path):
+    """The span of a piece file KIND-N-I(-J).json: (I,) or (I, J)."""
+    return tuple(int(k) for k in path.stem.split("-")[2:])
+
+
+def check_rational_pieces(geomkit, name, models, geom, work, rng):
+    """A rational B-spline of several spans imported as rational Bézier pieces: each piece
+    equals OCCT's own Bézier decomposition of the same geometry (GeomConvert) at 1000
+    parameters."""
+    models = sorted(models, key=span_of)
+    if name == "occt_rational_circle":
+        conv = GeomConvert_BSplineCurveToBezierCurve(geom)
+        arcs = [conv.Arc(k + 1) for k in range(conv.NbArcs())]
+        record(name, "geomkit import: one rational Bézier piece per span",
+               f"{len(models)} pieces", f"{len(arcs)}", len(models) == len(arcs))
+        worst = 0.0
+        for m, arc in zip(models, arcs):
+            t = sample_params([(0.0, 1.0)], rng)
+            ours = geomkit_eval(geomkit, m, t, work)
+            theirs = np.array([(lambda p: (p.X(), p.Y(), p.Z()))(arc.Value(float(x))) for x in t])
+            worst = max(worst, float(np.max(np.abs(ours - theirs))) / extent(theirs))
+    else:
+        conv = GeomConvert_BSplineSurfaceToBezierSurface(geom)
+        nu, nv = conv.NbUPatches(), conv.NbVPatches()
+        record(name, "geomkit import: one rational Bézier patch per span",
+               f"{len(models)} patches", f"{nu * nv}", len(models) == nu * nv)
+        worst = 0.0
+        for m in models:
+            i, j = span_of(m)
+            patch = conv.Patch(i + 1, j + 1)
+            uv = sample_params([(0.0, 1.0), (0.0, 1.0)], rng)
+            ours = geomkit_eval(geomkit, m, uv, work)
+            theirs = np.array([(lambda p: (p.X(), p.Y(), p.Z()))(patch.Value(float(u), float(v)))
+                               for u, v in uv])
+            worst = max(worst, float(np.max(np.abs(ours - theirs))) / extent(theirs))
+    record(name, f"pieces = OCCT's Bézier decomposition ({N_PARAMS} params each)",
+           f"{worst:.1e}", f"{REL:.0e}", worst <= REL)
+
+
+# Formulas without an exact B-spline form, with the same formulas in NumPy: (name, model,
+# formula of piece k at parameters (u, v) or t). `geomkit export` writes each piece as an
+# interpolating B-spline on the piece's own parameters and reports its deviation.
+TAU = 2 * math.pi
+
+
+def _torus(u, v):
+    return np.stack([np.cos(u) * (2 + np.cos(v)), np.sin(u) * (2 + np.cos(v)), np.sin(v)], -1)
+
+
+def _ruled_curves():
+    return [lambda t: np.stack([0 * t, 0 * t, 0 * t], -1),
+            lambda t: np.stack([np.cos(t), np.sin(t), 0.2 * np.sin(3 * t)], -1),
+            lambda t: np.stack([0.5 * np.cos(t), 0.5 * np.sin(t), 1 + 0 * t], -1),
+            lambda t: np.stack([0 * t, 0 * t, 1 + 0 * t], -1)]
+
+
+def _ruled(k):
+    """Strip k (1-based) of the ruled body: v in [k - 1, k], u in [0, 1] -> t = 2π u."""
+    c = _ruled_curves()
+
+    def f(u, v):
+        lam = (v - (k - 1))[..., None]
+        return c[k - 1](TAU * u) * (1 - lam) + c[k](TAU * u) * lam
+    return f
+
+
+APPROX = [
+    ("approx_explicit",
+     {"type": "composite_explicit", "x_knots": [0, 1, 2], "y_knots": [0, 1],
+      "patches": [["sin(x) * exp(y)"], ["sqrt(1 + x^2 + y^2)"]]},
+     [lambda u, v: np.stack([u, v, np.sin(u) * np.exp(v)], -1),
+      lambda u, v: np.stack([u, v, np.sqrt(1 + u**2 + v**2)], -1)]),
+    ("approx_torus_halves",
+     {"type": "composite_surface", "u_knots": [0, math.pi, TAU], "v_knots": [0, TAU],
+      "patches": [[{"x": "cos(u)*(2+cos(v))", "y": "sin(u)*(2+cos(v))", "z": "sin(v)"}]] * 2},
+     [_torus, _torus]),
+    ("approx_ruled_body",
+     {"type": "ruled", "u": [0, 1], "v": [0, 1, 2, 3], "curves": [
+         {"point": [0, 0, 0]},
+         {"x": "cos(t)", "y": "sin(t)", "z": "0.2*sin(3*t)", "t": [0, TAU]},
+         {"x": "0.5*cos(t)", "y": "0.5*sin(t)", "z": "1", "t": [0, TAU]},
+         {"point": [0, 0, 1]}]},
+     [_ruled(1), _ruled(2), _ruled(3)]),
+    ("approx_curve",
+     {"type": "piecewise", "knots": [0, 1, 2], "pieces": [
+         {"x": "t", "y": "sqrt(1 + t)", "z": "exp(t)"},
+         {"x": "t", "y": "sqrt(1 + t)", "z": "exp(t)"}]},
+     [lambda t: np.stack([t, np.sqrt(1 + t), np.exp(t)], -1)] * 2),
+]
+
+APPROX_LINE = re.compile(r"warning: approximated (.*?): a ([\d x]+)-point interpolating "
+                         r"B-spline, max deviation (\S+) \(tolerance (\S+)\)")
+
+
+def check_approx(geomkit, work, rng):
+    """Export formulas, read with OCCT: valid, and OCCT's points of each face / edge at 1000
+    parameters within the deviation geomkit reports for that piece (x 1.05: the report is
+    measured on a grid 8 times denser than the samples, these points are random)."""
+    for name, model, formulas in APPROX:
+        path = work / f"{name}.json"
+        path.write_text(json.dumps(model))
+        step = work / f"{name}.step"
+        try:
+            log = run(geomkit, "export", path, "-o", step)
+        except RuntimeError as e:
+            record(name, "geomkit export", str(e)[:70], "", False)
+            continue
+        report = APPROX_LINE.findall(log)
+        record(name, "warning: per approximated piece", f"{len(report)}", f"{len(formulas)}",
+               len(report) == len(formulas))
+        deviations = [float(r[2]) for r in report]
+        tolerances = [float(r[3]) for r in report]
+        ok = all(d <= t for d, t in zip(deviations, tolerances))
+        record(name, "reported deviation <= tolerance",
+               f"max {max(deviations):.1e}" if deviations else "-",
+               f"{min(tolerances):.1e}" if tolerances else "-", ok and bool(report))
+        shape, why = read_step(step)
+        record(name, "STEPControl_Reader transfers", why or "ok", "", shape is not None)
+        if shape is None:
+            continue
+        valid = BRepCheck_Analyzer(shape).IsValid()
+        record(name, "BRepCheck_Analyzer valid", str(valid), "True", valid)
+        curve = model["type"] == "piecewise"
+        items = shapes(shape, TopAbs_EDGE if curve else TopAbs_FACE)
+        # Each face / edge by its parameter range: the piece whose domain it is.
+        worst = 0.0
+        matched = 0
+        for k, (formula, dev) in enumerate(zip(formulas, deviations)):
+            if curve:
+                a, b = model["knots"][k], model["knots"][k + 1]
+                for e in items:
+                    c = BRepAdaptor_Curve(TopoDS.Edge_s(e))
+                    if abs(c.FirstParameter() - a) < 1e-12 and abs(c.LastParameter() - b) < 1e-12:
+                        t = sample_params([(a, b)], rng)
+                        d = np.linalg.norm(occt_curve_points(e, t) - formula(t), axis=1)
+                        worst = max(worst, float(d.max()) / dev)
+                        matched += 1
+                        break
+                continue
+            if model["type"] == "ruled":
+                dom = [tuple(model["u"]), (model["v"][k], model["v"][k + 1])]
+            else:
+                uk = model.get("u_knots") or model["x_knots"]
+                vk = model.get("v_knots") or model["y_knots"]
+                nv = len(vk) - 1
+                i, j = divmod(k, nv)
+                dom = [(uk[i], uk[i + 1]), (vk[j], vk[j + 1])]
+            for f in items:
+                s = BRep_Tool.Surface_s(TopoDS.Face_s(f))
+                u1, u2, v1, v2 = s.Bounds()
+                if max(abs(u1 - dom[0][0]), abs(u2 - dom[0][1]), abs(v1 - dom[1][0]),
+                       abs(v2 - dom[1][1])) < 1e-12:
+                    uv = sample_params(dom, rng)
+                    d = np.linalg.norm(occt_surface_points(f, uv) - formula(uv[:, 0], uv[:, 1]),
+                                       axis=1)
+                    worst = max(worst, float(d.max()) / dev)
+                    matched += 1
+                    break
+        record(name, f"OCCT points within the reported deviation ({N_PARAMS} params per piece, "
+               "distance / deviation)", f"{worst:.2f} ({matched} pieces)", "1.05",
+               worst <= 1.05 and matched == len(formulas))
+        if model["type"] == "ruled":
+            solids = shapes(shape, TopAbs_SOLID)
+            closed = len(solids) == 1 and all(BRep_Tool.IsClosed_s(x)
+                                              for x in shapes(shape, TopAbs_SHELL))
+            record(name, "one closed solid", f"{len(solids)} solid(s), closed={closed}",
+                   "1, True", closed)
 
 
 def write_models(geomkit, work):
@@ -497,6 +683,7 @@ def main():
             check_export(geomkit, name, path, work, rng)
         check_composite(geomkit, work, rng)
         check_mushroom(geomkit, work, rng)
+        check_approx(geomkit, work, rng)
         tau = 2 * math.pi
         for name, args, volume in [
             ("cube", ["cube"], 8.0),

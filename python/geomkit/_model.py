@@ -22,6 +22,7 @@ import operator
 import os
 import re
 import tempfile
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal, NamedTuple
@@ -62,10 +63,11 @@ class Drawable:
         """
         return self._model().to_json()
 
-    def save(self, path: str | os.PathLike[str]) -> None:
+    def save(self, path: str | os.PathLike[str], *, tolerance: float = 1e-6) -> None:
         """Writes the model to `path`, atomically (a failed write leaves no file): the model
         file (JSON, what the CLI reads), or a STEP file for a path ending in ``.step`` /
-        ``.stp`` (`to_step`, named after the file).
+        ``.stp`` (`to_step`, named after the file, with `tolerance`; approximated pieces
+        are warned about with `StepApproximationWarning`).
 
         Raises
         ------
@@ -78,12 +80,17 @@ class Drawable:
         target = _path(path)
         stem, ext = os.path.splitext(os.path.basename(target))
         if ext.lower() in _STEP_SUFFIXES:
-            data = self.to_step(name=stem or "geomkit")
+            data = self.to_step(name=stem or "geomkit", tolerance=tolerance)
         else:
             data = self.to_json()
         _write_atomic(target, data.encode("utf-8"))
 
-    def to_step(self, name: str = "geomkit", schema: Literal["ap214", "ap242"] = "ap214") -> str:
+    def to_step(
+        self,
+        name: str = "geomkit",
+        schema: Literal["ap214", "ap242"] = "ap214",
+        tolerance: float = 1e-6,
+    ) -> str:
         """The model as a STEP file (ISO 10303-21 text) with its exact geometry, as ``geomkit
         export`` writes it: curves as ``B_SPLINE_CURVE_WITH_KNOTS`` edges (the rational
         complex entity for weights), surfaces as faces bounded by their sides, composite
@@ -92,12 +99,21 @@ class Drawable:
         is written with the shortest digits that read back to the same float; the same
         model gives the same text.
 
+        Formulas without an exact B-spline form (sqrt, sin, exp, ... in composite patches,
+        ruled curves, composite curves) are written as interpolating cubic B-splines refined
+        until their largest deviation from the formula is at most `tolerance` times the
+        diagonal of the model's bounding box; each such piece is warned about
+        (`StepApproximationWarning`, naming it and its deviation) and listed by
+        `step_export`.
+
         Parameters
         ----------
         name : str, optional
             The product's name in the file.
         schema : {"ap214", "ap242"}, optional
             The application protocol (AP214 is read by every STEP reader).
+        tolerance : float, optional
+            The relative tolerance of approximated formulas (default 1e-6).
 
         Returns
         -------
@@ -106,8 +122,9 @@ class Drawable:
         Raises
         ------
         ValueError
-            For a model with no exact B-spline form (formulas, point-calculus models,
-            samples), points of a dimension other than 2 or 3, an unknown schema.
+            For a model with no B-spline form (point-calculus models, samples), points of a
+            dimension other than 2 or 3, an unknown schema, a tolerance that is not finite
+            and > 0 or that a formula cannot reach (a singular derivative).
 
         Examples
         --------
@@ -116,11 +133,43 @@ class Drawable:
         >>> text.startswith("ISO-10303-21;") and "B_SPLINE_CURVE_WITH_KNOTS" in text
         True
         """
+        export = self.step_export(name, schema, tolerance)
+        for a in export.approximations:
+            warnings.warn(f"approximated {a}", StepApproximationWarning, stacklevel=2)
+        return export.text
+
+    def step_export(
+        self,
+        name: str = "geomkit",
+        schema: Literal["ap214", "ap242"] = "ap214",
+        tolerance: float = 1e-6,
+    ) -> StepExport:
+        """`to_step`'s text and the report of what is approximated, without warnings.
+
+        Returns
+        -------
+        StepExport
+            ``text`` and ``approximations`` (one `StepApproximation` per piece written as
+            an interpolating B-spline; empty when the file is exact).
+
+        Examples
+        --------
+        >>> import geomkit
+        >>> s = geomkit.loads('{"type": "composite_explicit", "x_knots": [0, 1], '
+        ...                   '"y_knots": [0, 1], "patches": [["sin(x) * exp(y)"]]}')
+        >>> out = s.step_export()
+        >>> a = out.approximations[0]
+        >>> a.piece, a.deviation <= a.tolerance
+        ('patch (0, 0)', True)
+        """
         if not isinstance(name, str):
             raise TypeError(f"name must be a str, not {type(name).__name__}")
         if not isinstance(schema, str):
             raise TypeError(f"schema must be a str, not {type(schema).__name__}")
-        return _geomkit.step_write(self._model(), name, schema)
+        if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float)):
+            raise TypeError(f"tolerance must be a float, not {type(tolerance).__name__}")
+        text, report = _geomkit.step_write(self._model(), name, schema, float(tolerance))
+        return StepExport(text, [StepApproximation(p, tuple(n), d, t) for p, n, d, t in report])
 
     def mesh(
         self, tolerance: float | None = None, samples: int | tuple[int, int] | None = None
@@ -475,6 +524,39 @@ def load(path: str | os.PathLike[str]) -> Any:
 _STEP_SUFFIXES = (".step", ".stp")
 
 
+class StepApproximationWarning(UserWarning):
+    """A piece of a model written to STEP as an interpolating B-spline (a formula without an
+    exact B-spline form), with its measured deviation."""
+
+
+class StepApproximation(NamedTuple):
+    """One piece of a STEP export written as an interpolating B-spline (`step_export`)."""
+
+    piece: str
+    """The piece: ``patch (0, 1)``, ``strip 2 (v in [1, 2])``, ``piece 3 (t in [2, 3])``."""
+    samples: tuple[int, ...]
+    """Samples interpolated per direction ((u, v) for a surface, (t,) for a curve)."""
+    deviation: float
+    """The largest distance between the formula and the B-spline, measured on a grid 8
+    times denser than the samples, in the model's units."""
+    tolerance: float
+    """The tolerance it was refined to, in the model's units."""
+
+    def __str__(self) -> str:
+        grid = " x ".join(str(n) for n in self.samples)
+        return (f"{self.piece}: a {grid}-point interpolating B-spline, max deviation "
+                f"{self.deviation:.2e} (tolerance {self.tolerance:.2e})")
+
+
+class StepExport(NamedTuple):
+    """A STEP file's text and what of it is approximated (`step_export`)."""
+
+    text: str
+    """The ISO 10303-21 text."""
+    approximations: list[StepApproximation]
+    """The pieces written as interpolating B-splines; empty when the file is exact."""
+
+
 class StepModel(NamedTuple):
     """One curve or surface of a STEP file (`read_step`)."""
 
@@ -507,7 +589,9 @@ def read_step(path: str | os.PathLike[str]) -> StepImport:
     """Reads the B-spline and Bézier curves and surfaces of a STEP file (ISO 10303-21), as
     ``geomkit import`` does: B_SPLINE_CURVE_WITH_KNOTS, BEZIER_CURVE,
     B_SPLINE_SURFACE_WITH_KNOTS, BEZIER_SURFACE (simple and complex instances, rational
-    Bézier curves and surfaces of one span), faces on a PLANE as degree-1 patches. Files
+    Bézier curves and surfaces of one span, rational B-splines of several spans as one
+    rational Bézier object per span: its `note` says which span and interval), faces on a
+    PLANE as degree-1 patches; trimmed faces as their whole surface (the note says so). Files
     written by `Drawable.save` / ``geomkit export`` read back to the same control points,
     weights and knots bit for bit.
 

@@ -126,3 +126,57 @@ def test_bad_files_and_models(tmp_path):
     assert not (tmp_path / "pm.step").exists()
     with pytest.raises(ValueError, match="schema"):
         geomkit.BezierCurve([[0, 0], [1, 1]]).to_step(schema="ap203")
+
+
+EXPLICIT = ('{"type": "composite_explicit", "x_knots": [0, 1, 2], "y_knots": [0, 1], '
+            '"patches": [["sin(x) * exp(y)"], ["sqrt(1 + x^2 + y^2)"]]}')
+
+
+def test_formulas_are_approximated_within_the_reported_deviation(tmp_path):
+    from scipy.interpolate import bisplev
+
+    model = geomkit.loads(EXPLICIT)
+    out = model.step_export(name="f", tolerance=1e-7)
+    assert [a.piece for a in out.approximations] == ["patch (0, 0)", "patch (1, 0)"]
+    diagonal = np.sqrt(4 + 1 + 6)  # x in [0, 2], y in [0, 1], z in [0, sqrt(6)]
+    formulas = [lambda x, y: np.sin(x) * np.exp(y), lambda x, y: np.sqrt(1 + x**2 + y**2)]
+    path = tmp_path / "f.step"
+    with pytest.warns(geomkit.StepApproximationWarning) as caught:
+        model.save(path, tolerance=1e-7)
+    assert [str(w.message) for w in caught] == [f"approximated {a}" for a in out.approximations]
+    assert "max deviation" in str(caught[1].message)
+    assert path.read_text() == out.text
+    back = geomkit.read_step(path).models
+    assert len(back) == 2
+    for a, m, f in zip(out.approximations, back, formulas):
+        assert a.deviation <= a.tolerance and a.tolerance == pytest.approx(1e-7 * diagonal)
+        # SciPy's bisplev of the imported B-spline, per coordinate, against NumPy's formula.
+        tu, tv = m.model.knots
+        net = m.model.net
+        ku, kv = len(tu) - net.shape[0] - 1, len(tv) - net.shape[1] - 1
+        (u0, u1), (v0, v1) = (tu[ku], tu[-ku - 1]), (tv[kv], tv[-kv - 1])
+        u, v = np.linspace(u0, u1, 301), np.linspace(v0, v1, 301)
+        xyz = [bisplev(u, v, [tu, tv, net[..., c].ravel(), ku, kv]) for c in range(3)]
+        uu, vv = np.meshgrid(u, v, indexing="ij")
+        dist = np.sqrt((xyz[0] - uu) ** 2 + (xyz[1] - vv) ** 2 + (xyz[2] - f(uu, vv)) ** 2)
+        assert dist.max() <= a.deviation * 1.02, (a, dist.max())
+    # The CLI writes the same file and names the same pieces.
+    json_path = tmp_path / "f.json"
+    json_path.write_text(EXPLICIT)
+    cli = tmp_path / "cli.step"
+    r = subprocess.run([str(CLI), "export", str(json_path), "-o", str(cli), "--name", "f",
+                        "--tolerance", "1e-7"], check=True, capture_output=True, text=True)
+    assert cli.read_text() == out.text
+    assert r.stderr.count("warning: approximated patch") == 2
+    # Exact models give no report and no warning.
+    assert geomkit.BezierCurve([[0, 0, 0], [1, 1, 1]]).step_export().approximations == []
+    with pytest.raises(ValueError, match="tolerance"):
+        model.to_step(tolerance=0.0)
+    with pytest.raises(TypeError, match="tolerance"):
+        model.to_step(tolerance="small")
+
+
+def test_rational_splines_of_several_spans_import_as_pieces():
+    circle = geomkit.read_step(FIXTURES / "occt_rational_circle.step").models
+    assert len(circle) == 3
+    assert all(m.note.startswith(f"span {k + 1} of 3") for k, m in enumerate(circle))

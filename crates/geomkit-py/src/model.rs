@@ -510,12 +510,24 @@ fn parse_model(text: &str) -> PyResult<Model> {
     Model::from_file(geomkit_model::parse_file(text).map_err(model_error)?)
 }
 
-/// The model as a STEP file (ISO 10303-21 text, `geomkit_model::step::write`): `name` the
-/// product's name, `schema` "ap214" or "ap242". Errors (`ValueError`): a model with no exact
-/// B-spline form, an unknown schema.
+/// One approximated piece of a STEP export: (piece, samples per direction, deviation,
+/// tolerance), the deviation and tolerance in the model's units.
+type StepApproximation = (String, Vec<usize>, f64, f64);
+
+/// The model as a STEP file (ISO 10303-21 text, `geomkit_model::step::export`): `name` the
+/// product's name, `schema` "ap214" or "ap242", `tolerance` the relative tolerance of
+/// formulas written as interpolating B-splines. Returns the text and the approximated
+/// pieces. Errors (`ValueError`): a model with no B-spline form, an unknown schema, a
+/// tolerance that is not finite and > 0 or cannot be reached.
 #[pyfunction]
-#[pyo3(signature = (model, name="geomkit", schema="ap214"))]
-fn step_write(py: Python<'_>, model: &Model, name: &str, schema: &str) -> PyResult<String> {
+#[pyo3(signature = (model, name="geomkit", schema="ap214", tolerance=1e-6))]
+fn step_write(
+    py: Python<'_>,
+    model: &Model,
+    name: &str,
+    schema: &str,
+    tolerance: f64,
+) -> PyResult<(String, Vec<StepApproximation>)> {
     let schema = match schema {
         "ap214" => step::Schema::Ap214,
         "ap242" => step::Schema::Ap242,
@@ -527,9 +539,17 @@ fn step_write(py: Python<'_>, model: &Model, name: &str, schema: &str) -> PyResu
     };
     let options = step::WriteOptions::default()
         .with_name(name)
-        .with_schema(schema);
-    py.detach(|| step::write(&model.model, &options))
-        .map_err(|e| PyValueError::new_err(e.to_string()))
+        .with_schema(schema)
+        .with_tolerance(tolerance);
+    let export = py
+        .detach(|| step::export(&model.model, &options))
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let report = export
+        .approximations
+        .into_iter()
+        .map(|a| (a.piece, a.samples, a.deviation, a.tolerance))
+        .collect();
+    Ok((export.text, report))
 }
 
 /// One model read from a STEP file: (entity number, entity type, name, model, note).

@@ -15,8 +15,10 @@ pub enum SchemaArg {
 /// Arguments of `geomkit export`.
 #[derive(Debug, Args)]
 pub struct ExportArgs {
-    /// The model: a Bézier or B-spline curve or surface (rational Bézier curves too), a
-    /// composite surface of polynomial patches, or a closed body (`compose body`).
+    /// The model: a Bézier or B-spline curve or surface (rational Bézier ones too), a
+    /// composite surface, a ruled surface or closed body (`compose body`), a composite curve
+    /// or piecewise function; formulas without an exact B-spline form are approximated
+    /// (see --tolerance).
     #[arg(value_name = "MODEL")]
     pub model: PathBuf,
     /// Output: a .step or .stp file (ISO 10303-21 text), written atomically.
@@ -28,6 +30,12 @@ pub struct ExportArgs {
     /// The product's name in the file [default: the model file's name without extension].
     #[arg(long)]
     pub name: Option<String>,
+    /// Formulas without an exact B-spline form (sqrt, sin, exp, ... in composite patches,
+    /// ruled curves, composite curves) are written as interpolating B-splines refined until
+    /// their largest deviation from the formula is at most this times the diagonal of the
+    /// model's bounding box; each is named in a `warning:` line with its deviation.
+    #[arg(long, value_name = "REL", default_value_t = 1e-6)]
+    pub tolerance: f64,
 }
 
 /// Arguments of `geomkit import`.

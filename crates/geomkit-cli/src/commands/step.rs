@@ -28,12 +28,20 @@ pub fn export(args: ExportArgs) -> Result<()> {
         SchemaArg::Ap214 => Schema::Ap214,
         SchemaArg::Ap242 => Schema::Ap242,
     };
-    let options = WriteOptions::default().with_name(name).with_schema(schema);
-    let text = step::write(&model, &options)
+    let options = WriteOptions::default()
+        .with_name(name)
+        .with_schema(schema)
+        .with_tolerance(args.tolerance);
+    let export = step::export(&model, &options)
         .with_context(|| format!("{}: cannot export", args.model.display()))?;
+    let text = export.text;
     write_atomic(&args.output, text.as_bytes())?;
+    let mut err = std::io::stderr();
+    for a in &export.approximations {
+        let _ = writeln!(err, "warning: approximated {}", a.describe());
+    }
     let _ = writeln!(
-        std::io::stderr(),
+        err,
         "wrote {}: {} as STEP ({} entities, {} bytes)",
         args.output.display(),
         model.describe(),
@@ -64,8 +72,9 @@ pub fn import(args: ImportArgs) -> Result<()> {
         let path = if single {
             args.output.clone()
         } else {
+            let span: String = m.span.iter().map(|k| format!("-{k}")).collect();
             args.output
-                .join(format!("{}-{}.json", m.file.type_name(), m.id))
+                .join(format!("{}-{}{span}.json", m.file.type_name(), m.id))
         };
         let model = geomkit_model::AnyModel::from_file(m.file.clone())
             .with_context(|| format!("{name}: #{}", m.id))?;
@@ -100,6 +109,18 @@ pub fn import(args: ImportArgs) -> Result<()> {
         let _ = writeln!(
             err,
             "note: lengths are in the file's unit ({unit}), as written"
+        );
+    }
+    for t in &import.trimmed {
+        let holes = match t.loops {
+            0 | 1 => String::new(),
+            n => format!(" and {} hole(s)", n - 1),
+        };
+        let _ = writeln!(
+            err,
+            "warning: face #{} is trimmed (its outline{holes}): imported as the whole surface \
+             #{}, the trimming is not kept",
+            t.face, t.surface
         );
     }
     if !import.skipped.is_empty() {

@@ -4,11 +4,12 @@
 //! or a plane face (a cap: a point in the plane of a polygon or circle); closed bodies as a
 //! solid with every face oriented outwards.
 
+use super::approx::{self, absolute_tolerance, finite, Approximation, SurfacePiece};
 use super::convert::{bezier_knots, natural_face};
 use super::nurbs::{cross, dot, NurbsCurve, NurbsSurface};
 use super::write::{Content, FaceSpec};
 use super::{StepError, StepResult};
-use geomkit::compose::{CompositeSurface, RuledCurve, RuledSurface, SurfaceKind};
+use geomkit::compose::{CompositeSurface, PolyPatch, RuledCurve, RuledSurface, SurfaceKind};
 
 /// n choose k as f64 (exact for the degrees of patches).
 fn binomial(n: usize, k: usize) -> f64 {
@@ -18,76 +19,174 @@ fn binomial(n: usize, k: usize) -> f64 {
 /// A composite surface of polynomial patches as one Bézier face per patch (on its cell,
 /// reparametrized to [0, 1]²), sewn where neighbouring patches share a boundary. Explicit
 /// surfaces z(x, y) become the parametric patches (x, y, z(x, y)).
-pub(crate) fn composite(s: &CompositeSurface) -> StepResult<Content> {
+pub(crate) fn composite(
+    s: &CompositeSurface,
+    tolerance: f64,
+) -> StepResult<(Content, Vec<Approximation>)> {
+    if s.patch(0, 0).is_none() {
+        return formula_composite(s, tolerance);
+    }
     let (n, m) = s.cells();
     let (uk, vk) = s.knots();
     let mut faces = Vec::with_capacity(n * m);
     for i in 0..n {
         for j in 0..m {
             let Some(p) = s.patch(i, j) else {
-                return Err(StepError::Unsupported(
-                    "a composite surface of formula patches has no exact B-spline form \
-                     (export composites of Bézier or polynomial patches)"
-                        .into(),
-                ));
-            };
-            let (du, dv) = p.degrees();
-            let dim = p.dim();
-            // Bernstein coefficients b_kl = Σ_(a<=k, b<=l) C(k,a)/C(du,a) C(l,b)/C(dv,b) c_ab.
-            let mut net = Vec::with_capacity((du + 1) * (dv + 1));
-            for k in 0..=du {
-                for l in 0..=dv {
-                    let mut b = vec![0.0; dim];
-                    for a in 0..=k {
-                        let wa = binomial(k, a) / binomial(du, a);
-                        for bb in 0..=l {
-                            let w = wa * binomial(l, bb) / binomial(dv, bb);
-                            for (x, c) in b.iter_mut().zip(p.coefficient(a, bb)) {
-                                *x += w * c;
-                            }
-                        }
-                    }
-                    net.push(b);
-                }
-            }
-            let points: Vec<[f64; 3]> = match (s.kind(), dim) {
-                (SurfaceKind::Explicit, 1) => net
-                    .iter()
-                    .enumerate()
-                    .map(|(idx, z)| {
-                        let (k, l) = (idx / (dv + 1), idx % (dv + 1));
-                        let x = uk[i] + (uk[i + 1] - uk[i]) * k as f64 / du.max(1) as f64;
-                        let y = vk[j] + (vk[j + 1] - vk[j]) * l as f64 / dv.max(1) as f64;
-                        [x, y, z[0]]
-                    })
-                    .collect(),
-                (_, 2) => net.iter().map(|b| [b[0], b[1], 0.0]).collect(),
-                (_, 3) => net.iter().map(|b| [b[0], b[1], b[2]]).collect(),
-                (_, d) => {
-                    return Err(StepError::Unsupported(format!(
-                        "a composite surface in R^{d}: STEP geometry lives in R^3"
-                    )))
-                }
-            };
-            if du == 0 || dv == 0 {
                 return Err(StepError::Unsupported(format!(
-                    "patch ({i}, {j}) is constant along one direction (degrees {du}, {dv}): \
-                     not a surface"
+                    "patch ({i}, {j}) of a composite surface is neither a polynomial nor a formula"
                 )));
-            }
-            faces.push(natural_face(NurbsSurface {
-                degrees: (du, dv),
-                knots_u: bezier_knots(du),
-                knots_v: bezier_knots(dv),
-                rows: du + 1,
-                cols: dv + 1,
-                points,
-                weights: None,
-                bezier: true,
-            }));
+            };
+            let cell = ((uk[i], uk[i + 1]), (vk[j], vk[j + 1]));
+            faces.push(natural_face(poly_face(p, s.kind(), cell, (i, j))?));
         }
     }
-    Ok(Content::Faces(faces))
+    Ok((Content::Faces(faces), Vec::new()))
+}
+
+/// The Bézier face of polynomial patch (i, j) on its cell: its Bézier net as given when it
+/// was made from one (exact), else the Bernstein form of its power coefficients; explicit
+/// patches z(x, y) as the points (x, y, z).
+fn poly_face(
+    p: &PolyPatch,
+    kind: SurfaceKind,
+    ((u0, u1), (v0, v1)): ((f64, f64), (f64, f64)),
+    (i, j): (usize, usize),
+) -> StepResult<NurbsSurface> {
+    let (du, dv) = p.degrees();
+    let dim = p.dim();
+    // The Bézier net the patch came from, exactly; else the Bernstein coefficients
+    // b_kl = Σ_(a<=k, b<=l) C(k,a)/C(du,a) C(l,b)/C(dv,b) c_ab.
+    let mut net = Vec::with_capacity((du + 1) * (dv + 1));
+    let given = p.bezier_net();
+    if let Some(given) = given {
+        net.extend(given.chunks_exact(dim).map(<[f64]>::to_vec));
+    }
+    for k in (0..=du).filter(|_| given.is_none()) {
+        for l in 0..=dv {
+            let mut b = vec![0.0; dim];
+            for a in 0..=k {
+                let wa = binomial(k, a) / binomial(du, a);
+                for bb in 0..=l {
+                    let w = wa * binomial(l, bb) / binomial(dv, bb);
+                    for (x, c) in b.iter_mut().zip(p.coefficient(a, bb)) {
+                        *x += w * c;
+                    }
+                }
+            }
+            net.push(b);
+        }
+    }
+    let points: Vec<[f64; 3]> = match (kind, dim) {
+        (SurfaceKind::Explicit, 1) => net
+            .iter()
+            .enumerate()
+            .map(|(idx, z)| {
+                let (k, l) = (idx / (dv + 1), idx % (dv + 1));
+                let x = u0 + (u1 - u0) * k as f64 / du.max(1) as f64;
+                let y = v0 + (v1 - v0) * l as f64 / dv.max(1) as f64;
+                [x, y, z[0]]
+            })
+            .collect(),
+        (_, 2) => net.iter().map(|b| [b[0], b[1], 0.0]).collect(),
+        (_, 3) => net.iter().map(|b| [b[0], b[1], b[2]]).collect(),
+        (_, d) => {
+            return Err(StepError::Unsupported(format!(
+                "a composite surface in R^{d}: STEP geometry lives in R^3"
+            )))
+        }
+    };
+    if du == 0 || dv == 0 {
+        return Err(StepError::Unsupported(format!(
+            "patch ({i}, {j}) is constant along one direction (degrees {du}, {dv}): \
+             not a surface"
+        )));
+    }
+    Ok(NurbsSurface {
+        degrees: (du, dv),
+        knots_u: bezier_knots(du),
+        knots_v: bezier_knots(dv),
+        rows: du + 1,
+        cols: dv + 1,
+        points,
+        weights: None,
+        bezier: true,
+    })
+}
+
+/// A composite surface of formula patches: one face per patch, the interpolating B-spline
+/// of the patch on its cell (the patch's own domain mapped onto the cell, as geomkit
+/// evaluates it; explicit patches z(x, y) as the points (x, y, z)).
+fn formula_composite(
+    s: &CompositeSurface,
+    tolerance: f64,
+) -> StepResult<(Content, Vec<Approximation>)> {
+    let (n, m) = s.cells();
+    let (uk, vk) = s.knots();
+    let (dim, kind) = (s.dim(), s.kind());
+    if !matches!((kind, dim), (SurfaceKind::Explicit, 1) | (_, 2) | (_, 3)) {
+        return Err(StepError::Unsupported(format!(
+            "a composite surface in R^{dim}: STEP geometry lives in R^3"
+        )));
+    }
+    let mut pieces = Vec::with_capacity(n * m);
+    let mut exact: Vec<Option<NurbsSurface>> = Vec::with_capacity(n * m);
+    for i in 0..n {
+        for j in 0..m {
+            let Some(patch) = s.expr_patch(i, j) else {
+                return Err(StepError::Unsupported(format!(
+                    "patch ({i}, {j}) of a composite surface is neither a polynomial nor a formula"
+                )));
+            };
+            let cell = ((uk[i], uk[i + 1]), (vk[j], vk[j + 1]));
+            if let Some(poly) = patch.poly() {
+                // A Bézier or polynomial patch among formulas: exact.
+                exact.push(Some(poly_face(poly, kind, cell, (i, j))?));
+                continue;
+            }
+            exact.push(None);
+            let own = patch.domain().map(|d| (d[0], d[1]));
+            let name = format!("patch ({i}, {j})");
+            let label = name.clone();
+            let eval = move |u: f64, v: f64| -> StepResult<[f64; 3]> {
+                let (a, b) = match own {
+                    Some(((a0, a1), (b0, b1))) => {
+                        let ((u0, u1), (v0, v1)) = cell;
+                        (
+                            a0 + (a1 - a0) * ((u - u0) / (u1 - u0)),
+                            b0 + (b1 - b0) * ((v - v0) / (v1 - v0)),
+                        )
+                    }
+                    None => (u, v),
+                };
+                let at = format!("(u, v) = ({u}, {v})");
+                let q = patch.eval(&[a, b]).map_err(|e| {
+                    StepError::Unsupported(format!("{label}: cannot evaluate at {at}: {e}"))
+                })?;
+                let p = match (kind, dim) {
+                    (SurfaceKind::Explicit, _) => [u, v, q[0]],
+                    (_, 2) => [q[0], q[1], 0.0],
+                    _ => [q[0], q[1], q[2]],
+                };
+                finite(&label, &at, p)
+            };
+            pieces.push(SurfacePiece {
+                name,
+                domain: cell,
+                group: (i, j),
+                eval: Box::new(eval),
+            });
+        }
+    }
+    let absolute = absolute_tolerance(tolerance, &pieces, &[])?;
+    let fitted = approx::surfaces(&pieces, absolute)?;
+    let (surfaces, approximations): (Vec<_>, Vec<_>) = fitted.into_iter().unzip();
+    let mut surfaces = surfaces.into_iter();
+    let faces = exact
+        .into_iter()
+        .map(|e| e.or_else(|| surfaces.next()).map(natural_face))
+        .collect::<Option<Vec<_>>>()
+        .expect("one surface per cell");
+    Ok((Content::Faces(faces), approximations))
 }
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -331,7 +430,10 @@ fn cap(p: [f64; 3], other: &Section, reference: (f64, f64)) -> StepResult<Option
 
 /// A ruled surface as faces: the strips between consecutive curves. A body whose first and
 /// last curves are points (the caps' centres or an apex) is a closed solid.
-pub(crate) fn ruled(s: &RuledSurface) -> StepResult<Content> {
+pub(crate) fn ruled(s: &RuledSurface, tolerance: f64) -> StepResult<(Content, Vec<Approximation>)> {
+    if s.curves().iter().any(|c| matches!(c, RuledCurve::Expr(_))) {
+        return formula_ruled(s, tolerance);
+    }
     let sections = s
         .curves()
         .iter()
@@ -373,11 +475,62 @@ pub(crate) fn ruled(s: &RuledSurface) -> StepResult<Content> {
         face.same_sense = if closed { along == outward } else { along };
         faces.push(face);
     }
-    Ok(if closed {
+    let content = if closed {
         Content::Solid(faces)
     } else {
         Content::Faces(faces)
-    })
+    };
+    Ok((content, Vec::new()))
+}
+
+/// A ruled surface over formula curves: each strip between consecutive curves the
+/// interpolating B-spline of the surface on [u0, u1] × [v_(k-1), v_k] (all strips with the
+/// same samples in u, so that consecutive strips share their curve as one edge); a closed
+/// solid when the first and last curves are points.
+fn formula_ruled(s: &RuledSurface, tolerance: f64) -> StepResult<(Content, Vec<Approximation>)> {
+    let ((u0, u1), _) = s.domain();
+    let vs = s.v_values();
+    let pieces: Vec<SurfacePiece<'_>> = vs
+        .windows(2)
+        .enumerate()
+        .map(|(k, w)| {
+            let name = format!("strip {} (v in [{}, {}])", k + 1, w[0], w[1]);
+            let label = name.clone();
+            let (v0, v1) = (w[0], w[1]);
+            let eval = move |u: f64, v: f64| -> StepResult<[f64; 3]> {
+                let mut q = [0.0; 3];
+                s.eval_into(u, v.clamp(v0, v1), &mut q);
+                finite(&label, &format!("(u, v) = ({u}, {v})"), q)
+            };
+            SurfacePiece {
+                name,
+                domain: ((u0, u1), (v0, v1)),
+                group: (0, k),
+                eval: Box::new(eval) as approx::SurfaceEval<'_>,
+            }
+        })
+        .collect();
+    let absolute = absolute_tolerance(tolerance, &pieces, &[])?;
+    let fitted = approx::surfaces(&pieces, absolute)?;
+    let closed = matches!(s.curves().first(), Some(RuledCurve::Point(_)))
+        && matches!(s.curves().last(), Some(RuledCurve::Point(_)));
+    let strips = vs.len().max(2) - 1;
+    // The faces have the ruled surface's parameters: their normals are its normals.
+    let outward = signed_volume(ruled_eval(s), s.domain(), (256, 16 * strips)) > 0.0;
+    let mut faces = Vec::with_capacity(fitted.len());
+    let mut approximations = Vec::with_capacity(fitted.len());
+    for (surface, a) in fitted {
+        let mut face = natural_face(surface);
+        face.same_sense = !closed || outward;
+        faces.push(face);
+        approximations.push(a);
+    }
+    let content = if closed {
+        Content::Solid(faces)
+    } else {
+        Content::Faces(faces)
+    };
+    Ok((content, approximations))
 }
 
 /// The strip between sections a (at v_(k-1)) and b (at v_k) of `s`.

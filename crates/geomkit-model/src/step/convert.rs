@@ -1,11 +1,13 @@
 //! Models as STEP content: the exact B-spline form of each kind of model.
 
+use super::approx::{self, absolute_tolerance, finite, Approximation, CurvePiece};
 use super::nurbs::{points3, NurbsCurve, NurbsSurface};
 use super::write::{Content, FaceSpec};
 use super::{StepError, StepResult};
 use crate::{AnyModel, BezierModel};
 use geomkit::bezier::{BezierSurface, RationalBezierSurface};
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
+use geomkit::compose::Piecewise;
 use geomkit::geom::Surface;
 
 /// The clamped knot vector of one Bézier span of degree n on [0, 1].
@@ -112,8 +114,96 @@ fn surface_content(nurbs: NurbsSurface, s: &dyn Surface) -> StepResult<Content> 
     Ok(Content::Solid(vec![face]))
 }
 
-/// What `model` is as STEP.
-pub(crate) fn content(model: &AnyModel) -> StepResult<Content> {
+/// What `model` is as STEP, and the pieces approximated within `tolerance` (relative) where
+/// a formula has no exact B-spline form.
+pub(crate) fn content(
+    model: &AnyModel,
+    tolerance: f64,
+) -> StepResult<(Content, Vec<Approximation>)> {
+    Ok(match model {
+        AnyModel::Composite(s) => super::bodies::composite(s, tolerance)?,
+        AnyModel::Ruled(s) => super::bodies::ruled(s, tolerance)?,
+        AnyModel::Piecewise(p) => piecewise(p, tolerance)?,
+        AnyModel::Formula(f) => match &f.model {
+            Some(m) => content(m, tolerance)?,
+            None => {
+                return Err(StepError::Unsupported(
+                    "this formula file carries no model (written by an older geomkit): \
+                     export the file it was made from"
+                        .into(),
+                ))
+            }
+        },
+        other => (exact(other)?, Vec::new()),
+    })
+}
+
+/// A piecewise function f(x) (its graph (x, f(x), 0)) or composite curve as one edge per
+/// piece: polylines exactly (degree 1), formula pieces as interpolating B-splines.
+fn piecewise(p: &Piecewise, tolerance: f64) -> StepResult<(Content, Vec<Approximation>)> {
+    let dim = p.dim();
+    if dim > 3 {
+        return Err(StepError::Unsupported(format!(
+            "a composite curve in R^{dim}: STEP geometry lives in R^3"
+        )));
+    }
+    let point = |x: f64| -> [f64; 3] {
+        let v = p.eval(x);
+        match dim {
+            1 => [x, v[0], 0.0],
+            2 => [v[0], v[1], 0.0],
+            _ => [v[0], v[1], v[2]],
+        }
+    };
+    let knots = p.knots();
+    if let Some(values) = p.vertices() {
+        // A polyline: exact, one degree-1 edge per segment.
+        let curves = knots
+            .windows(2)
+            .zip(values.windows(2))
+            .map(|(k, v)| {
+                let at = |x: f64, q: &[f64]| match dim {
+                    1 => [x, q[0], 0.0],
+                    2 => [q[0], q[1], 0.0],
+                    _ => [q[0], q[1], q[2]],
+                };
+                NurbsCurve::new(
+                    1,
+                    vec![k[0], k[0], k[1], k[1]],
+                    vec![at(k[0], &v[0]), at(k[1], &v[1])],
+                    None,
+                )
+            })
+            .collect::<StepResult<Vec<_>>>()?;
+        return Ok((Content::Curves(curves), Vec::new()));
+    }
+    let var = p.var().to_string();
+    let pieces: Vec<CurvePiece<'_>> = knots
+        .windows(2)
+        .enumerate()
+        .map(|(i, k)| {
+            let name = format!("piece {i} ({var} in [{}, {}])", k[0], k[1]);
+            let label = name.clone();
+            let var = var.clone();
+            // The piece's own formula up to its end (the next piece starts there).
+            let eval = move |x: f64| {
+                let x = x.clamp(k[0], k[1]);
+                finite(&label, &format!("{var} = {x}"), point(x))
+            };
+            CurvePiece {
+                name,
+                domain: (k[0], k[1]),
+                eval: Box::new(eval),
+            }
+        })
+        .collect();
+    let absolute = absolute_tolerance(tolerance, &[], &pieces)?;
+    let (curves, approximations) = approx::curves(&pieces, absolute)?.into_iter().unzip();
+    Ok((Content::Curves(curves), approximations))
+}
+
+/// The exact B-spline form of a Bézier or B-spline curve or surface.
+fn exact(model: &AnyModel) -> StepResult<Content> {
     Ok(match model {
         AnyModel::Bezier(BezierModel::Curve(c)) => {
             if c.degree() == 0 {
@@ -142,23 +232,11 @@ pub(crate) fn content(model: &AnyModel) -> StepResult<Content> {
         }
         AnyModel::BsplineCurve(m) => Content::Curves(vec![bspline_curve(&m.curve)?]),
         AnyModel::BsplineSurface(m) => surface_content(bspline_surface(&m.surface)?, &m.surface)?,
-        AnyModel::Composite(s) => super::bodies::composite(s)?,
-        AnyModel::Ruled(s) => super::bodies::ruled(s)?,
-        AnyModel::Formula(f) => match &f.model {
-            Some(m) => content(m)?,
-            None => {
-                return Err(StepError::Unsupported(
-                    "this formula file carries no model (written by an older geomkit): \
-                     export the file it was made from"
-                        .into(),
-                ))
-            }
-        },
         other => {
             return Err(StepError::Unsupported(format!(
-                "a {} has no exact B-spline form to write as STEP (exported are Bézier and \
-                 B-spline curves and surfaces, composite surfaces of polynomial patches and \
-                 the closed bodies)",
+                "a {} has no B-spline form to write as STEP (exported are Bézier and \
+                 B-spline curves and surfaces, composite surfaces, ruled surfaces and bodies, \
+                 composite curves and piecewise functions)",
                 other.describe()
             )))
         }

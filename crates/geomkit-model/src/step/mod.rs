@@ -26,10 +26,17 @@
 //! millimetre (geomkit's numbers unchanged), the uncertainty [`WriteOptions::uncertainty`].
 //! The same model gives the same bytes (the header's time stamp is fixed unless given).
 //!
+//! Formulas without an exact B-spline form (formula patches of composite surfaces, ruled
+//! surfaces over formula curves, composite curves of formula pieces) are written as the
+//! nearest exact-through-points B-spline within [`WriteOptions::tolerance`]; [`export`]
+//! reports each such piece and its measured deviation ([`Approximation`]), also in the
+//! file's header.
+//!
 //! [`read`] takes the B-spline and Bézier curve and surface entities of a file (simple and
-//! complex instances, rational ones where geomkit has the type) and plane faces bounded by
-//! straight edges, and gives each as a model file; the curves that only bound faces are
-//! the faces' edges and are not given separately.
+//! complex instances, rational ones of several spans split into rational Bézier pieces by
+//! knot insertion) and plane faces bounded by straight edges, and gives each as a model
+//! file; the curves that only bound faces are the faces' edges and are not given
+//! separately; trimmed faces are reported ([`Import::trimmed`]).
 //!
 //! ```
 //! use geomkit_model::step;
@@ -42,14 +49,17 @@
 //! assert_eq!(back.models[0].file.type_name(), "bezier_curve");
 //! ```
 
+mod approx;
 mod bodies;
 mod convert;
 mod nurbs;
 mod part21;
 mod read;
+mod split;
 mod write;
 
-pub use read::{read, Import, Imported};
+pub use approx::{Approximation, CHECK, MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
+pub use read::{read, Import, Imported, TrimmedFace};
 
 use crate::AnyModel;
 
@@ -121,6 +131,10 @@ pub struct WriteOptions {
     /// The distance below which points are one point, stated in the file (default 1e-7,
     /// OCCT's `Precision::Confusion`).
     pub uncertainty: f64,
+    /// The largest deviation allowed where a formula has no exact B-spline form and is
+    /// written as an interpolating B-spline, relative to the diagonal of the model's
+    /// bounding box (default 1e-6). See [`export`].
+    pub tolerance: f64,
 }
 
 impl Default for WriteOptions {
@@ -131,6 +145,7 @@ impl Default for WriteOptions {
             timestamp: None,
             schema: Schema::Ap214,
             uncertainty: 1e-7,
+            tolerance: 1e-6,
         }
     }
 }
@@ -159,22 +174,86 @@ impl WriteOptions {
         self.uncertainty = uncertainty;
         self
     }
+
+    /// With the relative tolerance of approximated formulas (finite, > 0).
+    pub fn with_tolerance(mut self, tolerance: f64) -> Self {
+        self.tolerance = tolerance;
+        self
+    }
+
+    /// With the header's description.
+    pub fn with_description(mut self, description: impl Into<String>) -> Self {
+        self.description = description.into();
+        self
+    }
 }
 
-/// The model as a STEP file (ISO 10303-21 text). See the module documentation for what
-/// each kind of model becomes.
+/// A STEP file and what of it is not exact.
+#[derive(Debug, Clone)]
+#[non_exhaustive]
+pub struct Export {
+    /// The ISO 10303-21 text.
+    pub text: String,
+    /// The pieces written as interpolating B-splines (formulas without an exact B-spline
+    /// form), in the order of the model's pieces; empty when the file is exact.
+    pub approximations: Vec<Approximation>,
+}
+
+/// The model as a STEP file (ISO 10303-21 text): [`export`]'s text.
 ///
-/// Errors ([`StepError::Unsupported`]): a model with no exact B-spline form here (formulas,
-/// point-calculus models, samples, composite surfaces of formula patches, ruled surfaces
-/// over formula curves), points of a dimension other than 2 or 3, B-spline curves of
-/// degree 0, an uncertainty that is not finite and > 0.
+/// Errors: as [`export`].
 pub fn write(model: &AnyModel, options: &WriteOptions) -> StepResult<String> {
+    export(model, options).map(|e| e.text)
+}
+
+/// The model as a STEP file, with the report of what is approximated. See the module
+/// documentation for what each kind of model becomes.
+///
+/// Exact (up to the rounding of the model's own numbers) where the geometry is polynomial
+/// or rational. Formulas without an exact B-spline form (the formula patches of composite
+/// surfaces, ruled surfaces over formula curves, composite curves and piecewise functions
+/// of formula pieces) are written as the nearest exact-through-points B-spline: each piece
+/// (patch, strip, piece) is sampled on a uniform grid of its parameters, interpolated by
+/// cubic B-splines with the same parameters, and the grid is refined until the largest
+/// distance to the formula measured on a grid [`CHECK`] times denser is at most
+/// [`WriteOptions::tolerance`] × the diagonal of the model's bounding box. Each such piece
+/// is listed in [`Export::approximations`] with its deviation, and in the file's header
+/// (`FILE_DESCRIPTION`).
+///
+/// Errors ([`StepError::Unsupported`]): a model with no B-spline form here (point-calculus
+/// models, samples), points of a dimension other than 2 or 3, B-spline curves of degree 0,
+/// an uncertainty or tolerance that is not finite and > 0, a formula not finite at a sample
+/// point, or a piece whose interpolant is still farther than the tolerance at
+/// [`MAX_SURFACE_SAMPLES`] ([`MAX_CURVE_SAMPLES`] for curves) samples per direction (a
+/// singular derivative, such as `sqrt(u)` at 0: give a larger tolerance).
+///
+/// ```
+/// use geomkit_model::step;
+/// let model = geomkit_model::parse(r#"{"type": "composite_explicit",
+///     "x_knots": [0, 1], "y_knots": [0, 1], "patches": [["sin(x) * exp(y)"]]}"#).unwrap();
+/// let out = step::export(&model, &step::WriteOptions::default()).unwrap();
+/// assert_eq!(out.approximations.len(), 1);
+/// let a = &out.approximations[0];
+/// assert!(a.deviation <= a.tolerance);
+/// assert!(out.text.contains("approximated"));
+/// ```
+pub fn export(model: &AnyModel, options: &WriteOptions) -> StepResult<Export> {
     if !(options.uncertainty.is_finite() && options.uncertainty > 0.0) {
         return Err(StepError::Unsupported(format!(
             "the uncertainty {} must be finite and > 0",
             options.uncertainty
         )));
     }
-    let content = convert::content(model)?;
-    write::write(&content, options)
+    if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
+        return Err(StepError::Unsupported(format!(
+            "the tolerance {} must be finite and > 0",
+            options.tolerance
+        )));
+    }
+    let (content, approximations) = convert::content(model, options.tolerance)?;
+    let text = write::write(&content, options, &approximations)?;
+    Ok(Export {
+        text,
+        approximations,
+    })
 }

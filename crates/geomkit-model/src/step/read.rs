@@ -3,6 +3,7 @@
 
 use super::nurbs::{cross, dot, expand_knots};
 use super::part21::{parse, Exchange, Instance, Param};
+use super::split;
 use super::{StepError, StepResult};
 use crate::numbers::{Net, Points};
 use crate::schema::{
@@ -26,6 +27,23 @@ pub struct Imported {
     pub file: ModelFile,
     /// What changed on the way, if anything (a reparametrization, a trimming not kept).
     pub note: Option<String>,
+    /// For a piece of a rational B-spline of several spans (imported as rational Bézier
+    /// pieces): its span, `[k]` along a curve, `[i, j]` of a surface (u, v); empty for a
+    /// whole entity.
+    pub span: Vec<usize>,
+}
+
+/// A face whose boundary is not its surface's own (a trimmed face): its surface is imported
+/// whole, the trimming loops are not (model files have no trimming).
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct TrimmedFace {
+    /// The face's entity number.
+    pub face: u64,
+    /// The entity number of its surface.
+    pub surface: u64,
+    /// Its bounds (loops): the outer one and one per hole.
+    pub loops: usize,
 }
 
 /// What a STEP file held.
@@ -41,6 +59,9 @@ pub struct Import {
     /// The file's length unit (`"MILLI METRE"`, `"METRE"`, `"INCH"`, ...), when it names one:
     /// coordinates are imported as written, in that unit.
     pub length_unit: Option<String>,
+    /// The trimmed faces whose surfaces were imported (each as its whole surface: the
+    /// trimming loops are not kept), in the order of their entity numbers.
+    pub trimmed: Vec<TrimmedFace>,
 }
 
 impl Import {
@@ -84,9 +105,14 @@ const OTHER_GEOMETRY: &[&str] = &[
 /// Reads the curves and surfaces of a STEP file (ISO 10303-21 text of any schema).
 ///
 /// Taken: `B_SPLINE_CURVE_WITH_KNOTS`, `BEZIER_CURVE`, `B_SPLINE_SURFACE_WITH_KNOTS`,
-/// `BEZIER_SURFACE` (simple or complex instances; rational ones where geomkit has the type:
-/// rational Bézier curves, and rational B-splines whose weights are all equal), and faces
-/// on a `PLANE` as the degree-1 patch of the rectangle around their vertices. Curves that
+/// `BEZIER_SURFACE` (simple or complex instances; rational ones too: one span as a rational
+/// Bézier file, several spans as one rational Bézier file per span, split exactly by knot
+/// insertion in homogeneous coordinates ([`Imported::span`] says which; the file's own
+/// points and weights wherever a span's knots already have multiplicity p), rational
+/// B-splines whose weights are all equal as polynomial ones), and faces on a `PLANE` as the
+/// degree-1 patch of the rectangle around their vertices. Faces whose outline is not their
+/// surface's boundary (trimmed faces: a vertex off the surface's corners, or holes) are
+/// imported as their whole surface and listed in [`Import::trimmed`]. Curves that
 /// bound faces are the faces' edges and are not given separately; curves in the plane
 /// (parameter-space curves) are skipped. A single clamped span on [0, 1] becomes a Bézier
 /// file when the entity says so (`BEZIER_*`, `.PIECEWISE_BEZIER_KNOTS.`) or is rational;
@@ -102,6 +128,7 @@ pub fn read(text: &str) -> StepResult<Import> {
     let reader = Reader {
         x: &x,
         bounds: face_bounds(&x),
+        trimmed: std::cell::RefCell::new(BTreeMap::new()),
     };
     let mut import = Import {
         schemas: x.schemas.clone(),
@@ -111,9 +138,39 @@ pub fn read(text: &str) -> StepResult<Import> {
     for (&id, inst) in &x.instances {
         match reader.instance(id, inst)? {
             Outcome::Model(m) => import.models.push(*m),
+            Outcome::Models(ms) => import.models.extend(ms),
             Outcome::Skipped(reason) => *import.skipped.entry(reason).or_insert(0) += 1,
             Outcome::Other => {}
         }
+    }
+    // Faces with holes are trimmed whatever their outer loop.
+    for (&face, inst) in &x.instances {
+        let Some(p) = inst.record("ADVANCED_FACE").or(inst.record("FACE_SURFACE")) else {
+            continue;
+        };
+        let (Some(Param::List(bounds)), Some(Param::Ref(surface))) = (p.get(1), p.get(2)) else {
+            continue;
+        };
+        let imported = import
+            .models
+            .iter()
+            .any(|m| m.id == *surface || m.id == face);
+        if bounds.len() > 1 && imported {
+            reader.trimmed.borrow_mut().insert(face, *surface);
+        }
+    }
+    for (face, surface) in reader.trimmed.take() {
+        let inst = &x.instances[&face];
+        let p = inst.record("ADVANCED_FACE").or(inst.record("FACE_SURFACE"));
+        let loops = match p.and_then(|p| p.get(1)) {
+            Some(Param::List(l)) => l.len(),
+            _ => 1,
+        };
+        import.trimmed.push(TrimmedFace {
+            face,
+            surface,
+            loops,
+        });
     }
     if import.models.is_empty() {
         let found = if import.skipped.is_empty() {
@@ -151,6 +208,8 @@ fn length_unit(x: &Exchange) -> Option<String> {
 
 enum Outcome {
     Model(Box<Imported>),
+    /// The rational Bézier pieces of one entity.
+    Models(Vec<Imported>),
     Skipped(String),
     Other,
 }
@@ -254,6 +313,8 @@ fn face_bounds(x: &Exchange) -> BTreeSet<u64> {
 struct Reader<'a> {
     x: &'a Exchange,
     bounds: BTreeSet<u64>,
+    /// Trimmed faces found on the way (face -> its surface).
+    trimmed: std::cell::RefCell<BTreeMap<u64, u64>>,
 }
 
 fn entity_err(id: u64, message: impl Into<String>) -> StepError {
@@ -669,6 +730,7 @@ impl Reader<'_> {
             name: Self::name(inst),
             file,
             note,
+            span: Vec::new(),
         })))
     }
 
@@ -718,11 +780,7 @@ impl Reader<'_> {
                 });
                 self.checked(id, inst, file, note)
             }
-            Some(_) => Ok(Outcome::Skipped(
-                "rational B-spline curves of several spans (geomkit has no rational B-spline \
-                 type)"
-                    .into(),
-            )),
+            Some(w) => self.curve_spans(id, inst, p, knots, &points.flat, &w),
             None if single_span && s.bezier && (a, b) == (0.0, 1.0) => {
                 let file = ModelFile::BezierCurve(BezierCurveFile {
                     points,
@@ -772,11 +830,7 @@ impl Reader<'_> {
             let first = w[0][0];
             if !w.iter().flatten().all(|&x| x == first) {
                 if !single_span {
-                    return Ok(Outcome::Skipped(
-                        "rational B-spline surfaces of several spans (geomkit has rational \
-                         Bézier surfaces only)"
-                            .into(),
-                    ));
+                    return self.surface_spans(id, inst, (du, dv), (ku, kv), &net, w);
                 }
                 let file = ModelFile::BezierSurface(BezierSurfaceFile {
                     net,
@@ -806,6 +860,160 @@ impl Reader<'_> {
         });
         let note = self.trimming_note(id, &file)?;
         self.checked(id, inst, file, note)
+    }
+
+    /// A rational B-spline curve of several spans as its rational Bézier pieces (knot
+    /// insertion in homogeneous coordinates; the file's own points and weights where a span
+    /// boundary already has multiplicity p).
+    fn curve_spans(
+        &self,
+        id: u64,
+        inst: &Instance,
+        p: usize,
+        knots: &[f64],
+        flat: &[f64],
+        w: &[f64],
+    ) -> StepResult<Outcome> {
+        let rows: Vec<Vec<f64>> = flat
+            .chunks_exact(3)
+            .zip(w)
+            .map(|(q, &w)| vec![q[0] * w, q[1] * w, q[2] * w, w])
+            .collect();
+        let spans = split::spans(p, knots, &rows);
+        let total = spans.len();
+        let mut out = Vec::with_capacity(total);
+        for (k, s) in spans.iter().enumerate() {
+            let mut pts = Vec::with_capacity(3 * (p + 1));
+            let mut ws = Vec::with_capacity(p + 1);
+            for (r, o) in s.rows.iter().zip(&s.origin) {
+                match o {
+                    Some(i) => {
+                        pts.extend_from_slice(&flat[3 * i..3 * i + 3]);
+                        ws.push(w[*i]);
+                    }
+                    None => {
+                        pts.extend([r[0] / r[3], r[1] / r[3], r[2] / r[3]]);
+                        ws.push(r[3]);
+                    }
+                }
+            }
+            let file = ModelFile::BezierCurve(BezierCurveFile {
+                points: Points { dim: 3, flat: pts },
+                weights: Some(ws),
+                error: None,
+            });
+            let note = format!(
+                "span {} of {total}: t in [{}, {}] is (t - {}) / ({} - {}) in [0, 1]",
+                k + 1,
+                s.from,
+                s.to,
+                s.from,
+                s.to,
+                s.from
+            );
+            out.push(self.piece(id, inst, file, note, vec![k])?);
+        }
+        Ok(Outcome::Models(out))
+    }
+
+    /// One piece of an entity, checked.
+    fn piece(
+        &self,
+        id: u64,
+        inst: &Instance,
+        file: ModelFile,
+        note: String,
+        span: Vec<usize>,
+    ) -> StepResult<Imported> {
+        match self.checked(id, inst, file, Some(note))? {
+            Outcome::Model(m) => Ok(Imported { span, ..*m }),
+            _ => unreachable!("checked gives one model"),
+        }
+    }
+
+    /// A rational B-spline surface of several spans as its rational Bézier patches: the
+    /// rows split along u, then each piece's columns along v.
+    fn surface_spans(
+        &self,
+        id: u64,
+        inst: &Instance,
+        (du, dv): (usize, usize),
+        (ku, kv): (&[f64], &[f64]),
+        net: &Net,
+        w: &[Vec<f64>],
+    ) -> StepResult<Outcome> {
+        let (cols, d) = (net.cols, net.dim);
+        let point = |i: usize, j: usize| &net.flat[(i * cols + j) * d..(i * cols + j + 1) * d];
+        let rows: Vec<Vec<f64>> = (0..net.rows)
+            .map(|i| {
+                (0..cols)
+                    .flat_map(|j| {
+                        let wt = w[i][j];
+                        point(i, j)
+                            .iter()
+                            .map(move |x| x * wt)
+                            .chain(std::iter::once(wt))
+                    })
+                    .collect()
+            })
+            .collect();
+        let h = d + 1;
+        let u_spans = split::spans(du, ku, &rows);
+        let mut out = Vec::new();
+        let total = u_spans.len();
+        for (a, su) in u_spans.iter().enumerate() {
+            // Columns of this u piece: (du + 1) homogeneous points each.
+            let columns: Vec<Vec<f64>> = (0..cols)
+                .map(|j| {
+                    su.rows
+                        .iter()
+                        .flat_map(|r| r[j * h..(j + 1) * h].to_vec())
+                        .collect()
+                })
+                .collect();
+            let v_spans = split::spans(dv, kv, &columns);
+            let total_v = v_spans.len();
+            for (b, sv) in v_spans.iter().enumerate() {
+                let mut flat = Vec::with_capacity((du + 1) * (dv + 1) * d);
+                let mut weights = vec![Vec::with_capacity(dv + 1); du + 1];
+                for (r, weight_row) in weights.iter_mut().enumerate() {
+                    for (c, col) in sv.rows.iter().enumerate() {
+                        match (su.origin[r], sv.origin[c]) {
+                            (Some(i), Some(j)) => {
+                                flat.extend_from_slice(point(i, j));
+                                weight_row.push(w[i][j]);
+                            }
+                            _ => {
+                                let hp = &col[r * h..(r + 1) * h];
+                                flat.extend(hp[..d].iter().map(|x| x / hp[d]));
+                                weight_row.push(hp[d]);
+                            }
+                        }
+                    }
+                }
+                let file = ModelFile::BezierSurface(BezierSurfaceFile {
+                    net: Net {
+                        rows: du + 1,
+                        cols: dv + 1,
+                        dim: d,
+                        flat,
+                    },
+                    weights: Some(weights),
+                });
+                let note = format!(
+                    "span ({}, {}) of {total} × {total_v}: u in [{}, {}], v in [{}, {}] mapped \
+                     onto [0, 1]²",
+                    a + 1,
+                    b + 1,
+                    su.from,
+                    su.to,
+                    sv.from,
+                    sv.to
+                );
+                out.push(self.piece(id, inst, file, note, vec![a, b])?);
+            }
+        }
+        Ok(Outcome::Models(out))
     }
 
     /// A note when a face on `surface` has a vertex away from the surface's four corners:
@@ -841,12 +1049,22 @@ impl Reader<'_> {
                     .any(|c| c.iter().zip(v).all(|(a, b)| (a - b).abs() <= tolerance))
             });
             if trimmed {
-                return Ok(Some(format!(
-                    "the whole surface of the trimmed face #{face}: its outline is not kept"
-                )));
+                self.trimmed.borrow_mut().insert(face, surface);
             }
         }
-        Ok(None)
+        let faces: Vec<String> = self
+            .trimmed
+            .borrow()
+            .iter()
+            .filter(|(_, &s)| s == surface)
+            .map(|(f, _)| format!("#{f}"))
+            .collect();
+        Ok((!faces.is_empty()).then(|| {
+            format!(
+                "the whole surface of the trimmed face {}: its outline is not kept",
+                faces.join(", ")
+            )
+        }))
     }
 
     /// The vertices of a face's bounds, in loop order.
@@ -946,6 +1164,9 @@ impl Reader<'_> {
             && local
                 .iter()
                 .all(|l| (l[0] == lo[0] || l[0] == hi[0]) && (l[1] == lo[1] || l[1] == hi[1]));
+        if !corners {
+            self.trimmed.borrow_mut().insert(id, surface);
+        }
         let note = (!corners).then(|| {
             "the plane's rectangle around the face's vertices (the face's own outline is not \
              kept)"

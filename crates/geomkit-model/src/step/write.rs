@@ -2,6 +2,7 @@
 //! turn into shapes (curves as edges of a wireframe model, surfaces as faces bounded by their
 //! boundary edges in a shell), with the AP214 product structure, units and uncertainty.
 
+use super::approx::Approximation;
 use super::nurbs::{knots_mults, NurbsCurve, NurbsSurface};
 use super::part21::{real, reals, refs, string, Writer};
 use super::{Schema, StepResult, WriteOptions};
@@ -307,8 +308,33 @@ fn tolerance(content: &Content) -> f64 {
     1e-12 * m.max(f64::MIN_POSITIVE)
 }
 
+/// The header's description: the options' one, then one line per approximated piece (the
+/// default description no longer says "exact" when there are some).
+fn description(options: &WriteOptions, approximations: &[Approximation]) -> String {
+    let mut lines = vec![options.description.clone()];
+    if !approximations.is_empty() {
+        if options.description == WriteOptions::default().description {
+            lines[0] = format!(
+                "geometry written by geomkit: exact except {} approximated piece(s) below",
+                approximations.len()
+            );
+        }
+        lines.extend(
+            approximations
+                .iter()
+                .map(|a| format!("approximated {}", a.describe())),
+        );
+    }
+    let strings: Vec<String> = lines.iter().map(|l| string(l)).collect();
+    strings.join(",")
+}
+
 /// The whole exchange structure.
-pub(crate) fn write(content: &Content, options: &WriteOptions) -> StepResult<String> {
+pub(crate) fn write(
+    content: &Content,
+    options: &WriteOptions,
+    approximations: &[Approximation],
+) -> StepResult<String> {
     let mut b = Builder {
         w: Writer::default(),
         tolerance: tolerance(content),
@@ -423,7 +449,7 @@ pub(crate) fn write(content: &Content, options: &WriteOptions) -> StepResult<Str
     out.push_str("ISO-10303-21;\nHEADER;\n");
     out.push_str(&format!(
         "FILE_DESCRIPTION(({}),'2;1');\n",
-        string(&options.description)
+        description(options, approximations)
     ));
     out.push_str(&format!(
         "FILE_NAME({name},{},(''),(''),{},'geomkit','');\n",

@@ -33,6 +33,8 @@ pub struct ExprPatch {
     vars: Vec<String>,
     domain: Option<Vec<(f64, f64)>>,
     tape: Tape,
+    /// The polynomial patch it was made from ([`ExprPatch::from_poly`]).
+    poly: Option<Box<PolyPatch>>,
 }
 
 impl PartialEq for ExprPatch {
@@ -115,7 +117,9 @@ impl ExprPatch {
                     .map_err(|e| engine_error(name, e))
             })
             .collect::<Result<_>>()?;
-        Self::new(graph, roots, names, texts, &vars, Some(vec![(0.0, 1.0); 2]))
+        let mut e = Self::new(graph, roots, names, texts, &vars, Some(vec![(0.0, 1.0); 2]))?;
+        e.poly = Some(Box::new(p.clone()));
+        Ok(e)
     }
 
     /// A curve piece Σ_a c_a s^a in `var` on \[0, 1\] (its local parameter), the power
@@ -197,7 +201,15 @@ impl ExprPatch {
             vars: vars.iter().map(|s| s.to_string()).collect(),
             domain,
             tape,
+            poly: None,
         })
+    }
+
+    /// The polynomial patch it was made from by [`ExprPatch::from_poly`] (its Bézier net
+    /// too, when it has one), so that exact forms survive a composite that mixes polynomial
+    /// and formula patches; `None` for parsed formulas.
+    pub fn poly(&self) -> Option<&PolyPatch> {
+        self.poly.as_deref()
     }
 
     /// Number of coordinates.

@@ -392,6 +392,15 @@ impl Piecewise {
         }
     }
 
+    /// The values at the knots of a polyline (`None` for formula pieces): the curve is
+    /// linear between them.
+    pub fn vertices(&self) -> Option<&[Vec<f64>]> {
+        match &self.pieces {
+            Pieces::Linear { values } => Some(values),
+            Pieces::Expr { .. } => None,
+        }
+    }
+
     /// [`Self::eval_into`] into a new vector.
     pub fn eval(&self, x: f64) -> Vec<f64> {
         let mut out = vec![0.0; self.dim()];

@@ -20,11 +20,20 @@ use crate::{Error, Result};
 /// let p = PolyPatch::from_bezier(&b);
 /// assert_eq!(p.eval(0.5, 0.5), b.eval(0.5, 0.5));
 /// ```
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct PolyPatch {
     degree: (usize, usize),
     dim: usize,
     coef: Vec<f64>,
+    /// The Bézier net the patch was made from ([`PolyPatch::from_bezier`]), kept exact.
+    bezier_net: Option<Vec<f64>>,
+}
+
+/// Patches are equal when their polynomials are (the net they came from aside).
+impl PartialEq for PolyPatch {
+    fn eq(&self, other: &Self) -> bool {
+        self.degree == other.degree && self.dim == other.dim && self.coef == other.coef
+    }
 }
 
 impl PolyPatch {
@@ -39,7 +48,12 @@ impl PolyPatch {
                 got: coef.len(),
             });
         }
-        Ok(PolyPatch { degree, dim, coef })
+        Ok(PolyPatch {
+            degree,
+            dim,
+            coef,
+            bezier_net: None,
+        })
     }
 
     /// The zero patch.
@@ -48,6 +62,7 @@ impl PolyPatch {
             degree,
             dim,
             coef: vec![0.0; (degree.0 + 1) * (degree.1 + 1) * dim],
+            bezier_net: None,
         }
     }
 
@@ -86,7 +101,16 @@ impl PolyPatch {
             degree: (n, m),
             dim,
             coef,
+            bezier_net: Some(b.net_flat().to_vec()),
         }
+    }
+
+    /// The Bézier net the patch was made from by [`PolyPatch::from_bezier`], exactly as
+    /// given (point (i, j) at `(i * (q + 1) + j) * dim`, i along s); `None` for patches made
+    /// otherwise. The power-basis coefficients carry the rounding of the change of basis;
+    /// the net does not.
+    pub fn bezier_net(&self) -> Option<&[f64]> {
+        self.bezier_net.as_deref()
     }
 
     /// Degrees (p, q) in s and t.
