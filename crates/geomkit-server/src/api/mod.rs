@@ -17,6 +17,7 @@
 //! | `POST /api/formula` | a model's single formula in one of 11 syntaxes + continuity report |
 //! | `POST /api/pointcalc/fit`, `/shares`, `/optimum` | point-calculus models |
 //! | `POST /api/export` | SVG, PNG, STL, GLB, OBJ or formula text of a model |
+//! | `POST /api/surface/mesh`, `/edit`, `/approximate`, `/heights` | the 3-D view: shaded meshes with curvature or error colouring, row/column edits, best L2 approximation of surfaces, height fields ([`surface`]) |
 //! | `GET /api/files`, `GET`/`PUT /api/files/{name}` | model files in the `--dir` folder |
 
 pub mod bezier;
@@ -26,6 +27,7 @@ pub mod files;
 pub mod formula;
 pub mod model;
 pub mod pointcalc;
+pub mod surface;
 
 use crate::error::{ApiError, ApiResult};
 use crate::{AppState, Limits};
@@ -51,6 +53,10 @@ pub fn routes() -> Router<AppState> {
         .route("/api/pointcalc/shares", post(pointcalc::shares))
         .route("/api/pointcalc/optimum", post(pointcalc::optimum))
         .route("/api/export", post(export::export))
+        .route("/api/surface/mesh", post(surface::mesh_handler))
+        .route("/api/surface/edit", post(surface::edit))
+        .route("/api/surface/approximate", post(surface::approximate))
+        .route("/api/surface/heights", post(surface::heights))
         .route("/api/files", get(files::list))
         .route("/api/files/{name}", get(files::open).put(files::save))
 }

@@ -58,7 +58,10 @@ impl BsplineSurface {
             });
         }
         let mut parts = [[0.0; 3]; 5];
-        for (k, (ku, kv)) in [(1, 0), (0, 1), (2, 0), (1, 1), (0, 2)].into_iter().enumerate() {
+        for (k, (ku, kv)) in [(1, 0), (0, 1), (2, 0), (1, 1), (0, 2)]
+            .into_iter()
+            .enumerate()
+        {
             self.eval_derivative(u, v, ku, kv, &mut parts[k][..d]);
         }
         let [su, sv, suu, suv, svv] = if d == 1 {
@@ -113,8 +116,8 @@ fn fundamental_forms(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bspline::{interpolate_heights_at, interpolate_surface, EndCondition};
     use crate::bspline::SurfaceInterpolationOptions;
+    use crate::bspline::{interpolate_heights_at, interpolate_surface, EndCondition};
 
     /// The graph of z = a x² + b xy + c y² has, by the closed forms of the module doc,
     /// K = (4ac − b²)/W², H = ((1 + f_y²) 2a − 2 f_x f_y b + (1 + f_x²) 2c)/(2 W^(3/2)).
@@ -140,8 +143,14 @@ mod tests {
         for &(x, y) in &[(0.0, 0.0), (0.7, -0.3), (-1.2, 0.9), (1.5, 1.0)] {
             let got = s.curvature(x, y).unwrap().unwrap();
             let (k, h) = quadric(a, b, c, x, y);
-            assert!((got.gaussian - k).abs() < 1e-11, "K at ({x}, {y}): {got:?} vs {k}");
-            assert!((got.mean - h).abs() < 1e-11, "H at ({x}, {y}): {got:?} vs {h}");
+            assert!(
+                (got.gaussian - k).abs() < 1e-11,
+                "K at ({x}, {y}): {got:?} vs {k}"
+            );
+            assert!(
+                (got.mean - h).abs() < 1e-11,
+                "H at ({x}, {y}): {got:?} vs {h}"
+            );
         }
     }
 
