@@ -119,29 +119,34 @@ function updateUndoButtons() {
 }
 
 // ---------------------------------------------------------------------------------------
-// Requests: one computation in flight; edits made meanwhile are sent when it ends, so a
-// drag redraws as fast as the server answers and never shows a stale state last.
+// Requests: while a vertex is dragged two computations may be in flight (the server answers
+// one while the page draws the other), one at rest; an answer older than the one drawn is
+// dropped, so a drag never shows a stale state last.
 
 const scheduler = {
-  inflight: false,
+  inflight: 0,
   pending: false,
+  sent: 0,
+  applied: 0,
   request() {
     this.pending = true;
-    if (!this.inflight) this.pump();
+    this.pump();
   },
-  async pump() {
-    this.inflight = true;
-    while (this.pending) {
+  pump() {
+    const limit = dragging ? 2 : 1;
+    while (this.pending && this.inflight < limit) {
       this.pending = false;
-      try {
-        await compute();
-      } catch (e) {
-        showError(e);
-      }
+      this.inflight++;
+      const seq = ++this.sent;
+      compute(seq)
+        .catch(showError)
+        .finally(() => {
+          this.inflight--;
+          this.pump();
+        });
     }
-    this.inflight = false;
   },
-  busy() { return this.inflight || this.pending; },
+  busy() { return this.inflight > 0 || this.pending; },
 };
 
 let actions = 0;
@@ -155,29 +160,44 @@ function act(fn) {
 function refresh() { if (active) scheduler.request(); }
 
 /** Samples per direction: coarse while dragging, fine at rest. */
-function samples() { return dragging ? 17 : 41; }
+function samples() { return dragging ? 13 : 41; }
 
-async function compute() {
+/** Computes what request `seq` asks for (the document as it is now) and shows it, unless a
+ * later request was shown already. */
+async function compute(seq) {
   const fine = !dragging;
+  let next, report = null;
   if (doc.mode === 'surface') {
-    const m = model();
-    const [mesh, report] = await Promise.all([
+    const m = clone(model());
+    let mesh;
+    [mesh, report] = await Promise.all([
       post('/api/surface/mesh', { model: m, samples: samples() }),
       fine ? post('/api/bezier/degree', { model: m }) : Promise.resolve(null),
     ]);
-    drawn = { mesh, model: m };
-    if (report) degree = report;
+    next = { mesh, model: m };
   } else {
     const h = doc.heights;
     const r = await post('/api/surface/heights', {
       z: h.z, x: h.x, y: h.y, end: h.end, colour: h.colour, samples: samples(),
     });
-    drawn = { mesh: r.mesh, model: r.model, what: r.what };
+    next = { mesh: r.mesh, model: r.model, what: r.what };
   }
-  draw();
-  if (dragging) frames.push(performance.now());
-  else showFacts();
+  if (seq < scheduler.applied) return;
+  scheduler.applied = seq;
+  drawn = next;
+  if (report) degree = report;
+  if (dragging) {
+    // Drawn at the next animation frame with any vertex moved meanwhile (one GL frame).
+    meshArrived = true;
+    drawSoon();
+  } else {
+    draw();
+    showFacts();
+  }
 }
+
+/** A mesh came from the server during a drag and is not drawn yet (counted in `frames`). */
+let meshArrived = false;
 
 // ---------------------------------------------------------------------------------------
 // Drawing
@@ -247,8 +267,23 @@ function meshColours(mesh) {
   return colours;
 }
 
+let drawQueued = false;
+/** One draw at the next animation frame, however many changes come before it. */
+function drawSoon() {
+  if (drawQueued) return;
+  drawQueued = true;
+  requestAnimationFrame(() => {
+    drawQueued = false;
+    draw();
+    if (meshArrived && dragging) frames.push(performance.now());
+    meshArrived = false;
+  });
+}
+
 function draw() {
   if (!view) return;
+  // Supersampled (2×) at rest for smooth edges; 1× while something moves (software GL).
+  view.scale = dragging ? 0.5 : 2;
   const mesh = proposal ? proposal.mesh : drawn.mesh;
   if (mesh) {
     view.setMesh({ rows: mesh.rows, cols: mesh.cols, positions: mesh.positions, normals: mesh.normals, colors: meshColours(mesh) });
@@ -291,7 +326,7 @@ function showFacts() {
       $('s-real').textContent = `${degree.u.real_degree}, ${degree.v.real_degree}`;
       $('s-defect').textContent = `${degree.u.defect}, ${degree.v.defect}`;
     }
-    $('s-selected').textContent = selected ? `u${selected[0]}${selected[1]} = (${doc.surface.net[selected[0]][selected[1]].map((x) => fmt(x, 3)).join(', ')})` : 'none';
+    $('s-selected').textContent = selected ? `u[${selected[0]}][${selected[1]}] = (${doc.surface.net[selected[0]][selected[1]].map((x) => fmt(x, 3)).join(', ')})` : 'none';
     const w = $('s-weight');
     w.disabled = !selected;
     w.value = selected ? (doc.surface.weights ? doc.surface.weights[selected[0]][selected[1]] : 1) : 1;
@@ -367,14 +402,14 @@ canvas.addEventListener('pointermove', (ev) => {
     }
     setPoint(selected, p);
     dragging.moved = true;
-    draw(); // the vertex follows at once; the surface when the server answers
+    drawSoon(); // the vertex follows at once; the surface when the server answers
     refresh();
   } else {
     const [dx, dy] = [sx - dragging.last[0], sy - dragging.last[1]];
     dragging.last = [sx, sy];
     if (dragging.kind === 'orbit') view.orbit(dx, dy);
     else view.pan(dx, dy);
-    view.draw();
+    drawSoon();
   }
 });
 
@@ -385,6 +420,8 @@ function endDrag() {
   if (d.kind === 'point' && d.moved) {
     commit();
     refresh();
+  } else {
+    drawSoon();
   }
 }
 canvas.addEventListener('pointerup', endDrag);
@@ -411,7 +448,8 @@ function dropProposal() {
 function takeSurface(m) {
   doc.surface.net = m.net;
   doc.surface.weights = m.weights || null;
-  selected = null;
+  // The selection stays where it still exists.
+  if (selected && !(selected[0] < m.net.length && selected[1] < m.net[0].length)) selected = null;
   commit();
   refresh();
 }

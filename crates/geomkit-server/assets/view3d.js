@@ -143,7 +143,7 @@ export const colourMaps = {
 export class View3D {
   constructor(canvas) {
     this.canvas = canvas;
-    const gl = canvas.getContext('webgl2', { antialias: true, preserveDrawingBuffer: true });
+    const gl = canvas.getContext('webgl2', { antialias: false, preserveDrawingBuffer: false });
     if (!gl) throw new Error('this browser has no WebGL2: the 3-D view cannot draw');
     this.gl = gl;
     this.meshProgram = compile(gl, VERTEX_MESH, FRAGMENT_MESH);
@@ -165,7 +165,7 @@ export class View3D {
   /** CSS pixel size of the canvas; resizes the drawing buffer to match. */
   resize() {
     const r = this.canvas.getBoundingClientRect();
-    const dpr = window.devicePixelRatio || 1;
+    const dpr = (window.devicePixelRatio || 1) * (this.scale || 1);
     const w = Math.max(1, Math.round(r.width * dpr)), h = Math.max(1, Math.round(r.height * dpr));
     if (this.canvas.width !== w || this.canvas.height !== h) {
       this.canvas.width = w;
@@ -266,6 +266,7 @@ export class View3D {
     const attr = (name, data) => {
       const b = gl.createBuffer();
       buffers.push(b);
+      if (name === 'aPos') this.positionBuffer = b;
       gl.bindBuffer(gl.ARRAY_BUFFER, b);
       gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(data), gl.STATIC_DRAW);
       const loc = gl.getAttribLocation(this.meshProgram, name);
@@ -289,7 +290,18 @@ export class View3D {
     gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib);
     gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, idx, gl.STATIC_DRAW);
     gl.bindVertexArray(null);
-    this.mesh = { vao, buffers, count: idx.length, positions };
+    this.mesh = { vao, buffers, count: idx.length, vertices: rows * cols };
+  }
+
+  /** The mesh's positions read back from the GPU's vertex buffer (for tests). */
+  readPositions() {
+    if (!this.mesh) return null;
+    const gl = this.gl;
+    const out = new Float32Array(this.mesh.vertices * 3);
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.positionBuffer);
+    gl.getBufferSubData(gl.ARRAY_BUFFER, 0, out);
+    gl.bindBuffer(gl.ARRAY_BUFFER, null);
+    return out;
   }
 
   clearMesh() { this.mesh = null; }
@@ -346,6 +358,8 @@ export class View3D {
       gl.bindVertexArray(this.mesh.vao);
       gl.drawElements(gl.TRIANGLES, this.mesh.count, gl.UNSIGNED_INT, 0);
     }
+    // The net and its vertices stay visible through the surface (they are what one edits).
+    gl.disable(gl.DEPTH_TEST);
     gl.useProgram(this.flatProgram);
     gl.uniformMatrix4fv(gl.getUniformLocation(this.flatProgram, 'uMvp'), false, mvp);
     gl.uniform1f(gl.getUniformLocation(this.flatProgram, 'uRound'), 0);

@@ -24,6 +24,10 @@ const ENDPOINTS: &[&str] = &[
     "/api/pointcalc/shares",
     "/api/pointcalc/optimum",
     "/api/export",
+    "/api/surface/mesh",
+    "/api/surface/edit",
+    "/api/surface/approximate",
+    "/api/surface/heights",
 ];
 
 /// Valid requests (endpoint, body), the seeds of the mutations.
@@ -69,6 +73,19 @@ fn seeds() -> Vec<(&'static str, Value)> {
         (
             "/api/export",
             json!({"model": surface, "format": "stl", "samples": 3}),
+        ),
+        ("/api/surface/mesh", json!({"model": surface, "samples": 4})),
+        (
+            "/api/surface/edit",
+            json!({"model": surface, "insert": {"direction": "u", "index": 1, "points": [[0, 0, 1], [0, 1, 1]]}}),
+        ),
+        (
+            "/api/surface/approximate",
+            json!({"model": surface, "to": [0, 1], "samples": 3}),
+        ),
+        (
+            "/api/surface/heights",
+            json!({"z": [[0, 1, 0], [1, 2, 1], [0, 1, 0]], "samples": 3, "colour": "mean"}),
         ),
     ]
 }

@@ -304,6 +304,34 @@ fn de_boor_surface(model: &Value, x: f64, y: f64) -> f64 {
 }
 
 #[tokio::test]
+async fn a_refused_surface_reduction_names_its_reason() {
+    // Degree 2 in u with a real u-degree of 2 (z = u² row by row), 1 in v.
+    let s = json!({"type": "bezier_surface",
+        "net": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]], [[2, 0, 1], [2, 1, 1]]]});
+    let e = fails(
+        &app(),
+        "/api/bezier/reduce",
+        json!({"model": s, "to": [1, 1]}),
+        StatusCode::UNPROCESSABLE_ENTITY,
+    )
+    .await;
+    assert_eq!(e["reason"], "real_degree");
+    assert_eq!(e["direction"], "u");
+    assert_eq!(
+        (
+            e["real_degree"].as_u64(),
+            e["requested"].as_u64(),
+            e["defect"].as_u64()
+        ),
+        (Some(2), Some(1), Some(0))
+    );
+    assert!(
+        e["error"].as_str().unwrap().contains("real u-degree is 2"),
+        "{e}"
+    );
+}
+
+#[tokio::test]
 async fn heights_of_a_quadric_with_their_curvature() {
     // z = a x² + b xy + c y²: the not-a-knot bicubic reproduces it, so K and H are exact.
     let (a, b, c) = (0.3, -0.2, 0.5);
