@@ -100,7 +100,7 @@ fn fundamental_forms(
     ];
     let len = dot(cross, cross).sqrt();
     let scale = dot(su, su).max(dot(sv, sv));
-    if !(len > 1e-14 * scale) || !len.is_finite() {
+    if len.is_nan() || len <= 1e-14 * scale || !len.is_finite() {
         return None;
     }
     let n = [cross[0] / len, cross[1] / len, cross[2] / len];
