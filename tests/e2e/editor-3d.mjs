@@ -17,7 +17,7 @@
 // reported) and saves screenshots editor-3d-*.png. Exits 1 on any failure.
 
 import { spawn } from 'node:child_process';
-import { mkdir, mkdtemp, writeFile } from 'node:fs/promises';
+import { mkdir, mkdtemp, readFile, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
 import { parseArgs } from 'node:util';
@@ -301,9 +301,24 @@ try {
   check(JSON.stringify((await doc()).surface.net) === netNow, 'redo removes it again');
   await checkMesh('after undo and redo');
 
-  // 7. Open the 20 × 20 net from the folder; the redraw rate while dragging one vertex.
+  // 7. Save into the folder: the file is the page's net with its weights.
+  page.once('dialog', (dlg) => dlg.accept('edited.json'));
+  await page.click('#save');
+  await idle();
+  const saved = JSON.parse(await readFile(path.join(dir, 'edited.json'), 'utf8'));
+  d = await doc();
+  check(saved.type === 'bezier_surface' && JSON.stringify(saved.net) === JSON.stringify(d.surface.net) && JSON.stringify(saved.weights) === JSON.stringify(d.surface.weights), 'Save writes the net and its weights to the folder (bezier_surface)');
+  // From a 2-D tab, Open takes a surface file to the surface tab.
+  await page.click('button[data-mode="bezier"]');
   await page.click('#open');
-  await page.click('text=surface-20x20.json');
+  await page.click('#file-list >> text=edited.json');
+  await page.waitForFunction(() => window.geomkit3d.active());
+  await idle();
+  check(await page.isVisible('#view3d') && JSON.stringify((await doc()).surface.weights) === JSON.stringify(saved.weights), 'opened from the Bézier curve tab, it shows in the surface tab with its weights');
+
+  // 8. Open the 20 × 20 net from the folder; the redraw rate while dragging one vertex.
+  await page.click('#open');
+  await page.click('#file-list >> text=surface-20x20.json');
   await page.waitForFunction(() => window.geomkit3d.doc().surface.net.length === 20);
   await idle();
   await checkMesh('20 × 20 net');
@@ -337,7 +352,6 @@ try {
   await checkMesh('20 × 20 after the drag');
   await page.screenshot({ path: path.join(shots, 'editor-3d-20x20.png') });
 
-  // 8. Save it back into the folder (with weights after a weight edit).
   // 9. Heights: the tab, a height dragged with the mouse, the interpolant through them.
   await page.click('button[data-mode="heights"]');
   await page.waitForFunction(() => window.geomkit3d.drawn().model && window.geomkit3d.drawn().model.type === 'bspline_surface');

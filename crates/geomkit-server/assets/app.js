@@ -786,6 +786,8 @@ async function loadModel(m, name) {
     const s = await post('/api/samples', { model: m, samples: 2 });
     doc.mode = 'bspline';
     doc.bspline.points = s.references.map((r) => [r.point[0], r.point[1] ?? 0]);
+  } else if (m.type === 'bezier_surface' && window.geomkit3d) {
+    return window.geomkit3d.open(m, name); // the 3-D view (surface.js)
   } else {
     throw new Error(`${name}: the editor edits 2-D Bézier curves and interpolating B-spline curves for now (this is a ${m.type})`);
   }

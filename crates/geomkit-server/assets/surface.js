@@ -675,9 +675,8 @@ function openModel(m, name) {
   if (m.type !== 'bezier_surface') {
     throw new Error(`${name} is a ${m.type}: the 3-D view opens bezier_surface files (curves: the 2-D tabs; heights: Load CSV / .npy)`);
   }
-  doc.mode = 'surface';
   doc.surface = { net: m.net, weights: m.weights || null };
-  showMode();
+  activate('surface');
   selected = null;
   needFit = true;
   dropProposal();
@@ -848,6 +847,8 @@ window.geomkit3d = {
   active: () => active,
   parseCsv,
   parseNpy,
+  /** Opens a bezier_surface model file in the surface tab (app.js's Open uses it). */
+  open: (m, name) => openModel(m, name),
   idle: async () => {
     while (actions > 0 || scheduler.busy()) await new Promise((r) => setTimeout(r, 5));
   },
