@@ -1081,6 +1081,8 @@ async function loadModel(m, name) {
     doc.mode = 'pointcalc';
     const dim = pointcalc.load(m);
     if (dim > 1) status(`${name}: ${dim} responses; the table edits the first`);
+  } else if (m.type === 'bezier_surface' && window.geomkit3d) {
+    return window.geomkit3d.open(m, name); // the 3-D view (surface.js)
   } else {
     throw new Error(`${name}: the editor edits 2-D Bézier curves, interpolating B-spline curves and point-calculus models (this is a ${m.type})`);
   }
@@ -1175,7 +1177,7 @@ const SHORTCUTS = [
   ['Ctrl+Shift+Z, Ctrl+Y', 'redo', null, () => redo()],
   ['Ctrl+S', 'save the model', null, () => save()],
   ['Ctrl+O', 'open a model file', null, () => $('open').click()],
-  ['1 2 3 4', 'Bézier, B-spline, bodies, point calculus', null, null],
+  ['1 2 3 4 5 6', 'the tabs: Bézier, B-spline, bodies, point calculus, Bézier surface, heights grid', null, null],
   ['F', 'fit the drawing to the view', null, () => { fitView(); draw(); }],
   ['+', 'raise the degree (the same curve)', 'bezier', () => $('deg-up').click()],
   ['−', 'lower the degree (exact, or the best approximation)', 'bezier', () => $('deg-down').click()],
@@ -1235,7 +1237,9 @@ window.addEventListener('keydown', (ev) => {
   else if (mod && key === 'o') run(() => $('open').click());
   else if (mod || ev.altKey) return;
   else if (key === '?') run(showHelp);
-  else if (['1', '2', '3', '4'].includes(key)) run(() => setMode(['bezier', 'bspline', 'body', 'pointcalc'][+key - 1]));
+  // The tabs in their order (the 3-D ones are surface.js's: it takes their clicks).
+  else if (/^[1-6]$/.test(key)) run(() => document.querySelectorAll('.tabs button[data-mode]')[+key - 1].click());
+  else if (window.geomkit3d?.active()) return; // the 3-D tabs' own keys: surface.js
   else if (key === 'f' && doc.mode !== 'body' && doc.mode !== 'pointcalc') run(() => { fitView(); draw(); });
   else if ((key === '+' || key === '=') && bezier) run(() => $('deg-up').click());
   else if (key === '-' && bezier) run(() => $('deg-down').click());

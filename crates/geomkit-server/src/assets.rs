@@ -42,6 +42,16 @@ pub const ASSETS: &[Asset] = &[
         body: include_str!("../assets/pointcalc.js"),
     },
     Asset {
+        name: "view3d.js",
+        mime: "text/javascript; charset=utf-8",
+        body: include_str!("../assets/view3d.js"),
+    },
+    Asset {
+        name: "surface.js",
+        mime: "text/javascript; charset=utf-8",
+        body: include_str!("../assets/surface.js"),
+    },
+    Asset {
         name: "style.css",
         mime: "text/css; charset=utf-8",
         body: include_str!("../assets/style.css"),

@@ -25,6 +25,10 @@ const ENDPOINTS: &[&str] = &[
     "/api/pointcalc/optimum",
     "/api/export",
     "/api/pointcalc/grid",
+    "/api/surface/mesh",
+    "/api/surface/edit",
+    "/api/surface/approximate",
+    "/api/surface/heights",
 ];
 
 /// Valid requests (endpoint, body), the seeds of the mutations.
@@ -78,6 +82,19 @@ fn seeds() -> Vec<(&'static str, Value)> {
         (
             "/api/bspline/interpolate",
             json!({"points": [[0, 0], [1, 2], [3, 1], [4, 4], [6, 0]], "samples_per_span": 2, "window": {"around": 2, "points": 1}, "comb": {"per_span": 1, "scale": 0.5}}),
+        ),
+        ("/api/surface/mesh", json!({"model": surface, "samples": 4})),
+        (
+            "/api/surface/edit",
+            json!({"model": surface, "insert": {"direction": "u", "index": 1, "points": [[0, 0, 1], [0, 1, 1]]}}),
+        ),
+        (
+            "/api/surface/approximate",
+            json!({"model": surface, "to": [0, 1], "samples": 3}),
+        ),
+        (
+            "/api/surface/heights",
+            json!({"z": [[0, 1, 0], [1, 2, 1], [0, 1, 0]], "samples": 3, "colour": "mean"}),
         ),
     ]
 }

@@ -214,6 +214,21 @@ fn refusal(err: geomkit::Error) -> ApiError {
         .with("real_degree", real_degree)
         .with("defect", defect)
         .with("requested", requested),
+        geomkit::Error::SurfaceDefectTooSmall {
+            direction,
+            real_degree,
+            requested,
+            defect,
+        } => ApiError::unprocessable(format!(
+            "cannot reduce exactly to degree {requested} in {direction}: the real \
+             {direction}-degree is {real_degree} (degree defect {defect}); the best \
+             approximation is /api/surface/approximate"
+        ))
+        .with("reason", "real_degree")
+        .with("direction", direction)
+        .with("real_degree", real_degree)
+        .with("defect", defect)
+        .with("requested", requested),
         other => ApiError::geometry("reduce", other),
     }
 }

@@ -18,6 +18,7 @@
 //! | `POST /api/pointcalc/fit`, `/shares`, `/optimum` | point-calculus models |
 //! | `POST /api/pointcalc/grid` | a point-calculus model along one factor or over two (contours) |
 //! | `POST /api/export` | SVG, PNG, STL, GLB, OBJ or formula text of a model |
+//! | `POST /api/surface/mesh`, `/edit`, `/approximate`, `/heights` | the 3-D view: shaded meshes with curvature or error colouring, row/column edits, best L2 approximation of surfaces, height fields ([`surface`]) |
 //! | `GET /api/files`, `GET`/`PUT /api/files/{name}` | model files in the `--dir` folder |
 
 pub mod bezier;
@@ -28,6 +29,7 @@ pub mod formula;
 pub mod model;
 pub mod pointcalc;
 pub mod pointcalc_view;
+pub mod surface;
 
 use crate::error::{ApiError, ApiResult};
 use crate::{AppState, Limits};
@@ -54,6 +56,10 @@ pub fn routes() -> Router<AppState> {
         .route("/api/pointcalc/optimum", post(pointcalc::optimum))
         .route("/api/pointcalc/grid", post(pointcalc_view::grid))
         .route("/api/export", post(export::export))
+        .route("/api/surface/mesh", post(surface::mesh_handler))
+        .route("/api/surface/edit", post(surface::edit))
+        .route("/api/surface/approximate", post(surface::approximate))
+        .route("/api/surface/heights", post(surface::heights))
         .route("/api/files", get(files::list))
         .route("/api/files/{name}", get(files::open).put(files::save))
 }

@@ -25,4 +25,4 @@ pub use degree::{
 };
 pub use rational::RationalBezierCurve;
 pub use rational_surface::RationalBezierSurface;
-pub use surface::{BezierSurface, Direction, SurfaceDegreeReport};
+pub use surface::{BezierSurface, Direction, SurfaceApproxReduction, SurfaceDegreeReport};

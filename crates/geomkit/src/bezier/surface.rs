@@ -31,6 +31,9 @@ use crate::numeric::{distance, max_norm};
 use crate::points::{check_eval_args, flatten_grid, unit_normal};
 use crate::{Error, Result};
 
+mod approx;
+pub use approx::SurfaceApproxReduction;
+
 /// A parametric direction of a surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Direction {

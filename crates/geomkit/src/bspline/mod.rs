@@ -34,6 +34,8 @@ mod surface;
 mod tiles;
 mod tridiag;
 
+pub use surface::SurfaceCurvature;
+
 pub use calculus::Extrapolate;
 pub use curve::BsplineCurve;
 pub use interpolate::{

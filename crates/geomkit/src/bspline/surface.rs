@@ -24,6 +24,8 @@ use crate::points::{check_eval_args, check_knots, flatten_grid, unit_normal, val
 use crate::{Error, Result};
 
 mod batch;
+mod curvature;
+pub use curvature::SurfaceCurvature;
 
 /// A tensor-product B-spline surface S(u, v) = Σ_i Σ_j N_i(u) N_j(v) c_ij of degrees (p, q),
 /// control net c_ij at (i * n_v + j) * dim.
