@@ -12,26 +12,14 @@
 // while dragging a reference point of a 2000-point B-spline (performance.now in the page;
 // reported, not asserted) and saves screenshots (editor-*.png). Exits 1 on any failure.
 
-import { spawn } from 'node:child_process';
-import { mkdir, mkdtemp, writeFile } from 'node:fs/promises';
+import { mkdtemp, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
-import { parseArgs } from 'node:util';
 import { chromium } from 'playwright-core';
+import { editorArgs, startServe } from './serve.mjs';
 
-const { values: args } = parseArgs({
-  options: {
-    geomkit: { type: 'string' },
-    out: { type: 'string' },
-    chromium: { type: 'string', default: '/usr/bin/chromium' },
-  },
-});
-if (!args.geomkit || !args.out) {
-  console.error('usage: node editor.mjs --geomkit PATH --out SHOT_DIR [--chromium PATH]');
-  process.exit(2);
-}
-const shots = path.resolve(args.out);
-await mkdir(shots, { recursive: true });
+const args = await editorArgs('editor.mjs');
+const shots = args.out;
 
 const deadline = setTimeout(() => {
   console.error('editor: FAILED: editor.mjs did not finish within 240 s');
@@ -80,17 +68,7 @@ const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
 
 // --- the server ----------------------------------------------------------------------------
 const dir = await mkdtemp(path.join(os.tmpdir(), 'geomkit-editor-'));
-const server = spawn(args.geomkit, ['serve', '--port', '0', '--dir', dir], { stdio: ['ignore', 'pipe', 'inherit'] });
-const url = await new Promise((resolve, reject) => {
-  let text = '';
-  server.stdout.on('data', (b) => {
-    text += b;
-    const m = text.match(/geomkit serve: (http:\/\/\S+)/);
-    if (m) resolve(m[1]);
-  });
-  server.on('exit', (code) => reject(new Error(`geomkit serve exited with ${code}`)));
-  setTimeout(() => reject(new Error('geomkit serve printed no address within 20 s')), 20_000);
-});
+const { url, server } = await startServe(args.geomkit, ['--dir', dir]);
 console.log(`editor: server at ${url}`);
 
 async function api(p, body) {
