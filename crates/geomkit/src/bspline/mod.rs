@@ -54,9 +54,10 @@ pub use spline_tiles::{
 };
 pub use surface::{
     interpolate_heights, interpolate_heights_at, interpolate_surface, interpolate_surface_flat,
-    BsplineSurface, SurfaceInterpolation, SurfaceInterpolationOptions,
+    interpolate_surface_flat_with_progress, BsplineSurface, SurfaceInterpolation,
+    SurfaceInterpolationOptions,
 };
 pub use tiles::{
-    interpolate_curve_tiled, interpolate_surface_tiled, paper_fragments_averaged, CurveTiler,
-    TileOptions, TilePlan, TileSolution,
+    interpolate_curve_tiled, interpolate_curve_tiled_with_progress, interpolate_surface_tiled,
+    paper_fragments_averaged, CurveTiler, TileOptions, TilePlan, TileSolution,
 };
