@@ -39,8 +39,8 @@ pub use calculus::Extrapolate;
 pub use curve::BsplineCurve;
 pub use interpolate::{
     interpolate_curve, interpolate_curve_at, interpolate_curve_flat, last_repeats_first,
-    paper_dense_inner_points, parameters, CurveInterpolation, CurveInterpolator, EndCondition,
-    InterpolationOptions, Parametrization,
+    paper_dense_inner_points, parameters, parameters_from, CurveInterpolation, CurveInterpolator,
+    EndCondition, InterpolationOptions, Parametrization,
 };
 pub use piecewise::PiecewiseCurve;
 pub use sample::FdReport;
