@@ -338,7 +338,9 @@ impl SplineTiler {
         };
         let (a0, a1) = (plan.write.start - r0, plan.write.end - r0);
         let coefficients = b[a0 * dim..a1 * dim].to_vec();
-        if !(max_abs(&coefficients) <= AMPLIFIED_TILES * sys.rhs_scale()) {
+        if max_abs(&coefficients) > AMPLIFIED_TILES * sys.rhs_scale()
+            || crate::points::first_non_finite(&coefficients).is_some()
+        {
             return Err(interp(format!(
                 "the tile of coefficients {}..{} is ill-conditioned (coefficients far above \
                  the data, or not finite): solve without tiles, where the whole system is \
