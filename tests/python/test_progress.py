@@ -170,7 +170,7 @@ def test_surface_builds_and_meshes_report() -> None:
         shown = geomkit.RectBivariateSpline(gx, gy, z, kx=3, ky=5)
     check_build(rec, "RectBivariateSpline")
     assert all(np.array_equal(a, b) for a, b in zip(plain.tck, shown.tck))
-    grid = np.stack(np.meshgrid(gx, gy, indexing="ij") + [z], axis=-1)
+    grid = np.stack([*np.meshgrid(gx, gy, indexing="ij"), z], axis=-1)
     plain_s = geomkit.make_interp_surface(grid)
     rec = BuildRecorder()
     with geomkit.progress(rec, min_points=1):
