@@ -68,7 +68,7 @@ pub struct SplineTilePlan {
     /// Coefficients (global indices) it produces.
     pub write: Range<usize>,
     /// Knots (global indices) it produces: the tiles' ranges follow one another and cover
-    /// all n + 2k... knots of the curve ([`SplineTiler::n_knots`]).
+    /// all the knots of the curve ([`SplineTiler::n_knots`]).
     pub knots: Range<usize>,
     /// The system's rows solved (owned rows and halos).
     rows: Range<usize>,

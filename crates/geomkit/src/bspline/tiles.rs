@@ -37,7 +37,8 @@ use std::ops::Range;
 pub struct TileOptions {
     /// Reference points owned by one tile (default 65 536).
     pub tile_size: usize,
-    /// Extra points solved on each side and discarded (default 32).
+    /// Extra points solved on each side and discarded (default 32; the tiles of any degree,
+    /// [`super::SplineTiler`], take at least [`super::MIN_SPLINE_HALO`]).
     pub halo: usize,
 }
 
