@@ -1363,9 +1363,11 @@ mod tests {
         for (kx, ky) in [(3, 3), (2, 5), (5, 2), (7, 4)] {
             let s = make_interp_surface(&x, &y, &z, (rows, cols), (kx, ky)).unwrap();
             let sx = make_interp_spline(&x, &z, cols, &SplineOptions::new(kx)).unwrap();
-            let (ty, net) = transposed_along_y(&y, ky, sx.control_flat(), sx.n_control()).unwrap();
+            let (ty, net) =
+                transposed_along_y(&y, ky, sx.control_flat(), sx.n_control(), &Progress::none())
+                    .unwrap();
             assert!(matches!(
-                solve_along_rows(&y, ky, sx.control_flat().to_vec()).unwrap(),
+                solve_along_rows(&y, ky, sx.control_flat().to_vec(), &Progress::none()).unwrap(),
                 AlongRows::Solved(..)
             ));
             assert_eq!(s.knots().1, &ty[..]);
