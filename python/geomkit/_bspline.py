@@ -20,7 +20,7 @@ from ._arrays import (
     real_scalar,
 )
 from ._model import Drawable, register_kind
-from ._progress import chunked
+from ._progress import chunked, reporter
 
 try:  # NumPy >= 2
     from numpy.lib.array_utils import normalize_axis_index
@@ -596,7 +596,12 @@ def make_interp_spline(
     knots = None if t is None else contiguous(t, "t")
     if knots is not None and knots.ndim != 1:
         raise ValueError(f"Expect t to be a 1-D sorted array_like: t has shape {knots.shape}")
-    core = _geomkit.make_interp_spline_curve(x, ys, k, knots, left, right, periodic)
+    report = reporter(ys.size, "make_interp_spline")
+    try:
+        core = _geomkit.make_interp_spline_curve(x, ys, k, knots, left, right, periodic, report)
+    finally:
+        if report is not None:
+            report.close()
     # SciPy's k = 0 and k = 1 splines (its special cases) extrapolate=True even when periodic.
     extrapolate: bool | str = "periodic" if periodic and k >= 2 else True
     return BSpline._from_core(core, extrapolate, axis, trailing)

@@ -5,7 +5,7 @@ float64 ndarray (others: TypeError); results go into arrays the caller allocates
 library's errors are ValueError.
 """
 
-from typing import Literal
+from typing import Callable, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -74,11 +74,25 @@ def make_interp_spline_curve(
     left: list[tuple[int, _F64]] | None = None,
     right: list[tuple[int, _F64]] | None = None,
     periodic: bool = False,
+    progress: Callable[[int, int], None] | None = None,
 ) -> Curve: ...
-def make_interp_surface_heights(x: _F64, y: _F64, z: _F64, kx: int, ky: int) -> Surface: ...
+def make_interp_surface_heights(
+    x: _F64,
+    y: _F64,
+    z: _F64,
+    kx: int,
+    ky: int,
+    progress: Callable[[int, int], None] | None = None,
+) -> Surface: ...
 def surface_grid_parameters(m: Model) -> tuple[list[float], list[float]] | None: ...
 def interpolate_grid(
-    points: _F64, rows: int, cols: int, end_u: str, end_v: str, param: str
+    points: _F64,
+    rows: int,
+    cols: int,
+    end_u: str,
+    end_v: str,
+    param: str,
+    progress: Callable[[int, int], None] | None = None,
 ) -> tuple[Surface, list[float], list[float]]: ...
 
 class Model:
@@ -92,7 +106,10 @@ class Model:
     @property
     def shape(self) -> Literal["curve", "surface"]: ...
     def tessellate(
-        self, tolerance: float | None = None, samples: tuple[int, int] | None = None
+        self,
+        tolerance: float | None = None,
+        samples: tuple[int, int] | None = None,
+        progress: Callable[[int, int], None] | None = None,
     ) -> Mesh: ...
     def picture_svg(
         self,

@@ -32,6 +32,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
 from ._arrays import contiguous
+from ._progress import reporter
 
 _LOADERS: dict[str, Callable[[_geomkit.Model], Any]] = {}
 
@@ -216,7 +217,12 @@ class Drawable:
         [[0.0, 0.0], [0.5, 0.75], [1.0, 1.0], [1.5, 0.75], [2.0, 0.0]]
         """
         t, k = _sampling(tolerance, samples)
-        return _wrap(self._model().tessellate(t, k))
+        report = reporter(-1, "mesh")
+        try:
+            return _wrap(self._model().tessellate(t, k, report))
+        finally:
+            if report is not None:
+                report.close()
 
     def write(
         self,

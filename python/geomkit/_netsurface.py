@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import aligned, contiguous, real_array
 from ._model import Drawable, register_kind
-from ._progress import chunked
+from ._progress import chunked, reporter
 
 __all__ = ["BSplineSurface", "make_interp_surface"]
 
@@ -218,7 +218,12 @@ def make_interp_surface(points: ArrayLike, bc_type: str | tuple[str, str] = "not
         raise ValueError(f"param {param!r}: expected one of {', '.join(_PARAMS)}")
     rows, cols, dim = grid.shape
     flat = aligned(grid.reshape(rows * cols, dim))
-    core, pu, pv = _geomkit.interpolate_grid(flat, rows, cols, end_u, end_v, param)
+    report = reporter(flat.size, "make_interp_surface")
+    try:
+        core, pu, pv = _geomkit.interpolate_grid(flat, rows, cols, end_u, end_v, param, report)
+    finally:
+        if report is not None:
+            report.close()
     return BSplineSurface._from_core(core, np.array(pu), np.array(pv))
 
 

@@ -19,6 +19,7 @@ from typing import Any
 
 __all__ = ["progress"]
 
+
 # (bar factory or None, the fewest points that get a bar) while enabled.
 _SETTING: contextvars.ContextVar[tuple[Callable[..., Any] | None, int] | None] = (
     contextvars.ContextVar("geomkit_progress", default=None)
@@ -114,3 +115,41 @@ class _TextBar:
     def close(self) -> None:
         sys.stderr.write("\n")
         sys.stderr.flush()
+
+
+def reporter(points: int, desc: str) -> _Reporter | None:
+    """The `progress` callback of a long build over `points` numbers inside a `progress`
+    block (None outside, or below its threshold; `points` < 0: always inside a block). Call
+    its ``close()`` when the build returns."""
+    setting = _SETTING.get()
+    if setting is None or 0 <= points < setting[1]:
+        return None
+    return _Reporter(setting[0], desc)
+
+
+class _Reporter:
+    """Called with (done, total) by the compiled core while a build runs; drives a bar made
+    at the first report."""
+
+    def __init__(self, factory: Callable[..., Any] | None, desc: str) -> None:
+        self.factory, self.desc = factory, desc
+        self.bar: Any = None
+        self.done = 0
+        self.total = 0
+
+    def __call__(self, done: int, total: int) -> None:
+        if self.bar is None:
+            if total <= 0:
+                return
+            self.bar = _make_bar(self.factory, total, self.desc)
+            self.total = total
+        elif total != self.total and hasattr(self.bar, "total"):
+            self.total = total
+            self.bar.total = total
+        if done > self.done:
+            self.bar.update(done - self.done)
+            self.done = done
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()

@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import contiguous, index, real_scalar
 from ._model import Drawable
-from ._progress import chunked
+from ._progress import chunked, reporter
 
 __all__ = ["RectBivariateSpline"]
 
@@ -121,7 +121,12 @@ class RectBivariateSpline(Drawable):
                     f"bbox {name}={given}: only the data's range is supported "
                     f"({name}={end}, or None); FITPACK's wider boxes are not"
                 )
-        self._core = _geomkit.make_interp_surface_heights(x, y, z, kx, ky)
+        report = reporter(z.size, "RectBivariateSpline")
+        try:
+            self._core = _geomkit.make_interp_surface_heights(x, y, z, kx, ky, report)
+        finally:
+            if report is not None:
+                report.close()
         self._tck = None
         self.degrees = (kx, ky)
         self._source = None

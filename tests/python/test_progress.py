@@ -119,3 +119,93 @@ def test_bad_arguments() -> None:
     with pytest.raises(TypeError, match="callable"):
         with geomkit.progress("tqdm"):  # type: ignore[arg-type]
             pass
+
+
+# --- builds and meshes (the library's progress hook) -----------------------------------
+
+
+class BuildRecorder(Recorder):
+    """A fake tqdm for builds: records totals as the core changes them."""
+
+    total = 0
+
+    def __call__(self, total: int, desc: str, unit: str) -> BuildRecorder:
+        super().__call__(total, desc, unit)
+        self.total = total
+        return self
+
+
+def check_build(rec: BuildRecorder, desc: str) -> None:
+    assert len(rec.bars) == 1, rec.bars
+    bar = rec.bars[0]
+    assert bar["desc"] == desc and bar["closed"]
+    assert all(k > 0 for k in bar["updates"])
+    # The updates (increments) reach the job's final total, whatever it was at the start.
+    assert sum(bar["updates"]) == rec.total > 0
+
+
+def test_make_interp_spline_build_reports_and_gives_the_same_bits() -> None:
+    x = np.cumsum(RNG.uniform(0.5, 1.5, 300_000))
+    y = np.c_[np.sin(x * 1e-3), np.cos(x * 2e-3)]
+    for k in (2, 3, 5):
+        plain = geomkit.make_interp_spline(x, y, k=k)
+        rec = BuildRecorder()
+        with geomkit.progress(rec, min_points=1):
+            shown = geomkit.make_interp_spline(x, y, k=k)
+        check_build(rec, "make_interp_spline")
+        assert np.array_equal(plain.t, shown.t) and np.array_equal(plain.c, shown.c)
+    # Below the threshold: no bar.
+    rec = BuildRecorder()
+    with geomkit.progress(rec):
+        geomkit.make_interp_spline(x[:100], y[:100], k=3)
+    assert rec.bars == []
+
+
+def test_surface_builds_and_meshes_report() -> None:
+    gx, gy = np.linspace(0, 3, 400), np.linspace(0, 2, 300)
+    z = np.sin(gx)[:, None] * np.cos(gy)[None, :]
+    plain = geomkit.RectBivariateSpline(gx, gy, z, kx=3, ky=5)
+    rec = BuildRecorder()
+    with geomkit.progress(rec, min_points=1):
+        shown = geomkit.RectBivariateSpline(gx, gy, z, kx=3, ky=5)
+    check_build(rec, "RectBivariateSpline")
+    assert all(np.array_equal(a, b) for a, b in zip(plain.tck, shown.tck))
+    grid = np.stack([*np.meshgrid(gx, gy, indexing="ij"), z], axis=-1)
+    plain_s = geomkit.make_interp_surface(grid)
+    rec = BuildRecorder()
+    with geomkit.progress(rec, min_points=1):
+        shown_s = geomkit.make_interp_surface(grid)
+    check_build(rec, "make_interp_surface")
+    uv = np.linspace(0, 1, 7)
+    assert np.array_equal(plain_s(uv, uv), shown_s(uv, uv))
+    # A mesh inside a block reports its refinement rounds; the same mesh.
+    rec = BuildRecorder()
+    m0 = plain_s.mesh()
+    with geomkit.progress(rec):
+        m1 = plain_s.mesh()
+    check_build(rec, "mesh")
+    assert np.array_equal(m0.vertices, m1.vertices) and np.array_equal(m0.faces, m1.faces)
+
+
+class Interrupting(BuildRecorder):
+    """A bar whose first update raises KeyboardInterrupt, as Ctrl-C would during a build."""
+
+    def update(self, k: int) -> None:
+        raise KeyboardInterrupt
+
+
+def test_an_interrupted_build_raises_keyboard_interrupt_promptly() -> None:
+    x = np.arange(2_000_000, dtype=float)
+    y = np.sin(x * 1e-4)
+    with pytest.raises(KeyboardInterrupt):
+        with geomkit.progress(Interrupting(), min_points=1):
+            geomkit.make_interp_spline(x, y, k=5)
+    # A real SIGINT (Python's handler runs on the main thread while the build runs).
+    timer = threading.Timer(0.02, lambda: __import__("_thread").interrupt_main())
+    rec = BuildRecorder()
+    with pytest.raises(KeyboardInterrupt):
+        with geomkit.progress(rec, min_points=1):
+            timer.start()
+            for _ in range(50):
+                geomkit.make_interp_spline(x, y, k=7)
+    timer.cancel()

@@ -399,6 +399,16 @@ pub fn write_mesh_to(
     })
 }
 
+/// Commits a control points file and its knots sibling: the knots first; if the control
+/// points then fail, the knots file is removed again (no half pair is left behind).
+pub fn commit_pair(control: AtomicFile, knots: AtomicFile) -> Result<()> {
+    let knots_path = knots.path().to_path_buf();
+    knots.commit()?;
+    control.commit().inspect_err(|_| {
+        let _ = std::fs::remove_file(&knots_path);
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

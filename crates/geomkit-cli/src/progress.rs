@@ -3,6 +3,7 @@
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
+use std::ops::ControlFlow;
 use std::sync::mpsc::{self, RecvTimeoutError, Sender};
 use std::thread::JoinHandle;
 use std::time::Duration;
@@ -80,6 +81,16 @@ impl Progress {
     /// Advances the position.
     pub fn inc(&self, units: u64) {
         self.bar.inc(units);
+    }
+
+    /// The callback of the library's progress hook (`geomkit::progress::Progress::new`):
+    /// the bar follows the job's (done, total). Start a [`Progress::phase`] first.
+    pub fn reporter(&self) -> impl Fn(u64, u64) -> ControlFlow<()> + Sync + '_ {
+        move |done, total| {
+            self.bar.set_length(total);
+            self.bar.set_position(done);
+            ControlFlow::Continue(())
+        }
     }
 }
 

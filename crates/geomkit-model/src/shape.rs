@@ -8,7 +8,7 @@ use geomkit::bezier::{BezierSurface, RationalBezierSurface};
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
 use geomkit::geom::{Curve, Surface};
 use geomkit::mesh::{
-    tessellate_curve, tessellate_surface_report, CurveOptions, MeshReport, Polyline,
+    tessellate_curve, tessellate_surface_with_progress, CurveOptions, MeshReport, Polyline,
     SurfaceOptions, TriMesh,
 };
 use geomkit::pointcalc::{Nodes, PointEquation, PointSurface};
@@ -229,6 +229,17 @@ impl Loaded {
         &self,
         sampling: Sampling,
     ) -> geomkit::Result<(Tessellation, Option<MeshReport>)> {
+        self.tessellate_with_progress(sampling, &geomkit::progress::Progress::none())
+    }
+
+    /// [`Loaded::tessellate_report`] reporting a surface's meshing to `progress`
+    /// ([`geomkit::mesh::tessellate_surface_with_progress`]); `Error::Cancelled` when its
+    /// callback asks to stop.
+    pub fn tessellate_with_progress(
+        &self,
+        sampling: Sampling,
+        progress: &geomkit::progress::Progress,
+    ) -> geomkit::Result<(Tessellation, Option<MeshReport>)> {
         Ok(match &self.shape {
             Shape::Curve { curve, .. } => {
                 let mut opts = CurveOptions::default();
@@ -257,7 +268,8 @@ impl Loaded {
                     Sampling::Tolerance(None) => SurfaceOptions::default(),
                     Sampling::Samples(k, l) => SurfaceOptions::uniform(k, l),
                 };
-                let (mesh, report) = tessellate_surface_report(surface.as_ref(), &opts)?;
+                let (mesh, report) =
+                    tessellate_surface_with_progress(surface.as_ref(), &opts, progress)?;
                 (Tessellation::Mesh(mesh), Some(report))
             }
         })

@@ -14,9 +14,9 @@
 //! - the library's errors become `ValueError` with its message.
 
 use geomkit::bspline::{
-    interpolate_surface_flat, make_interp_spline, make_interp_surface, BsplineCurve,
-    BsplineSurface, EndCondition, EndSpec, Extrapolate, Parametrization, SplineEnds, SplineOptions,
-    SurfaceInterpolationOptions,
+    interpolate_surface_flat_with_progress, make_interp_spline_with_progress,
+    make_interp_surface_with_progress, BsplineCurve, BsplineSurface, EndCondition, EndSpec,
+    Extrapolate, Parametrization, SplineEnds, SplineOptions, SurfaceInterpolationOptions,
 };
 use geomkit_model::{AnyModel, BsplineCurveModel, BsplineSurfaceModel};
 use numpy::{
@@ -31,6 +31,7 @@ mod bezier;
 mod compose;
 mod model;
 mod pointcalc;
+mod progress;
 
 /// The library's error as a Python `ValueError` with its message.
 fn value_error(e: geomkit::Error) -> PyErr {
@@ -270,8 +271,10 @@ fn end_spec(end: Option<Vec<(usize, PyReadonlyArray1<'_, f64>)>>) -> PyResult<En
 /// The interpolating B-spline of degree `k` through (x_i, y_i) (`y` of shape (len(x), dim)) in
 /// SciPy's representation: `geomkit::bspline::make_interp_spline` with the knots `t` (or
 /// SciPy's placement) and the ends `left`, `right` (see `end_spec`), or periodic ends.
+/// `progress`: a callable `progress(done, total)` told how far the build is (see
+/// `progress.rs`; Ctrl-C then interrupts it).
 #[pyfunction]
-#[pyo3(signature = (x, y, k, t=None, left=None, right=None, periodic=false))]
+#[pyo3(signature = (x, y, k, t=None, left=None, right=None, periodic=false, progress=None))]
 fn make_interp_spline_curve(
     py: Python<'_>,
     x: PyReadonlyArray1<'_, f64>,
@@ -281,6 +284,7 @@ fn make_interp_spline_curve(
     left: Option<Vec<(usize, PyReadonlyArray1<'_, f64>)>>,
     right: Option<Vec<(usize, PyReadonlyArray1<'_, f64>)>>,
     periodic: bool,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Curve> {
     let ends = if periodic {
         SplineEnds::Periodic
@@ -296,9 +300,10 @@ fn make_interp_spline_curve(
     }
     let x = x.as_slice()?;
     let (_, dim, y) = matrix(&y)?;
-    let inner = py
-        .detach(|| make_interp_spline(x, y, dim, &options))
-        .map_err(value_error)?;
+    let inner = progress::run(py, progress.as_ref(), |p| {
+        make_interp_spline_with_progress(x, y, dim, &options, p)
+    })?
+    .map_err(value_error)?;
     Ok(Curve { inner })
 }
 
@@ -492,6 +497,7 @@ impl Surface {
 /// len(y))) over the grid x × y: SciPy's `RectBivariateSpline(x, y, z, kx=kx, ky=ky, s=0)`
 /// (`geomkit::bspline::make_interp_surface`).
 #[pyfunction]
+#[pyo3(signature = (x, y, z, kx, ky, progress=None))]
 fn make_interp_surface_heights(
     py: Python<'_>,
     x: PyReadonlyArray1<'_, f64>,
@@ -499,12 +505,14 @@ fn make_interp_surface_heights(
     z: PyReadonlyArray2<'_, f64>,
     kx: usize,
     ky: usize,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Surface> {
     let (x, y) = (x.as_slice()?, y.as_slice()?);
     let (rows, cols, z) = matrix(&z)?;
-    let inner = py
-        .detach(|| make_interp_surface(x, y, z, (rows, cols), (kx, ky)))
-        .map_err(value_error)?;
+    let inner = progress::run(py, progress.as_ref(), |p| {
+        make_interp_surface_with_progress(x, y, z, (rows, cols), (kx, ky), p)
+    })?
+    .map_err(value_error)?;
     Ok(Surface { inner })
 }
 
@@ -530,6 +538,7 @@ fn surface_end(name: &str) -> PyResult<EndCondition> {
 /// (`geomkit::bspline::interpolate_surface_flat`). Returns the surface and the parameters of
 /// the grid rows and columns.
 #[pyfunction]
+#[pyo3(signature = (points, rows, cols, end_u, end_v, param, progress=None))]
 fn interpolate_grid(
     py: Python<'_>,
     points: PyReadonlyArray2<'_, f64>,
@@ -538,6 +547,7 @@ fn interpolate_grid(
     end_u: &str,
     end_v: &str,
     param: &str,
+    progress: Option<Bound<'_, PyAny>>,
 ) -> PyResult<(Surface, Vec<f64>, Vec<f64>)> {
     let parametrization = match param {
         "chord" => Parametrization::ChordLength,
@@ -558,9 +568,10 @@ fn interpolate_grid(
             "{n} points do not make a {rows} x {cols} grid"
         )));
     }
-    let fit = py
-        .detach(|| interpolate_surface_flat(rows, cols, dim, flat, &options))
-        .map_err(value_error)?;
+    let fit = progress::run(py, progress.as_ref(), |p| {
+        interpolate_surface_flat_with_progress(rows, cols, dim, flat, &options, p)
+    })?
+    .map_err(value_error)?;
     Ok((Surface { inner: fit.surface }, fit.params_u, fit.params_v))
 }
 

@@ -115,12 +115,15 @@ impl Model {
     /// Tessellates the model as `geomkit mesh` does: adaptive to `tolerance` (model units;
     /// None: 1/1000 of the extent per axis for a surface, 1/2000 of the diagonal for a
     /// curve), or `samples` = (K, L) uniform samples (a curve: K points).
-    #[pyo3(signature = (tolerance=None, samples=None))]
+    /// `progress`: a callable `progress(done, total)` told how far a surface's meshing is
+    /// (`crate::progress`; Ctrl-C then interrupts it).
+    #[pyo3(signature = (tolerance=None, samples=None, progress=None))]
     fn tessellate(
         &self,
         py: Python<'_>,
         tolerance: Option<f64>,
         samples: Option<(usize, usize)>,
+        progress: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Mesh> {
         let (sampling, option) = match (tolerance, samples) {
             (Some(_), Some(_)) => {
@@ -135,15 +138,17 @@ impl Model {
             (None, Some((k, l))) => (Sampling::Samples(k, l), format!("samples=({k}, {l}): ")),
             (None, None) => (Sampling::Tolerance(None), String::new()),
         };
-        py.detach(|| {
-            let loaded = self.loaded()?;
-            let (tessellation, report) = loaded
-                .tessellate_report(sampling)
-                .map_err(|e| PyValueError::new_err(format!("{option}{e}")))?;
-            Ok(Mesh {
-                tessellation,
-                report,
-            })
+        let meshed = crate::progress::run(py, progress.as_ref(), |p| {
+            Ok(self.loaded().and_then(|loaded| {
+                loaded
+                    .tessellate_with_progress(sampling, p)
+                    .map_err(|e| PyValueError::new_err(format!("{option}{e}")))
+            }))
+        })?;
+        let (tessellation, report) = meshed.map_err(crate::value_error)??;
+        Ok(Mesh {
+            tessellation,
+            report,
         })
     }
 

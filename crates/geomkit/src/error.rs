@@ -518,6 +518,10 @@ pub enum Error {
         /// Why, with the numbers.
         reason: String,
     },
+    /// A long job stopped because its progress callback asked it to
+    /// ([`crate::progress::Progress`]); nothing was returned.
+    #[error("cancelled")]
+    Cancelled,
     /// An error of the expression engine (parse error with its position, unknown
     /// variable, division by exact zero, ...).
     #[error(transparent)]

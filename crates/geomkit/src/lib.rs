@@ -40,6 +40,7 @@ mod numeric;
 mod par;
 pub mod pointcalc;
 mod points;
+pub mod progress;
 
 pub use error::{Error, Result};
 /// The expression engine (crate `geomkit-expr`): hash-consed DAG, parser, printers, tape.

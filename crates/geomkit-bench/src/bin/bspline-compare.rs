@@ -399,15 +399,23 @@ fn curve_report(curve: &BsplineCurve, parameters: &[f64], points: &[f64], check:
 }
 
 /// `spline_build`: [`make_interp_spline`] of degree k (SciPy's form, not-a-knot) through
-/// the helix points at their chord-length parameters (SciPy's `make_interp_spline(x, y, k)`).
-/// Reports the build time, its peak memory, and the residual at all N points.
+/// the helix points at their chord-length parameters (SciPy's `make_interp_spline(x, y, k)`);
+/// variant "tiled": `make_interp_spline_tiled` with the default tiles. Reports the build time, its peak memory, and the residual at all N points.
 fn spline_build(case: &Case, timing: Timing) -> Value {
     let (n, k) = (case.n, case.degree.unwrap_or(3));
     let points = helix_points(n, case.seed);
     let x = parameters(&points, 3, Parametrization::ChordLength, false).expect("distinct points");
     let options = SplineOptions::new(k);
     warm_pool();
-    let build = || make_interp_spline(&x, &points, 3, &options);
+    // Variant "tiled": the tiles of `make_interp_spline_tiled` (65 536 coefficients each).
+    let tiles = geomkit::bspline::TileOptions::default();
+    let none = geomkit::progress::Progress::none();
+    let build = || match case.variant.as_str() {
+        "tiled" => {
+            geomkit::bspline::make_interp_spline_tiled(&x, &points, 3, &options, &tiles, &none)
+        }
+        _ => make_interp_spline(&x, &points, 3, &options),
+    };
     let bytes = |r: &geomkit::Result<BsplineCurve>| {
         r.as_ref()
             .map_or(0, |c| 8 * (c.knots().len() + c.control_flat().len()) as u64)

@@ -273,10 +273,12 @@ NAME.EXT` reads the pair back as a B-spline curve. Two forms (--form):
     conditions: N + k - 1), periodic knots continued by the other end's spacings.
 The same curve on the points' interval either way.
 
-With --tile (extended form), the points are solved in tiles with halos (equal to the global
-solve within rounding); with --tile, a .npy IN and --control, the solve streams: tiles are
-read from IN and written to OUT one after the other, so any N runs in the memory of a few
-tiles.";
+With --tile, the points are solved in tiles with halos (equal to the global solve within
+rounding), in either form and any degree 1..7 (the scipy form: open ends; even degrees with
+not-a-knot ends only, since on knots at the data their solve does not decay); with --tile, a
+.npy IN and --control, the solve streams: tiles are read from IN and written to OUT one
+after the other, so any N runs in the memory of a few tiles. A long solve shows a progress
+bar on stderr when it is a terminal (never in pipes).";
 
 const SURFACE_ABOUT: &str = "\
 A bicubic B-spline surface through a grid of points or heights (spec/bspline-interpolation.md
@@ -522,7 +524,8 @@ pub struct CurveArgs {
     /// Solve in tiles of N points (with halos; streams a .npy IN to a --control .npy/.csv OUT).
     #[arg(long, value_name = "N")]
     pub tile: Option<usize>,
-    /// With --tile: points solved on each side of a tile and discarded [default: 32].
+    /// With --tile: points solved on each side of a tile and discarded [default: 32; the
+    /// scipy form at least 64].
     #[arg(long, value_name = "H", requires = "tile")]
     pub halo: Option<usize>,
 }

@@ -6,6 +6,7 @@
 //! one exception to "compute first" is the streaming tile solve, which writes as it goes into
 //! temporary files that are renamed into place only when everything succeeded.
 
+use super::spline_tiles::stream_spline_tiles;
 use crate::cli::{
     CurveArgs, Degrees, EndArg, FormArg, InterpolateCommand, ParamArg, Samples, SurfaceArgs, Vector,
 };
@@ -13,17 +14,18 @@ use crate::cli::{MAX_CURVE_SAMPLES, MAX_SURFACE_SAMPLES};
 use crate::model::{knots_sibling, write_bspline_curve_json, write_bspline_surface_json};
 use crate::npy::NpyReader;
 use crate::output::coordinate_names;
-use crate::output::{AtomicFile, Destination, RowSink, TableFormat};
+use crate::output::{commit_pair, AtomicFile, Destination, RowSink, TableFormat};
 use crate::progress::Progress;
 use crate::table::{extension, is_npy, Table};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::ValueEnum;
 use geomkit::bspline::{
     interpolate_curve_at, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
-    interpolate_heights_at, interpolate_surface_flat, last_repeats_first, make_interp_spline,
-    make_interp_surface, parameters, BsplineCurve, BsplineSurface, CurveTiler, EndCondition,
-    EndSpec, InterpolationOptions, Parametrization, SplineEnds, SplineOptions,
-    SurfaceInterpolationOptions, TileOptions, TileSolution, MAX_SPLINE_DEGREE,
+    interpolate_heights_at, interpolate_surface_flat, last_repeats_first, make_interp_spline_tiled,
+    make_interp_spline_with_progress, make_interp_surface, parameters, BsplineCurve,
+    BsplineSurface, CurveTiler, EndCondition, EndSpec, InterpolationOptions, Parametrization,
+    SplineEnds, SplineOptions, SurfaceInterpolationOptions, TileOptions, TileSolution,
+    MAX_SPLINE_DEGREE, MIN_SPLINE_HALO,
 };
 use geomkit_plot::figures::{
     bspline_curve_figure, heightmap_svg, linspace, surface_svg, Layer, REFERENCE,
@@ -234,7 +236,11 @@ fn curve(args: CurveArgs) -> Result<()> {
     };
     let progress = Progress::start();
     let (fit, table, about) = if scipy {
-        curve_scipy(&args, degree, &progress)?
+        match curve_scipy(&args, degree, output, &progress)? {
+            Some(fit) => fit,
+            // Streamed to its output.
+            None => return Ok(()),
+        }
     } else {
         match curve_extended(&args, output, &progress)? {
             Some(fit) => fit,
@@ -394,17 +400,31 @@ fn curve_extended(
 fn curve_scipy(
     args: &CurveArgs,
     degree: usize,
+    output: CurveOutput,
     progress: &Progress,
-) -> Result<(CurveFit, Table, String)> {
+) -> Result<Option<(CurveFit, Table, String)>> {
     if degree > MAX_SPLINE_DEGREE {
         bail!("--degree must be from 0 to {MAX_SPLINE_DEGREE} (got {degree})");
     }
-    if args.tile.is_some() {
-        bail!(
-            "--tile solves the paper's cubic (--form extended); the scipy form and degrees \
-             other than 3 solve the whole curve at once"
-        );
-    }
+    let tiles = match args.tile {
+        None => None,
+        Some(t) if t < 2 => bail!("--tile must be at least 2 points (got {t})"),
+        Some(_) if args.end == EndArg::Periodic => bail!(
+            "--tile takes open ends (periodic couples the whole curve; solve it without \
+             --tile, it is O(N) too)"
+        ),
+        Some(_) if args.knots.is_some() => {
+            bail!("--tile places SciPy's default knots; drop --knots or --tile")
+        }
+        Some(_) if degree == 0 => {
+            bail!("--tile solves degrees 1 to 7 (degree 0 is the data itself); drop --tile")
+        }
+        Some(t) => Some(
+            TileOptions::default()
+                .with_tile_size(t)
+                .with_halo(args.halo.unwrap_or(MIN_SPLINE_HALO)),
+        ),
+    };
     let end_text = end_name(args.end);
     if matches!(args.end, EndArg::Repeat | EndArg::Outer) {
         bail!(
@@ -422,9 +442,6 @@ fn curve_scipy(
         bail!("--left and --right set the ends of an open curve, not of --end periodic");
     }
     let param = parametrization(args.param, &[args.end])?;
-    let table = Table::read(&args.input, progress)?;
-    let (n, dim) = table.as_records()?;
-    check_tangents(args, dim, &table.name())?;
     let base = |tangent: &Option<Vector>| match args.end {
         EndArg::Natural => EndSpec::natural(),
         EndArg::Clamped => EndSpec::Derivatives(vec![(
@@ -448,6 +465,23 @@ fn curve_scipy(
                 .map_or_else(|| base(&args.end_tangent), |a| a.spec),
         }
     };
+    if let (Some(tiles), CurveOutput::Control(format), true, None) =
+        (&tiles, output, is_npy(&args.input), &args.params)
+    {
+        if let Some(order) = [&args.left, &args.right]
+            .into_iter()
+            .find_map(|a| a.as_ref().and_then(|a| a.negative_order))
+        {
+            bail!("Bad boundary conditions: derivative order {order} is below 0; give orders 0..={degree}");
+        }
+        let out = args.output.as_deref().unwrap_or(Path::new(""));
+        let options = SplineOptions::new(degree).with_ends(ends);
+        stream_spline_tiles(&args.input, param, &options, tiles, out, format, progress)?;
+        return Ok(None);
+    }
+    let table = Table::read(&args.input, progress)?;
+    let (n, dim) = table.as_records()?;
+    check_tangents(args, dim, &table.name())?;
     progress.busy("solving");
     // Periodic data end with the first point again (SciPy's y[-1] == y[0]); added here when
     // the points do not close themselves (to within SciPy's allclose).
@@ -498,7 +532,14 @@ fn curve_scipy(
         }
         options = options.with_knots(knots.data);
     }
-    let curve = make_interp_spline(&x, &y, dim, &options).with_context(|| source.clone())?;
+    progress.phase("solving", 0);
+    let report = progress.reporter();
+    let hook = geomkit::progress::Progress::new(&report);
+    let curve = match &tiles {
+        Some(tiles) => make_interp_spline_tiled(&x, &y, dim, &options, tiles, &hook),
+        None => make_interp_spline_with_progress(&x, &y, dim, &options, &hook),
+    }
+    .with_context(|| source.clone())?;
     let about = match &args.params {
         Some(_) => format!("degree {degree}, SciPy's form, end {end_text}, given parameters"),
         None => format!(
@@ -508,7 +549,7 @@ fn curve_scipy(
     };
     let mut x = x;
     x.truncate(n);
-    Ok(((curve, x), table, about))
+    Ok(Some(((curve, x), table, about)))
 }
 
 fn file_name(path: &Path) -> String {
@@ -542,14 +583,6 @@ fn write_control_pair(out: &Path, format: TableFormat, curve: &BsplineCurve) -> 
             .with_context(|| what(out))?;
     }
     commit_pair(control, knots)
-}
-
-fn commit_pair(control: AtomicFile, knots: AtomicFile) -> Result<()> {
-    let knots_path = knots.path().to_path_buf();
-    knots.commit()?;
-    control.commit().inspect_err(|_| {
-        let _ = std::fs::remove_file(&knots_path);
-    })
 }
 
 /// Owned reference points of a tile, from its write range (see `CurveTiler::plan`: data point

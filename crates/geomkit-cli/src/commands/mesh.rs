@@ -57,7 +57,15 @@ pub fn tessellate(
     name: &str,
     option: &str,
 ) -> Result<Tessellation> {
-    let (t, report) = loaded.tessellate_report(sampling).map_err(|e| {
+    // A bar on a terminal for a long mesh (nothing in pipes).
+    let meshed = {
+        let bar = crate::progress::Progress::start();
+        bar.phase("meshing", 0);
+        let report = bar.reporter();
+        let hook = geomkit::progress::Progress::new(&report);
+        loaded.tessellate_with_progress(sampling, &hook)
+    };
+    let (t, report) = meshed.map_err(|e| {
         let of_sampling = matches!(
             e,
             Error::ToleranceOutOfReach { .. }

@@ -10,4 +10,5 @@ pub mod piecewise;
 pub mod pointcalc;
 pub mod render;
 pub mod serve;
+mod spline_tiles;
 pub mod step;

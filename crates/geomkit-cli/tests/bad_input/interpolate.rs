@@ -238,10 +238,12 @@ pub const CASES: &[Case] = &[
             "5",
             "--tile",
             "100",
+            "--end",
+            "periodic",
             "-o",
             "c.json",
         ],
-        &["--tile", "extended"],
+        &["--tile", "open ends"],
     ),
     case(
         &[("p.csv", POINTS)],

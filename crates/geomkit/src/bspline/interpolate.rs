@@ -481,6 +481,21 @@ pub fn parameters(
     Ok(t)
 }
 
+/// [`parameters`] of an open stretch of points starting at `t0` instead of 0: bit for bit
+/// the values the whole sequence gets there when `t0` is its parameter at the stretch's
+/// first point (so a stream of overlapping stretches sees the global parameters). Errors as
+/// [`parameters`].
+pub fn parameters_from(
+    points: &[f64],
+    dim: usize,
+    kind: Parametrization,
+    t0: f64,
+) -> Result<Vec<f64>> {
+    let mut t = vec![0.0; points.len() / dim];
+    fill_parameters(points, dim, kind, false, t0, &mut t)?;
+    Ok(t)
+}
+
 /// The knot vector of an interpolating curve with its parameters in place: the values of
 /// [`parameters`] (starting at `t0`) at 3.., and three slots at each end that the solver
 /// fills with the end knots. The parameters are never stored apart from the knots.

@@ -18,7 +18,8 @@
 //!   SciPy's semantics (`BSpline`, `RectBivariateSpline`): derivatives of any order,
 //!   derivative and antiderivative curves, integrals, knot insertion.
 //! - [`interpolate_curve_tiled`], [`CurveTiler`]: tiles with halos, equal to the global solve
-//!   within rounding, parallel and streamable; [`paper_fragments_averaged`]: the paper's
+//!   within rounding, parallel and streamable; [`SplineTiler`], [`make_interp_spline_tiled`]:
+//!   the same for SciPy's representation of any degree 1..=7; [`paper_fragments_averaged`]: the paper's
 //!   averaged fragments, for comparison.
 
 mod banded;
@@ -30,6 +31,7 @@ mod piecewise;
 mod sample;
 mod scipy_cubic;
 mod spline;
+mod spline_tiles;
 mod surface;
 mod tiles;
 mod tridiag;
@@ -40,20 +42,25 @@ pub use calculus::Extrapolate;
 pub use curve::BsplineCurve;
 pub use interpolate::{
     interpolate_curve, interpolate_curve_at, interpolate_curve_flat, last_repeats_first,
-    paper_dense_inner_points, parameters, CurveInterpolation, CurveInterpolator, EndCondition,
-    InterpolationOptions, Parametrization,
+    paper_dense_inner_points, parameters, parameters_from, CurveInterpolation, CurveInterpolator,
+    EndCondition, InterpolationOptions, Parametrization,
 };
 pub use piecewise::PiecewiseCurve;
 pub use sample::FdReport;
 pub use spline::{
-    augmented_knots, make_interp_spline, make_interp_surface, not_a_knot_knots, periodic_knots,
-    EndSpec, SplineEnds, SplineOptions, MAX_SPLINE_DEGREE,
+    augmented_knots, make_interp_spline, make_interp_spline_with_progress, make_interp_surface,
+    make_interp_surface_with_progress, not_a_knot_knots, periodic_knots, EndSpec, SplineEnds,
+    SplineOptions, MAX_SPLINE_DEGREE,
+};
+pub use spline_tiles::{
+    make_interp_spline_tiled, SplineTile, SplineTilePlan, SplineTiler, MIN_SPLINE_HALO,
 };
 pub use surface::{
     interpolate_heights, interpolate_heights_at, interpolate_surface, interpolate_surface_flat,
-    BsplineSurface, SurfaceInterpolation, SurfaceInterpolationOptions,
+    interpolate_surface_flat_with_progress, BsplineSurface, SurfaceInterpolation,
+    SurfaceInterpolationOptions,
 };
 pub use tiles::{
-    interpolate_curve_tiled, interpolate_surface_tiled, paper_fragments_averaged, CurveTiler,
-    TileOptions, TilePlan, TileSolution,
+    interpolate_curve_tiled, interpolate_curve_tiled_with_progress, interpolate_surface_tiled,
+    paper_fragments_averaged, CurveTiler, TileOptions, TilePlan, TileSolution,
 };

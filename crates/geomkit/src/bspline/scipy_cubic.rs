@@ -282,7 +282,17 @@ mod tests {
         let curve = not_a_knot_cubic(&x, &y, 2, f64::MAX).unwrap();
         let t = super::super::spline::not_a_knot_knots(&x, 3);
         assert_eq!(curve.knots(), &t[..]);
-        let band = super::super::spline::solve_open(&x, &y, 2, &t, 3, &[], &[]).unwrap();
+        let band = super::super::spline::solve_open(
+            &x,
+            &y,
+            2,
+            &t,
+            3,
+            &[],
+            &[],
+            &crate::progress::Progress::none(),
+        )
+        .unwrap();
         let fast = curve.control_flat();
         assert_eq!(fast.len(), band.len());
         let worst = fast

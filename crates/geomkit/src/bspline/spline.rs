@@ -55,6 +55,7 @@ use super::interpolate::bessel_tangent;
 use super::scipy_cubic;
 use super::surface::transpose;
 use crate::par::*;
+use crate::progress::Progress;
 use crate::{Error, Result};
 
 /// The highest degree [`make_interp_spline`] takes (the B-spline curves' own limit).
@@ -184,6 +185,33 @@ pub fn make_interp_spline(
     dim: usize,
     options: &SplineOptions,
 ) -> Result<BsplineCurve> {
+    make_interp_spline_with_progress(x, y, dim, options, &Progress::none())
+}
+
+/// [`make_interp_spline`] reporting to `progress` ([`crate::progress`]): the units are the
+/// rows of the system (one per coefficient), reported per window of the parallel solve
+/// (16 384 rows) or at once for a system solved whole. The same curve, bit for bit, as
+/// without it; [`Error::Cancelled`] when the callback asks to stop.
+pub fn make_interp_spline_with_progress(
+    x: &[f64],
+    y: &[f64],
+    dim: usize,
+    options: &SplineOptions,
+    progress: &Progress,
+) -> Result<BsplineCurve> {
+    let c = interp_spline_parts(x, y, dim, options, progress)?;
+    progress.finish()?;
+    Ok(c)
+}
+
+/// [`make_interp_spline_with_progress`] without the final report.
+pub(super) fn interp_spline_parts(
+    x: &[f64],
+    y: &[f64],
+    dim: usize,
+    options: &SplineOptions,
+    progress: &Progress,
+) -> Result<BsplineCurve> {
     let k = options.degree;
     check_data(x, y, dim)?;
     let n = x.len();
@@ -215,6 +243,8 @@ pub fn make_interp_spline(
         return trusted(0, t, dim, y.to_vec());
     }
     if k == 3 && free && !periodic && options.knots.is_none() && n >= scipy_cubic::MIN_POINTS {
+        // One unit: a few passes over the data, in parallel (under a second for 10^7).
+        progress.add_total(1)?;
         let limit = AMPLIFIED_TILES * max_abs(y);
         if let Some(c) = scipy_cubic::not_a_knot_cubic(x, y, dim, limit) {
             return Ok(c);
@@ -243,11 +273,14 @@ pub fn make_interp_spline(
         None => augmented_knots(x, k),
     };
     let c = if periodic {
-        solve_periodic(x, y, dim, &t, k)?
+        progress.add_total(1)?;
+        let c = solve_periodic(x, y, dim, &t, k)?;
+        progress.advance(1)?;
+        c
     } else {
         let left = resolve_end(left, x, y, dim, k, true)?;
         let right = resolve_end(right, x, y, dim, k, false)?;
-        solve_open(x, y, dim, &t, k, &left, &right)?
+        solve_open(x, y, dim, &t, k, &left, &right, progress)?
     };
     if let Some(i) = crate::points::first_non_finite(&c) {
         return Err(Error::Overflow {
@@ -294,6 +327,21 @@ pub fn make_interp_surface(
     (rows, cols): (usize, usize),
     (kx, ky): (usize, usize),
 ) -> Result<super::BsplineSurface> {
+    make_interp_surface_with_progress(x, y, z, (rows, cols), (kx, ky), &Progress::none())
+}
+
+/// [`make_interp_surface`] reporting to `progress` ([`crate::progress`]): the units are the
+/// rows of the system along x, then the rows of the net solved along y (reported per block
+/// of rows). The same surface, bit for bit, as without it; [`Error::Cancelled`] when the
+/// callback asks to stop.
+pub fn make_interp_surface_with_progress(
+    x: &[f64],
+    y: &[f64],
+    z: &[f64],
+    (rows, cols): (usize, usize),
+    (kx, ky): (usize, usize),
+    progress: &Progress,
+) -> Result<super::BsplineSurface> {
     for (name, v) in [("x", x), ("y", y)] {
         if let Some(index) = crate::points::first_non_finite(v) {
             return Err(Error::NonFinite { what: name, index });
@@ -332,26 +380,32 @@ pub fn make_interp_surface(
         }
     }
     if (kx, ky) == (3, 3) && nx >= 8 && ny >= 8 && nx * ny >= scipy_cubic::MIN_POINTS {
+        progress.add_total(1)?;
         if let Some(s) = scipy_cubic::not_a_knot_bicubic(x, y, z, AMPLIFIED_TILES * max_abs(z)) {
+            progress.finish()?;
             return Ok(s);
         }
     }
     // Along x: the rows of z as points of ny coordinates.
-    let sx = make_interp_spline(x, z, ny, &SplineOptions::new(kx))?;
+    let sx = interp_spline_parts(x, z, ny, &SplineOptions::new(kx), progress)?;
     let ncx = sx.n_control();
+    progress.add_total(ncx as u64)?;
     let (tx, cx) = sx.into_parts();
     // Along y: every row of that net, in place (no transposes), else the transposed net as
     // points of ncx coordinates.
-    let (ty, net) = match solve_along_rows(y, ky, cx)? {
+    let (ty, net) = match solve_along_rows(y, ky, cx, progress)? {
         AlongRows::Solved(ty, net) => (ty, net),
-        AlongRows::Untouched(cx) => transposed_along_y(y, ky, &cx, ncx)?,
+        AlongRows::Untouched(cx) => transposed_along_y(y, ky, &cx, ncx, progress)?,
         AlongRows::Refine => {
             let sx = make_interp_spline(x, z, ny, &SplineOptions::new(kx))?;
-            transposed_along_y(y, ky, sx.control_flat(), ncx)?
+            progress.check()?;
+            transposed_along_y(y, ky, sx.control_flat(), ncx, progress)?
         }
     };
     let ncy = net.len() / ncx;
-    super::BsplineSurface::from_flat((kx, ky), tx, ty, ncx, ncy, 1, net)
+    let s = super::BsplineSurface::from_flat((kx, ky), tx, ty, ncx, ncy, 1, net)?;
+    progress.finish()?;
+    Ok(s)
 }
 
 /// The second direction of [`make_interp_surface`] through [`make_interp_spline`]: the net
@@ -362,9 +416,11 @@ fn transposed_along_y(
     ky: usize,
     cx: &[f64],
     ncx: usize,
+    progress: &Progress,
 ) -> Result<(Vec<f64>, Vec<f64>)> {
     let t = transpose(cx, ncx, y.len(), 1);
     let sy = make_interp_spline(y, &t, ncx, &SplineOptions::new(ky))?;
+    progress.advance(ncx as u64)?;
     drop(t);
     let net = transpose(sy.control_flat(), sy.n_control(), ncx, 1);
     Ok((sy.into_parts().0, net))
@@ -388,7 +444,12 @@ enum AlongRows {
 /// the cases where that solves the whole system once without refining it (degrees 2 to 7,
 /// at most [`TILED_ROWS`] points, more than [`REFINE_ALWAYS`] numbers, coefficients within
 /// [`AMPLIFIED`] times the data).
-fn solve_along_rows(y: &[f64], k: usize, mut net: Vec<f64>) -> Result<AlongRows> {
+fn solve_along_rows(
+    y: &[f64],
+    k: usize,
+    mut net: Vec<f64>,
+    progress: &Progress,
+) -> Result<AlongRows> {
     let n = y.len();
     if !(2..=MAX_SPLINE_DEGREE).contains(&k) || n > TILED_ROWS || net.len() <= REFINE_ALWAYS {
         return Ok(AlongRows::Untouched(net));
@@ -400,12 +461,20 @@ fn solve_along_rows(y: &[f64], k: usize, mut net: Vec<f64>) -> Result<AlongRows>
     let (a, _) = sys.window(0, sys.nt)?;
     let lu = a.factor_below(0.0).map_err(|_| singular())?;
     let scale = max_abs(&net);
-    net.par_chunks_mut(n).for_each(|row| lu.solve(row, 1));
+    // Blocks of rows, one progress report each (each row is solved alone: same bits).
+    let block = (REPORT_ROWS / n).max(1);
+    net.par_chunks_mut(n * block).try_for_each(|rows| {
+        rows.chunks_mut(n).for_each(|row| lu.solve(row, 1));
+        progress.advance((rows.len() / n) as u64)
+    })?;
     if max_abs(&net) > AMPLIFIED * scale {
         return Ok(AlongRows::Refine);
     }
     Ok(AlongRows::Solved(t, net))
 }
+
+/// Numbers of a net solved between two progress reports of [`solve_along_rows`].
+const REPORT_ROWS: usize = 1 << 16;
 
 /// The not-a-knot knots of degree k for the points x (module docs; SciPy's `_not_a_knot`).
 /// For n < k + 1 points the inner part is empty (the knots then need end conditions).
@@ -459,12 +528,12 @@ pub fn periodic_knots(x: &[f64], k: usize) -> Vec<f64> {
     t
 }
 
-fn interp(reason: String) -> Error {
+pub(super) fn interp(reason: String) -> Error {
     Error::Interpolation { reason }
 }
 
 /// x finite, strictly increasing, one per point of y; y finite; at least 2 points.
-fn check_data(x: &[f64], y: &[f64], dim: usize) -> Result<()> {
+pub(super) fn check_data(x: &[f64], y: &[f64], dim: usize) -> Result<()> {
     if dim == 0 {
         return Err(Error::ZeroDimension { what: "values y" });
     }
@@ -587,7 +656,7 @@ fn check_knots(t: &[f64], x: &[f64], k: usize) -> Result<()> {
 }
 
 /// The derivative conditions of one end, values expanded to `dim` and checked.
-fn resolve_end(
+pub(super) fn resolve_end(
     end: &EndSpec,
     x: &[f64],
     y: &[f64],
@@ -657,6 +726,7 @@ pub(super) fn solve_open(
     k: usize,
     left: &[(usize, Vec<f64>)],
     right: &[(usize, Vec<f64>)],
+    progress: &Progress,
 ) -> Result<Vec<f64>> {
     let n = x.len();
     let nt = t.len() - k - 1;
@@ -675,21 +745,24 @@ pub(super) fn solve_open(
         )));
     }
     let sys = OpenSystem::new(x, y, dim, t, k, left, right)?;
+    progress.add_total(nt as u64)?;
     if nt > TILED_ROWS {
-        let c = solve_tiled(&sys, TILE_ROWS, TILE_HALO)?;
+        let c = solve_tiled(&sys, TILE_ROWS, TILE_HALO, progress)?;
         // Ill-conditioned (coefficients far above the data), or without decay (the seams
         // do not hold): the whole system, refined.
         if max_abs(&c) <= AMPLIFIED_TILES * sys.rhs_scale() && seams_hold(&sys, &c, TILE_ROWS)? {
             return Ok(c);
         }
     }
-    solve_refined(|| sys.window(0, nt), dim)
+    let c = solve_refined(|| sys.window(0, nt), dim)?;
+    progress.advance(nt as u64)?;
+    Ok(c)
 }
 
 /// Windowed coefficients more than this many times the data mark a system too
 /// ill-conditioned to keep them (rounding grows with them): the whole system is then solved
 /// and refined. (Uneven data make quadratics' coefficients ~16 times the data.)
-const AMPLIFIED_TILES: f64 = 1e3;
+pub(super) const AMPLIFIED_TILES: f64 = 1e3;
 
 /// Systems of more rows than this are solved in windows ([`solve_tiled`]).
 const TILED_ROWS: usize = 1 << 16;
@@ -699,10 +772,10 @@ const TILE_ROWS: usize = 1 << 14;
 /// coefficients decays like λ^d with the distance d, λ the largest root modulus of the
 /// B-spline collocation symbol (0.17 for k = 2, 0.27 for 3, 0.43 for 5, 0.54 for 7 on
 /// uniform data); 0.54^64 < 1e-17.
-const TILE_HALO: usize = 64;
+pub(super) const TILE_HALO: usize = 64;
 
 /// The rows of an open interpolation system ([`solve_open`]), produced for any window.
-struct OpenSystem<'a> {
+pub(super) struct OpenSystem<'a> {
     x: &'a [f64],
     y: &'a [f64],
     dim: usize,
@@ -715,7 +788,7 @@ struct OpenSystem<'a> {
 }
 
 impl<'a> OpenSystem<'a> {
-    fn new(
+    pub(super) fn new(
         x: &'a [f64],
         y: &'a [f64],
         dim: usize,
@@ -764,7 +837,7 @@ impl<'a> OpenSystem<'a> {
     }
 
     /// The largest right-hand side entry (data and derivative values).
-    fn rhs_scale(&self) -> f64 {
+    pub(super) fn rhs_scale(&self) -> f64 {
         self.ends
             .iter()
             .fold(max_abs(self.y), |m, e| m.max(max_abs(&e.2)))
@@ -837,7 +910,7 @@ impl<'a> OpenSystem<'a> {
     /// held at zero, the windows' artificial ends) as a band matrix as narrow as the rows
     /// allow, with the right-hand sides. Errors: a data point whose knot interval does not
     /// suit its row ([`check_band`]).
-    fn window(&self, r0: usize, r1: usize) -> Result<(BandMatrix, Vec<f64>)> {
+    pub(super) fn window(&self, r0: usize, r1: usize) -> Result<(BandMatrix, Vec<f64>)> {
         let (k, dim) = (self.k, self.dim);
         let m = r1 - r0;
         // Each row's entries and the columns lo..=hi of its nonzero ones inside the window.
@@ -874,7 +947,12 @@ impl<'a> OpenSystem<'a> {
 /// on each side (discarded), in parallel: equal to the whole system's solution within
 /// rounding where the influence decays over the halo ([`TILE_HALO`]). Memory: a few windows'
 /// bands, never the whole system's.
-fn solve_tiled(sys: &OpenSystem, tile: usize, halo: usize) -> Result<Vec<f64>> {
+fn solve_tiled(
+    sys: &OpenSystem,
+    tile: usize,
+    halo: usize,
+    progress: &Progress,
+) -> Result<Vec<f64>> {
     let (nt, dim) = (sys.nt, sys.dim);
     let mut out = vec![0.0; nt * dim];
     out.par_chunks_mut(tile * dim)
@@ -882,21 +960,35 @@ fn solve_tiled(sys: &OpenSystem, tile: usize, halo: usize) -> Result<Vec<f64>> {
         .try_for_each(|(w, part)| -> Result<()> {
             let a0 = w * tile;
             let a1 = a0 + part.len() / dim;
-            let (r0, r1) = (a0.saturating_sub(halo), (a1 + halo).min(nt));
-            if sys.collocation_only(r0, r1) {
-                if let Some(b) = sys.solve_collocation(r0, r1)? {
-                    part.copy_from_slice(&b[(a0 - r0) * dim..(a1 - r0) * dim]);
-                    return Ok(());
-                }
-            }
-            let (a, mut b) = sys.window(r0, r1)?;
-            a.factor_below(0.0)
-                .map_err(|_| singular())?
-                .solve(&mut b, dim);
-            part.copy_from_slice(&b[(a0 - r0) * dim..(a1 - r0) * dim]);
-            Ok(())
+            solve_window(sys, a0, a1, halo, part)?;
+            progress.advance((a1 - a0) as u64)
         })?;
     Ok(out)
+}
+
+/// The coefficients a0..a1 of `sys` into `part`, from the window with `halo` more rows on
+/// each side.
+fn solve_window(
+    sys: &OpenSystem,
+    a0: usize,
+    a1: usize,
+    halo: usize,
+    part: &mut [f64],
+) -> Result<()> {
+    let (nt, dim) = (sys.nt, sys.dim);
+    let (r0, r1) = (a0.saturating_sub(halo), (a1 + halo).min(nt));
+    if sys.collocation_only(r0, r1) {
+        if let Some(b) = sys.solve_collocation(r0, r1)? {
+            part.copy_from_slice(&b[(a0 - r0) * dim..(a1 - r0) * dim]);
+            return Ok(());
+        }
+    }
+    let (a, mut b) = sys.window(r0, r1)?;
+    a.factor_below(0.0)
+        .map_err(|_| singular())?
+        .solve(&mut b, dim);
+    part.copy_from_slice(&b[(a0 - r0) * dim..(a1 - r0) * dim]);
+    Ok(())
 }
 
 /// A pivot below this fraction of its row's largest entry sends a window of
@@ -908,7 +1000,7 @@ const TP_PIVOT: f64 = 1e-8;
 impl OpenSystem<'_> {
     /// Whether rows r0..r1 are all data rows (no end condition): a window of the
     /// collocation matrix.
-    fn collocation_only(&self, r0: usize, r1: usize) -> bool {
+    pub(super) fn collocation_only(&self, r0: usize, r1: usize) -> bool {
         r0 >= self.nl && r1 <= self.nl + self.x.len()
     }
 
@@ -919,7 +1011,7 @@ impl OpenSystem<'_> {
     /// window of it. Its U has the band of the rows (k + 1 entries from the diagonal) and
     /// nothing else is stored. `None` when a pivot is not clearly positive
     /// ([`TP_PIVOT`]): the caller then pivots.
-    fn solve_collocation(&self, r0: usize, r1: usize) -> Result<Option<Vec<f64>>> {
+    pub(super) fn solve_collocation(&self, r0: usize, r1: usize) -> Result<Option<Vec<f64>>> {
         match self.k {
             1 => self.solve_collocation_k::<1>(r0, r1),
             2 => self.solve_collocation_k::<2>(r0, r1),
@@ -1001,7 +1093,7 @@ impl OpenSystem<'_> {
 /// each window the rows hold by construction; across a seam only where the influence
 /// decayed over the halo, which it does not for systems without decay, such as even
 /// degrees on knots at the data: an error of neighbouring windows shows there).
-fn seams_hold(sys: &OpenSystem, c: &[f64], tile: usize) -> Result<bool> {
+pub(super) fn seams_hold(sys: &OpenSystem, c: &[f64], tile: usize) -> Result<bool> {
     let k = sys.k;
     let seams: Vec<usize> = (1..sys.nt.div_ceil(tile)).map(|w| w * tile).collect();
     for s in seams {
@@ -1080,7 +1172,7 @@ fn solve_refined(
     ))
 }
 
-fn max_abs(v: &[f64]) -> f64 {
+pub(super) fn max_abs(v: &[f64]) -> f64 {
     // Four lanes (a SIMD max each) per chunk, chunks in parallel: a pass over 10^7 points
     // costs what reading them does.
     let chunk = |c: &[f64]| {
@@ -1132,7 +1224,7 @@ fn check_band(r: usize, l: usize, k: usize, what: impl FnOnce() -> String) -> Re
     Ok(())
 }
 
-fn singular() -> Error {
+pub(super) fn singular() -> Error {
     interp(
         "the collocation matrix is singular: the knots do not suit x (the Schoenberg–Whitney \
          condition), or the end conditions repeat one another"
@@ -1321,9 +1413,11 @@ mod tests {
         // rows are checked here all the same.)
         for (kx, ky) in [(3, 3), (2, 5), (5, 2), (7, 4)] {
             let sx = make_interp_spline(&x, &z, cols, &SplineOptions::new(kx)).unwrap();
-            let (ty, net) = transposed_along_y(&y, ky, sx.control_flat(), sx.n_control()).unwrap();
+            let (ty, net) =
+                transposed_along_y(&y, ky, sx.control_flat(), sx.n_control(), &Progress::none())
+                    .unwrap();
             let AlongRows::Solved(t, along) =
-                solve_along_rows(&y, ky, sx.control_flat().to_vec()).unwrap()
+                solve_along_rows(&y, ky, sx.control_flat().to_vec(), &Progress::none()).unwrap()
             else {
                 panic!("({kx}, {ky}) not solved row by row");
             };
@@ -1377,7 +1471,7 @@ mod tests {
             ] {
                 let sys = OpenSystem::new(&x, &y, 2, &t, k, &left, &right).unwrap();
                 let whole = solve_refined(|| sys.window(0, sys.nt), 2).unwrap();
-                let tiled = solve_tiled(&sys, 200, TILE_HALO).unwrap();
+                let tiled = solve_tiled(&sys, 200, TILE_HALO, &Progress::none()).unwrap();
                 // Every degree's not-a-knot system decays (even degrees: knots between the
                 // data); derivative conditions on knots at the data do not for even degrees:
                 // the seams show it, and the whole system is solved instead (as it is for

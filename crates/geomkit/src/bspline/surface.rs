@@ -21,6 +21,7 @@ use super::interpolate::{knots_around, EndCondition, Parametrization, Solver1d};
 use crate::geom::{check_point, BatchOptions, Surface};
 use crate::par::*;
 use crate::points::{check_eval_args, check_knots, flatten_grid, unit_normal, validate_points};
+use crate::progress::Progress;
 use crate::{Error, Result};
 
 mod batch;
@@ -510,6 +511,21 @@ pub fn interpolate_surface_flat(
     grid: &[f64],
     options: &SurfaceInterpolationOptions,
 ) -> Result<SurfaceInterpolation> {
+    interpolate_surface_flat_with_progress(rows, cols, dim, grid, options, &Progress::none())
+}
+
+/// [`interpolate_surface_flat`] reporting to `progress` ([`crate::progress`]): the units are
+/// the grid rows solved along v (reported per block of rows), then as many for the solve
+/// along u. The same surface, bit for bit, as without it; [`Error::Cancelled`] when the
+/// callback asks to stop.
+pub fn interpolate_surface_flat_with_progress(
+    rows: usize,
+    cols: usize,
+    dim: usize,
+    grid: &[f64],
+    options: &SurfaceInterpolationOptions,
+    progress: &Progress,
+) -> Result<SurfaceInterpolation> {
     validate_points("reference grid", dim, grid)?;
     if grid.len() != rows * cols * dim {
         return Err(Error::BufferSize {
@@ -574,7 +590,10 @@ pub fn interpolate_surface_flat(
     )?;
     let sys_u = Solver1d::new(knots_around(&tu), &options.end_u, p)?;
     let sys_v = Solver1d::new(knots_around(&tv), &options.end_v, p)?;
-    separable(&grid, m, n, dim, &sys_u, &sys_v)
+    progress.add_total(2 * m as u64)?;
+    let s = separable_with_progress(&grid, m, n, dim, &sys_u, &sys_v, progress)?;
+    progress.finish()?;
+    Ok(s)
 }
 
 /// Solves every row of a row-major grid (rows of `n` points of `dim`) into `out` (rows of
@@ -588,13 +607,17 @@ fn solve_grid_rows(
     n: usize,
     dim: usize,
     out: &mut [f64],
+    progress: &Progress,
 ) -> Result<()> {
     let nc = sys.n_control();
     if !sys.solves_in_place() {
         return out
             .par_chunks_mut(nc * dim)
             .zip(grid.par_chunks(n * dim))
-            .try_for_each(|(o, row)| sys.solve(row, dim, o));
+            .try_for_each(|(o, row)| {
+                sys.solve(row, dim, o)?;
+                progress.advance(1)
+            });
     }
     if dim == 1 && sys.solves_rows() {
         // Heights: blocks of rows swept side by side where they lie.
@@ -607,12 +630,13 @@ fn solve_grid_rows(
                     let outs: [&mut [f64]; ROW_BLOCK] =
                         std::array::from_fn(|_| outs.next().expect("ROW_BLOCK rows"));
                     let rows = std::array::from_fn(|i| &rows[i * n..(i + 1) * n]);
-                    return sys.solve_rows(rows, outs);
+                    sys.solve_rows(rows, outs)?;
+                    return progress.advance(ROW_BLOCK as u64);
                 }
                 for (o, row) in o.chunks_exact_mut(nc).zip(rows.chunks_exact(n)) {
                     sys.solve_rows([row], [o])?;
                 }
-                Ok(())
+                progress.advance((rows.len() / n) as u64)
             });
     }
     out.par_chunks_mut(ROW_BLOCK * nc * dim)
@@ -640,7 +664,7 @@ fn solve_grid_rows(
                     }
                 }
             }
-            Ok(())
+            progress.advance(b as u64)
         })
 }
 
@@ -689,21 +713,37 @@ pub(crate) fn separable(
     sys_u: &Solver1d,
     sys_v: &Solver1d,
 ) -> Result<SurfaceInterpolation> {
+    separable_with_progress(grid, m, n, dim, sys_u, sys_v, &Progress::none())
+}
+
+/// [`separable`], reporting the m rows along v and then m units for the solve along u.
+fn separable_with_progress(
+    grid: &[f64],
+    m: usize,
+    n: usize,
+    dim: usize,
+    sys_u: &Solver1d,
+    sys_v: &Solver1d,
+    progress: &Progress,
+) -> Result<SurfaceInterpolation> {
     let (nu, nv) = (sys_u.n_control(), sys_v.n_control());
     let width = nv * dim;
     let control = if sys_u.solves_in_place() {
         // Open in u: the rows' solutions go straight into rows 1..=m of the net, and the
         // columns are solved in place with whole rows as right-hand sides (no transposes).
         let mut control = vec![0.0; nu * width];
-        solve_grid_rows(sys_v, grid, n, dim, &mut control[width..(m + 1) * width])?;
+        let rows = &mut control[width..(m + 1) * width];
+        solve_grid_rows(sys_v, grid, n, dim, rows, progress)?;
         sys_u.solve_in_place(&mut control, width)?;
         control
     } else {
         let r = solve_rows(sys_v, grid, m, n, dim)?;
+        progress.advance(m as u64)?;
         let rt = transpose(&r, m, nv, dim);
         let ct = solve_rows(sys_u, &rt, nv, m, dim)?;
         transpose(&ct, nv, nu, dim)
     };
+    progress.advance(m as u64)?;
     Ok(SurfaceInterpolation {
         surface: BsplineSurface::from_trusted(
             (3, 3),

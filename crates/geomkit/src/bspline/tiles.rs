@@ -27,6 +27,7 @@ use super::interpolate::{
 };
 use crate::par::*;
 use crate::points::validate_points;
+use crate::progress::Progress;
 use crate::{Error, Result};
 use std::ops::Range;
 
@@ -36,7 +37,8 @@ use std::ops::Range;
 pub struct TileOptions {
     /// Reference points owned by one tile (default 65 536).
     pub tile_size: usize,
-    /// Extra points solved on each side and discarded (default 32).
+    /// Extra points solved on each side and discarded (default 32; the tiles of any degree,
+    /// [`super::SplineTiler`], take at least [`super::MIN_SPLINE_HALO`]).
     pub halo: usize,
 }
 
@@ -319,10 +321,24 @@ pub fn interpolate_curve_tiled(
     options: &InterpolationOptions,
     tiles: &TileOptions,
 ) -> Result<CurveInterpolation> {
+    interpolate_curve_tiled_with_progress(dim, points, options, tiles, &Progress::none())
+}
+
+/// [`interpolate_curve_tiled`] reporting to `progress` ([`crate::progress`]) once per tile
+/// (units: control points). The same curve, bit for bit, as without it;
+/// [`Error::Cancelled`] when the callback asks to stop.
+pub fn interpolate_curve_tiled_with_progress(
+    dim: usize,
+    points: &[f64],
+    options: &InterpolationOptions,
+    tiles: &TileOptions,
+    progress: &Progress,
+) -> Result<CurveInterpolation> {
     validate_points("reference points", dim, points)?;
     let n = points.len() / dim;
     let tiler = CurveTiler::new(n, dim, options, tiles)?;
     let plan = tiler.plan();
+    progress.add_total((n + 2) as u64)?;
     let mut knots = knots_around_parameters(points, dim, options.parametrization, false, 0.0)?;
     // Each tile writes its range of the control points straight into the result (the
     // ranges follow one another): no copy of the whole curve, only a few tiles of scratch.
@@ -342,8 +358,9 @@ pub fn interpolate_curve_tiled(
             tiler.solve_tile(p, pts, knots[3 + p.read.start], true, control)?;
             let w0 = p.write.start - p.read.start;
             out.copy_from_slice(&control[w0 * dim..w0 * dim + out.len()]);
-            Ok::<(), Error>(())
+            progress.advance(p.write.len() as u64)
         })?;
+    progress.finish()?;
     super::interpolate::fill_open_ends(&mut knots);
     // The tiles' solves checked their control points (finite); the knots are the global
     // curve's.

@@ -43,8 +43,8 @@ mod write;
 
 pub use curve::{tessellate_curve, CurveOptions, Polyline};
 pub use surface::{
-    tessellate_surface, tessellate_surface_report, MeshReport, Sampling, SurfaceOptions,
-    MAX_TRIANGLES,
+    tessellate_surface, tessellate_surface_report, tessellate_surface_with_progress, MeshReport,
+    Sampling, SurfaceOptions, MAX_TRIANGLES,
 };
 pub use trimesh::TriMesh;
 pub use write::{

@@ -3,6 +3,7 @@
 
 use super::trimesh::{bounding_box, cross, dot, norm, sub, TriMesh};
 use crate::geom::{linspace, Surface};
+use crate::progress::Progress;
 use crate::{Error, Result};
 
 /// The most triangles a surface mesh may have by default ([`SurfaceOptions::max_triangles`]):
@@ -281,10 +282,11 @@ fn adaptive_grid(
     mut us: Vec<f64>,
     mut vs: Vec<f64>,
     measure: Measure,
-    max: usize,
-    max_triangles: usize,
+    (max, max_triangles): (usize, usize),
+    progress: &Progress,
 ) -> Result<(Grid, Worst, Option<String>)> {
     loop {
+        progress.add_total(1)?;
         let grid = grid3(s, &us, &vs)?;
         // Checks in coordinates divided by a power of two near the largest: no overflow.
         let scale = super::trimesh::scale_of(&grid);
@@ -346,6 +348,7 @@ fn adaptive_grid(
                 }
             }
         }
+        progress.advance(1)?;
         let worst = Worst(worst.0 * 4.0 / 3.0, worst.1 * 4.0 / 3.0);
         let su = split_u.iter().filter(|&&b| b).count();
         let sv = split_v.iter().filter(|&&b| b).count();
@@ -484,6 +487,19 @@ pub fn tessellate_surface_report(
     s: &dyn Surface,
     options: &SurfaceOptions,
 ) -> Result<(TriMesh, MeshReport)> {
+    tessellate_surface_with_progress(s, options, &Progress::none())
+}
+
+/// [`tessellate_surface_report`] reporting to `progress` ([`crate::progress`]): one unit
+/// for the sample grid (adaptive refinement: one per round, each round adding its unit to
+/// the total as it starts, since the number of rounds is not known ahead) and one for the
+/// triangulation and welding. The same mesh, bit for bit, as without it;
+/// [`Error::Cancelled`] when the callback asks to stop.
+pub fn tessellate_surface_with_progress(
+    s: &dyn Surface,
+    options: &SurfaceOptions,
+    progress: &Progress,
+) -> Result<(TriMesh, MeshReport)> {
     let d = s.dim();
     if !(1..=3).contains(&d) {
         return Err(Error::WrongDimension {
@@ -525,7 +541,9 @@ pub fn tessellate_surface_report(
             let (us, vs) = lines(k, l, &|nu, nv| {
                 format!("a {k} × {l} sample grid ({nu} × {nv} with the break lines)")
             })?;
+            progress.add_total(1)?;
             let grid = grid3(s, &us, &vs)?;
+            progress.advance(1)?;
             (us, vs, grid, None)
         }
         Sampling::Adaptive { tolerance } => {
@@ -568,8 +586,14 @@ pub fn tessellate_surface_report(
             // The checks run at 3/4 of the tolerance: where the surface is quadratic over a
             // triangle, its distance from the triangle is at most 4/3 of the largest one at
             // the midpoints of the triangle's edges (the quadratic Lagrange basis on a triangle).
-            let ((us, vs, grid), worst, capped) =
-                adaptive_grid(s, us, vs, measure, options.max_samples.clamp(2, MAX), cap)?;
+            let ((us, vs, grid), worst, capped) = adaptive_grid(
+                s,
+                us,
+                vs,
+                measure,
+                (options.max_samples.clamp(2, MAX), cap),
+                progress,
+            )?;
             if let (Some(t), Some(cap)) = (tolerance, &capped) {
                 return Err(Error::ToleranceOutOfReach {
                     tolerance: t,
@@ -580,6 +604,7 @@ pub fn tessellate_surface_report(
             (us, vs, grid, Some((worst, capped.is_some())))
         }
     };
+    progress.add_total(1)?;
     let (nu, nv) = (us.len(), vs.len());
     let mut triangles = Vec::with_capacity(grid_triangles(nu, nv));
     for i in 0..nu - 1 {
@@ -602,6 +627,7 @@ pub fn tessellate_surface_report(
     let closed = closes(&grid, nu, nv, weld);
     let grid_count = triangles.len();
     let mut mesh = TriMesh::new_per_axis(grid, triangles, weld, options.crease_degrees)?;
+    progress.advance(1)?;
     let weld_text = || {
         format!(
             "weld tolerance {:.1e}, {:.1e}, {:.1e} in x, y, z",
@@ -654,6 +680,7 @@ pub fn tessellate_surface_report(
         relative_deviation: deviation.map(|(w, _)| w.1),
         weld,
     };
+    progress.finish()?;
     Ok((mesh, report))
 }
 
