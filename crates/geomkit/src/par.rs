@@ -126,6 +126,14 @@ mod sequential {
             self.map(move |x| f(&mut state, x))
         }
 
+        /// `reduce` (rayon's name for the reduction without an identity).
+        fn reduce_with<F>(self, f: F) -> Option<Self::Item>
+        where
+            F: FnMut(Self::Item, Self::Item) -> Self::Item,
+        {
+            self.reduce(f)
+        }
+
         /// The first `Some`: `find_map` in order.
         fn find_map_first<R, F>(mut self, f: F) -> Option<R>
         where

@@ -213,7 +213,7 @@ pub(super) fn interp_spline_parts(
     progress: &Progress,
 ) -> Result<BsplineCurve> {
     let k = options.degree;
-    check_data(x, y, dim)?;
+    let largest = check_data(x, y, dim)?;
     let n = x.len();
     let periodic = options.ends == SplineEnds::Periodic;
     if periodic {
@@ -245,8 +245,7 @@ pub(super) fn interp_spline_parts(
     if k == 3 && free && !periodic && options.knots.is_none() && n >= scipy_cubic::MIN_POINTS {
         // One unit: a few passes over the data, in parallel (under a second for 10^7).
         progress.add_total(1)?;
-        let limit = AMPLIFIED_TILES * max_abs(y);
-        if let Some(c) = scipy_cubic::not_a_knot_cubic(x, y, dim, limit) {
+        if let Some(c) = scipy_cubic::not_a_knot_cubic(x, y, dim, AMPLIFIED_TILES * largest) {
             return Ok(c);
         }
     }
@@ -532,8 +531,9 @@ pub(super) fn interp(reason: String) -> Error {
     Error::Interpolation { reason }
 }
 
-/// x finite, strictly increasing, one per point of y; y finite; at least 2 points.
-pub(super) fn check_data(x: &[f64], y: &[f64], dim: usize) -> Result<()> {
+/// x finite, strictly increasing, one per point of y; y finite; at least 2 points. Returns
+/// the largest magnitude in y (found on the same pass).
+pub(super) fn check_data(x: &[f64], y: &[f64], dim: usize) -> Result<f64> {
     if dim == 0 {
         return Err(Error::ZeroDimension { what: "values y" });
     }
@@ -563,14 +563,16 @@ pub(super) fn check_data(x: &[f64], y: &[f64], dim: usize) -> Result<()> {
             index: i,
         });
     }
-    if let Some(i) = crate::points::first_non_finite(y) {
+    let (largest, finite) = scan(y);
+    if !finite {
+        let i = crate::points::first_non_finite(y).expect("a number that is not finite");
         return Err(Error::NonFinite {
             what: "y",
             index: i / dim,
         });
     }
     if strictly_increasing(x) {
-        return Ok(());
+        return Ok(largest);
     }
     if let Some(i) = (1..x.len()).find(|&i| x[i] == x[i - 1]) {
         return Err(interp(format!(
@@ -589,7 +591,7 @@ pub(super) fn check_data(x: &[f64], y: &[f64], dim: usize) -> Result<()> {
             x[i - 1]
         )));
     }
-    Ok(())
+    Ok(largest)
 }
 
 /// Whether x_(i+1) > x_i for all i: a vectorizable test, in parallel chunks for long x
@@ -1173,26 +1175,34 @@ fn solve_refined(
 }
 
 pub(super) fn max_abs(v: &[f64]) -> f64 {
-    // Four lanes (a SIMD max each) per chunk, chunks in parallel: a pass over 10^7 points
-    // costs what reading them does.
+    scan(v).0
+}
+
+/// The largest magnitude of the finite numbers of `v`, and whether all are finite, in one
+/// pass: four lanes (a SIMD max and a sum of 0·x, NaN exactly for infinities and NaN) per
+/// chunk, chunks in parallel; a pass over 10^7 points costs what reading them does.
+fn scan(v: &[f64]) -> (f64, bool) {
     let chunk = |c: &[f64]| {
-        let mut lanes = [0.0f64; 4];
+        let (mut lanes, mut zeros) = ([0.0f64; 4], [0.0f64; 4]);
         let mut quads = c.chunks_exact(4);
         for q in &mut quads {
-            for (m, x) in lanes.iter_mut().zip(q) {
+            for ((m, z), x) in lanes.iter_mut().zip(&mut zeros).zip(q) {
                 *m = if x.abs() > *m { x.abs() } else { *m };
+                *z += 0.0 * x;
             }
         }
-        quads
-            .remainder()
+        let rest = quads.remainder();
+        let m = rest
             .iter()
             .chain(&lanes)
-            .fold(0.0f64, |m, x| m.max(x.abs()))
+            .fold(0.0f64, |m, x| if x.abs() > m { x.abs() } else { m });
+        let z = rest.iter().chain(&zeros).fold(0.0, |a, x| a + 0.0 * x);
+        (m, z == 0.0)
     };
     v.par_chunks(1 << 16)
         .map(chunk)
-        .max_by(f64::total_cmp)
-        .unwrap_or(0.0)
+        .reduce_with(|a, b| (a.0.max(b.0), a.1 && b.1))
+        .unwrap_or((0.0, true))
 }
 
 /// [`find_span`] for x at or after the knot interval `from` (the points increase: a walk
