@@ -20,7 +20,7 @@ import { mkdtemp, readFile, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
 import { chromium } from 'playwright-core';
-import { editorArgs, startServe } from './serve.mjs';
+import { editorArgs, redrawRate, startServe } from './serve.mjs';
 
 const args = await editorArgs('editor-3d.mjs');
 const shots = args.out;
@@ -301,28 +301,7 @@ try {
   await idle();
   await checkMesh('20 × 20 net');
   const [gx, gy] = await screenOf(big[10][9]);
-  const rate = await page.evaluate(async ([x, y]) => {
-    const c = document.getElementById('view3d');
-    const at = (cx, cy) => ({ clientX: cx, clientY: cy, pointerId: 1, button: 0, buttons: 1, bubbles: true });
-    window.geomkit3d.frames.length = 0;
-    c.dispatchEvent(new PointerEvent('pointerdown', at(x, y)));
-    const t0 = performance.now();
-    let i = 0;
-    await new Promise((done) => {
-      function step() {
-        i++;
-        c.dispatchEvent(new PointerEvent('pointermove', at(x + i * 0.4, y - 50 * Math.sin(i / 20))));
-        if (performance.now() - t0 < 3000) requestAnimationFrame(step);
-        else done();
-      }
-      requestAnimationFrame(step);
-    });
-    const t1 = performance.now();
-    c.dispatchEvent(new PointerEvent('pointerup', at(x + i * 0.4, y - 50 * Math.sin(i / 20))));
-    await window.geomkit3d.idle();
-    const f = window.geomkit3d.frames.filter((t) => t >= t0 && t <= t1);
-    return { frames: f.length, seconds: (t1 - t0) / 1000, moves: i };
-  }, [gx, gy]);
+  const rate = await redrawRate(page, { element: 'view3d', hooks: 'geomkit3d', x: gx, y: gy, dx: 0.4, amplitude: 50 });
   const fps = rate.frames / rate.seconds;
   console.log(`editor-3d: redraw rate while dragging a vertex of a 20 × 20 Bézier surface: ${fps.toFixed(1)} frames/s (${rate.frames} meshes drawn for ${rate.moves} pointer moves in ${rate.seconds.toFixed(2)} s; each a round trip to the server, a 13 × 13 mesh; 41 × 41 at rest)`);
   await writeFile(path.join(shots, 'editor-3d-fps.txt'), `${fps.toFixed(1)}\n`);

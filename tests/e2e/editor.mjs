@@ -16,7 +16,7 @@ import { mkdtemp, writeFile } from 'node:fs/promises';
 import os from 'node:os';
 import path from 'node:path';
 import { chromium } from 'playwright-core';
-import { editorArgs, startServe } from './serve.mjs';
+import { editorArgs, redrawRate, startServe } from './serve.mjs';
 
 const args = await editorArgs('editor.mjs');
 const shots = args.out;
@@ -287,33 +287,9 @@ try {
   await idle();
   await page.waitForTimeout(300);
   await idle();
-  // The drag is scripted in the page: one pointermove per animation frame for 3 s (input
-  // sent through the DevTools protocol arrives slower than the page redraws, and would
-  // measure the protocol). A frame counts when the curve computed by the server is drawn.
+  // A frame counts when the curve computed by the server is drawn (serve.mjs: redrawRate).
   const [gx, gy] = await page.evaluate((p) => window.geomkit.toScreen(p), big[1000]);
-  const rate = await page.evaluate(async ([x, y]) => {
-    const svg = document.getElementById('canvas');
-    const r = svg.getBoundingClientRect();
-    const at = (cx, cy) => ({ clientX: r.left + cx, clientY: r.top + cy, pointerId: 1, button: 0, buttons: 1, bubbles: true });
-    window.geomkit.frames.length = 0;
-    svg.dispatchEvent(new PointerEvent('pointerdown', at(x, y)));
-    const t0 = performance.now();
-    let i = 0;
-    await new Promise((done) => {
-      function step() {
-        i++;
-        svg.dispatchEvent(new PointerEvent('pointermove', at(x + i * 0.5, y - 40 * Math.sin(i / 20))));
-        if (performance.now() - t0 < 3000) requestAnimationFrame(step);
-        else done();
-      }
-      requestAnimationFrame(step);
-    });
-    const t1 = performance.now();
-    svg.dispatchEvent(new PointerEvent('pointerup', at(x + i * 0.5, y - 40 * Math.sin(i / 20))));
-    await window.geomkit.idle();
-    const f = window.geomkit.frames.filter((t) => t >= t0 && t <= t1);
-    return { frames: f.length, seconds: (t1 - t0) / 1000, moves: i };
-  }, [gx, gy]);
+  const rate = await redrawRate(page, { element: 'canvas', hooks: 'geomkit', x: gx, y: gy, dx: 0.5, amplitude: 40, relative: true });
   const fps = rate.frames / rate.seconds;
   console.log(`editor: redraw rate while dragging a point of a 2000-point B-spline: ${fps.toFixed(1)} frames/s (${rate.frames} curves drawn for ${rate.moves} pointer moves in ${rate.seconds.toFixed(2)} s; each a round trip to the server: the interpolation and the window of samples and comb near the point)`);
   await checkSpline('2000 points after the drag');

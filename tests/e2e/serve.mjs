@@ -53,3 +53,39 @@ export async function editorArgs(script) {
   await mkdir(values.out, { recursive: true });
   return values;
 }
+
+/**
+ * The redraw rate of a scripted drag in the page: pointerdown on the element with id
+ * `element` at (x, y) (client coordinates, or the element's own with `relative`), one
+ * pointermove per animation frame for 3 s along x + i·dx, y − amplitude·sin(i/20), then
+ * pointerup and `window[hooks].idle()`. Input sent through the DevTools protocol arrives
+ * slower than the page redraws (it would measure the protocol), hence in the page. A frame
+ * counts when `window[hooks].frames` (the page's drawing times) got one during the drag.
+ * Resolves to `{ frames, seconds, moves }`.
+ */
+export function redrawRate(page, { element, hooks, x, y, dx, amplitude, relative = false }) {
+  return page.evaluate(async ({ element, hooks, x, y, dx, amplitude, relative }) => {
+    const el = document.getElementById(element);
+    const r = relative ? el.getBoundingClientRect() : { left: 0, top: 0 };
+    const at = (cx, cy) => ({ clientX: r.left + cx, clientY: r.top + cy, pointerId: 1, button: 0, buttons: 1, bubbles: true });
+    const where = (i) => at(x + i * dx, y - amplitude * Math.sin(i / 20));
+    window[hooks].frames.length = 0;
+    el.dispatchEvent(new PointerEvent('pointerdown', at(x, y)));
+    const t0 = performance.now();
+    let i = 0;
+    await new Promise((done) => {
+      function step() {
+        i++;
+        el.dispatchEvent(new PointerEvent('pointermove', where(i)));
+        if (performance.now() - t0 < 3000) requestAnimationFrame(step);
+        else done();
+      }
+      requestAnimationFrame(step);
+    });
+    const t1 = performance.now();
+    el.dispatchEvent(new PointerEvent('pointerup', where(i)));
+    await window[hooks].idle();
+    const f = window[hooks].frames.filter((t) => t >= t0 && t <= t1);
+    return { frames: f.length, seconds: (t1 - t0) / 1000, moves: i };
+  }, { element, hooks, x, y, dx, amplitude, relative });
+}
