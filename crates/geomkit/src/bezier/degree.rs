@@ -454,6 +454,54 @@ fn reversed(q: &[f64], dim: usize) -> Vec<f64> {
     q.chunks_exact(dim).rev().flatten().copied().collect()
 }
 
+/// The degree-m points `p` at `free` (the others fixed as given) that minimize the
+/// quadrature Σ w_r |Q(t_r) − P(t_r)|² over the nodes and weights `rule`, Q the degree-N
+/// points `q` (`dim` numbers each): weighted least squares by SVD. Errors name `operation`.
+pub(crate) fn least_squares(
+    q: &[f64],
+    dim: usize,
+    m: usize,
+    (nodes, weights): (&[f64], &[f64]),
+    p: &mut [f64],
+    free: &[usize],
+    operation: &'static str,
+) -> Result<()> {
+    let k = nodes.len();
+    let mut a = DMatrix::<f64>::zeros(k, free.len());
+    let mut rhs = DMatrix::<f64>::zeros(k, dim);
+    let mut basis = vec![0.0; m + 1];
+    let mut work = vec![0.0; q.len()];
+    let mut qt = vec![0.0; dim];
+    for (row, (&t, &w)) in nodes.iter().zip(weights).enumerate() {
+        let sw = w.sqrt();
+        bernstein_all(m, t, &mut basis);
+        de_casteljau(q, dim, t, &mut work, &mut qt);
+        for c in 0..dim {
+            let fixed: f64 = (0..=m)
+                .filter(|i| !free.contains(i))
+                .map(|i| basis[i] * p[i * dim + c])
+                .sum();
+            rhs[(row, c)] = sw * (qt[c] - fixed);
+        }
+        for (col, &i) in free.iter().enumerate() {
+            a[(row, col)] = sw * basis[i];
+        }
+    }
+    let x = a
+        .svd(true, true)
+        .solve(&rhs, 0.0)
+        .map_err(|_| Error::Numerical {
+            operation,
+            reason: "least-squares solve failed",
+        })?;
+    for (col, &i) in free.iter().enumerate() {
+        for c in 0..dim {
+            p[i * dim + c] = x[(col, c)];
+        }
+    }
+    Ok(())
+}
+
 /// Approximate reduction of row-major control points to degree m.
 pub(crate) fn reduce_approx_flat(
     q: &[f64],
@@ -499,38 +547,15 @@ pub(crate) fn reduce_approx_flat(
         ReductionNorm::Chebyshev => gauss_chebyshev(k),
     };
     if !free.is_empty() {
-        let mut a = DMatrix::<f64>::zeros(k, free.len());
-        let mut rhs = DMatrix::<f64>::zeros(k, dim);
-        let mut basis = vec![0.0; m + 1];
-        let mut work = vec![0.0; q.len()];
-        let mut qt = vec![0.0; dim];
-        for (row, (&t, &w)) in nodes.iter().zip(&weights).enumerate() {
-            let sw = w.sqrt();
-            bernstein_all(m, t, &mut basis);
-            de_casteljau(q, dim, t, &mut work, &mut qt);
-            for c in 0..dim {
-                let fixed: f64 = (0..=m)
-                    .filter(|i| !free.contains(i))
-                    .map(|i| basis[i] * p[i * dim + c])
-                    .sum();
-                rhs[(row, c)] = sw * (qt[c] - fixed);
-            }
-            for (col, &i) in free.iter().enumerate() {
-                a[(row, col)] = sw * basis[i];
-            }
-        }
-        let x = a
-            .svd(true, true)
-            .solve(&rhs, 0.0)
-            .map_err(|_| Error::Numerical {
-                operation: "approximate reduction",
-                reason: "least-squares solve failed",
-            })?;
-        for (col, &i) in free.iter().enumerate() {
-            for c in 0..dim {
-                p[i * dim + c] = x[(col, c)];
-            }
-        }
+        least_squares(
+            q,
+            dim,
+            m,
+            (&nodes, &weights),
+            &mut p,
+            &free,
+            "approximate reduction",
+        )?;
     }
     if let Some(index) = p.iter().position(|v| !v.is_finite()) {
         return Err(Error::NonFinite {

@@ -25,10 +25,10 @@
 
 use super::{BezierSurface, Direction};
 use crate::bezier::bound::DeviationBound;
-use crate::bezier::curve::{de_casteljau, split_flat};
-use crate::numeric::{bernstein_all, gauss_legendre};
+use crate::bezier::curve::split_flat;
+use crate::bezier::degree::least_squares;
+use crate::numeric::gauss_legendre;
 use crate::{Error, Result};
-use nalgebra::DMatrix;
 
 /// An approximate reduction of a surface with its error report.
 #[derive(Debug, Clone, PartialEq)]
@@ -102,37 +102,18 @@ fn l2_project(q: &[f64], dim: usize, m: usize) -> Result<Vec<f64>> {
     if m >= big_n {
         return Ok(q.to_vec());
     }
-    let k = big_n + 1;
-    let (nodes, weights) = gauss_legendre(k);
-    let mut a = DMatrix::<f64>::zeros(k, m + 1);
-    let mut rhs = DMatrix::<f64>::zeros(k, dim);
-    let mut basis = vec![0.0; m + 1];
-    let mut work = vec![0.0; q.len()];
-    let mut qt = vec![0.0; dim];
-    for (row, (&t, &w)) in nodes.iter().zip(&weights).enumerate() {
-        let sw = w.sqrt();
-        bernstein_all(m, t, &mut basis);
-        de_casteljau(q, dim, t, &mut work, &mut qt);
-        for (i, b) in basis.iter().enumerate() {
-            a[(row, i)] = sw * b;
-        }
-        for (c, x) in qt.iter().enumerate() {
-            rhs[(row, c)] = sw * x;
-        }
-    }
-    let x = a
-        .svd(true, true)
-        .solve(&rhs, 0.0)
-        .map_err(|_| Error::Numerical {
-            operation: "approximate surface reduction",
-            reason: "least-squares solve failed",
-        })?;
+    let (nodes, weights) = gauss_legendre(big_n + 1);
     let mut p = vec![0.0; (m + 1) * dim];
-    for i in 0..=m {
-        for c in 0..dim {
-            p[i * dim + c] = x[(i, c)];
-        }
-    }
+    let free: Vec<usize> = (0..=m).collect();
+    least_squares(
+        q,
+        dim,
+        m,
+        (&nodes, &weights),
+        &mut p,
+        &free,
+        "approximate surface reduction",
+    )?;
     if let Some(index) = p.iter().position(|v| !v.is_finite()) {
         return Err(Error::NonFinite {
             what: "reduced net point",
