@@ -290,6 +290,7 @@ mod tests {
             3,
             &[],
             &[],
+            super::super::spline::max_abs(&y),
             &crate::progress::Progress::none(),
         )
         .unwrap();

@@ -52,11 +52,14 @@
 use super::banded::BandMatrix;
 use super::curve::{basis_funs, basis_funs_derivs, find_span, BsplineCurve};
 use super::interpolate::bessel_tangent;
+use super::locate::with_avx2;
 use super::scipy_cubic;
 use super::surface::transpose;
 use crate::par::*;
 use crate::progress::Progress;
 use crate::{Error, Result};
+
+mod collocation;
 
 /// The highest degree [`make_interp_spline`] takes (the B-spline curves' own limit).
 pub const MAX_SPLINE_DEGREE: usize = 7;
@@ -274,22 +277,29 @@ pub(super) fn interp_spline_parts(
     let c = if periodic {
         progress.add_total(1)?;
         let c = solve_periodic(x, y, dim, &t, k)?;
+        check_finite_coefficients(&c, dim)?;
         progress.advance(1)?;
         c
     } else {
         let left = resolve_end(left, x, y, dim, k, true)?;
         let right = resolve_end(right, x, y, dim, k, false)?;
-        solve_open(x, y, dim, &t, k, &left, &right, progress)?
+        solve_open(x, y, dim, &t, k, &left, &right, largest, progress)?
     };
-    if let Some(i) = crate::points::first_non_finite(&c) {
-        return Err(Error::Overflow {
+    trusted(k, t, dim, c)
+}
+
+/// An error naming the first coefficient of `c` (points of `dim` numbers) that is not
+/// finite, if one is not.
+fn check_finite_coefficients(c: &[f64], dim: usize) -> Result<()> {
+    match crate::points::first_non_finite(c) {
+        Some(i) => Err(Error::Overflow {
             what: format!("interpolating spline coefficient {}", i / dim),
             step: "it is not a finite number: the data or the end values are too large for \
                    f64 at this spacing"
                 .into(),
-        });
+        }),
+        None => Ok(()),
     }
-    trusted(k, t, dim, c)
 }
 
 /// The curve of coefficients checked finite here: only its knots are checked (their span
@@ -728,6 +738,7 @@ pub(super) fn solve_open(
     k: usize,
     left: &[(usize, Vec<f64>)],
     right: &[(usize, Vec<f64>)],
+    largest_y: f64,
     progress: &Progress,
 ) -> Result<Vec<f64>> {
     let n = x.len();
@@ -752,11 +763,14 @@ pub(super) fn solve_open(
         let c = solve_tiled(&sys, TILE_ROWS, TILE_HALO, progress)?;
         // Ill-conditioned (coefficients far above the data), or without decay (the seams
         // do not hold): the whole system, refined.
-        if max_abs(&c) <= AMPLIFIED_TILES * sys.rhs_scale() && seams_hold(&sys, &c, TILE_ROWS)? {
+        let (big, finite) = scan(&c);
+        let scale = sys.ends_scale().max(largest_y);
+        if finite && big <= AMPLIFIED_TILES * scale && seams_hold(&sys, &c, TILE_ROWS)? {
             return Ok(c);
         }
     }
     let c = solve_refined(|| sys.window(0, nt), dim)?;
+    check_finite_coefficients(&c, dim)?;
     progress.advance(nt as u64)?;
     Ok(c)
 }
@@ -840,9 +854,12 @@ impl<'a> OpenSystem<'a> {
 
     /// The largest right-hand side entry (data and derivative values).
     pub(super) fn rhs_scale(&self) -> f64 {
-        self.ends
-            .iter()
-            .fold(max_abs(self.y), |m, e| m.max(max_abs(&e.2)))
+        self.ends_scale().max(max_abs(self.y))
+    }
+
+    /// The largest derivative value of the end conditions.
+    fn ends_scale(&self) -> f64 {
+        self.ends.iter().fold(0.0, |m, e| m.max(max_abs(&e.2)))
     }
 
     /// Row r: its first column and k + 1 entries, its right-hand side written to `rhs`;
@@ -1025,70 +1042,6 @@ impl OpenSystem<'_> {
             _ => Ok(None),
         }
     }
-
-    /// [`OpenSystem::solve_collocation`] for degree K.
-    fn solve_collocation_k<const K: usize>(
-        &self,
-        r0: usize,
-        r1: usize,
-    ) -> Result<Option<Vec<f64>>> {
-        const W: usize = 8;
-        let (k, dim) = (K, self.dim);
-        let m = r1 - r0;
-        // U's rows: entry j is column r + j; the diagonal kept as its reciprocal.
-        let mut u = vec![[0.0f64; W]; m];
-        let mut b = vec![0.0; m * dim];
-        let mut span = None;
-        for r in r0..r1 {
-            let i = r - r0;
-            let (first, e) = self.data_row(r, K, &mut span, &mut b[i * dim..(i + 1) * dim])?;
-            // The row over columns r - k ..= r + k (position c + k - r), inside the window.
-            let mut v = [0.0f64; 2 * W];
-            let mut big = 0.0f64;
-            for (j, &a) in e[..=k].iter().enumerate() {
-                let c = first + j;
-                if (r0..r1).contains(&c) {
-                    v[c + k - r] = a;
-                    big = big.max(a.abs());
-                }
-            }
-            for c in r.saturating_sub(k).max(r0)..r {
-                let f = v[c + k - r] * u[c - r0][0];
-                if f == 0.0 {
-                    continue;
-                }
-                let (done, rest) = b.split_at_mut(i * dim);
-                for (x, y) in rest[..dim].iter_mut().zip(&done[(c - r0) * dim..]) {
-                    *x -= f * y;
-                }
-                let uc = &u[c - r0];
-                for j in 1..=k {
-                    v[c + k - r + j] -= f * uc[j];
-                }
-            }
-            let pivot = v[k];
-            if pivot.is_nan() || pivot <= TP_PIVOT * big {
-                return Ok(None);
-            }
-            let row = &mut u[i];
-            row[0] = 1.0 / pivot;
-            row[1..=k].copy_from_slice(&v[k + 1..=2 * k]);
-        }
-        for i in (0..m).rev() {
-            let (head, tail) = b.split_at_mut((i + 1) * dim);
-            let x = &mut head[i * dim..];
-            let row = &u[i];
-            for j in 1..=k.min(m - 1 - i) {
-                if row[j] != 0.0 {
-                    for (x, y) in x.iter_mut().zip(&tail[(j - 1) * dim..j * dim]) {
-                        *x -= row[j] * y;
-                    }
-                }
-            }
-            x.iter_mut().for_each(|x| *x *= row[0]);
-        }
-        Ok(Some(b))
-    }
 }
 
 /// Whether the rows next to the seams of [`solve_tiled`]'s windows hold for `c` (within
@@ -1179,28 +1132,37 @@ pub(super) fn max_abs(v: &[f64]) -> f64 {
 }
 
 /// The largest magnitude of the finite numbers of `v`, and whether all are finite, in one
-/// pass: four lanes (a SIMD max and a sum of 0·x, NaN exactly for infinities and NaN) per
-/// chunk, chunks in parallel; a pass over 10^7 points costs what reading them does.
+/// pass: sixteen lanes (SIMD maxima and sums of 0·x, NaN exactly for infinities and NaN;
+/// four independent chains of each, compiled for AVX2 where the CPU has it) per chunk,
+/// chunks in parallel; a pass over 10^7 points costs what reading them does.
 fn scan(v: &[f64]) -> (f64, bool) {
-    let chunk = |c: &[f64]| {
-        let (mut lanes, mut zeros) = ([0.0f64; 4], [0.0f64; 4]);
-        let mut quads = c.chunks_exact(4);
-        for q in &mut quads {
+    #[inline(always)]
+    fn chunk(c: &[f64]) -> (f64, bool) {
+        let (mut lanes, mut zeros) = ([0.0f64; 16], [0.0f64; 16]);
+        let mut blocks = c.chunks_exact(16);
+        for q in &mut blocks {
             for ((m, z), x) in lanes.iter_mut().zip(&mut zeros).zip(q) {
                 *m = if x.abs() > *m { x.abs() } else { *m };
                 *z += 0.0 * x;
             }
         }
-        let rest = quads.remainder();
+        let rest = blocks.remainder();
         let m = rest
             .iter()
             .chain(&lanes)
             .fold(0.0f64, |m, x| if x.abs() > m { x.abs() } else { m });
         let z = rest.iter().chain(&zeros).fold(0.0, |a, x| a + 0.0 * x);
         (m, z == 0.0)
-    };
+    }
     v.par_chunks(1 << 16)
-        .map(chunk)
+        .map(|c| {
+            let mut out = (0.0, true);
+            with_avx2(
+                #[inline(always)]
+                || out = chunk(c),
+            );
+            out
+        })
         .reduce_with(|a, b| (a.0.max(b.0), a.1 && b.1))
         .unwrap_or((0.0, true))
 }
@@ -1221,6 +1183,7 @@ fn find_span_from(t: &[f64], k: usize, nt: usize, x: f64, from: usize) -> usize 
 /// Row r of a system with k sub- and super-diagonals can hold the k + 1 B-splines of knot
 /// interval l (columns l - k ..= l) when r <= l <= r + k; else the knots do not suit the
 /// points (`what`: the row's point, for the message).
+#[inline]
 fn check_band(r: usize, l: usize, k: usize, what: impl FnOnce() -> String) -> Result<()> {
     if l < r || l > r + k {
         return Err(interp(format!(

@@ -1,0 +1,342 @@
+//! [`OpenSystem::solve_collocation`]'s kernel: windows of the collocation matrix solved by
+//! Gaussian elimination without pivoting, in blocks of rows. A block first walks its rows'
+//! knot intervals, then computes their basis values lane by lane (the loops of the Cox–de
+//! Boor recursion over a block of points, which vectorize: the same operations as
+//! [`basis_funs`] per point, so the same bits), then eliminates row by
+//! row. A row away from the window's edges has all its k + 1 entries inside the window and
+//! its first entry at a fixed offset d = l − r from the diagonal (its knot interval l minus
+//! its row r, 0 ≤ d ≤ k): the elimination is compiled once per (k, d), with every index a
+//! constant, so the row stays in registers. The whole kernel is compiled for AVX2 where the
+//! CPU has it ([`with_avx2`]); it uses no fused multiply-adds, so the bits are the same
+//! either way.
+
+use super::{check_band, find_span_from, OpenSystem, TP_PIVOT};
+use crate::bspline::curve::{basis_funs, find_span};
+use crate::bspline::locate::with_avx2;
+use crate::Result;
+
+/// Rows per block.
+const LANES: usize = 64;
+
+/// Entries of U's rows kept per row: the reciprocal of the pivot, then the k entries right
+/// of the diagonal (k <= 7).
+const W: usize = 8;
+
+impl OpenSystem<'_> {
+    /// [`OpenSystem::solve_collocation`] for degree K (1..=7).
+    pub(super) fn solve_collocation_k<const K: usize>(
+        &self,
+        r0: usize,
+        r1: usize,
+    ) -> Result<Option<Vec<f64>>> {
+        let mut answer = Ok(None);
+        with_avx2(
+            #[inline(always)]
+            || answer = self.collocation_blocks::<K>(r0, r1),
+        );
+        answer
+    }
+
+    #[inline(always)]
+    fn collocation_blocks<const K: usize>(&self, r0: usize, r1: usize) -> Result<Option<Vec<f64>>> {
+        let (dim, m) = (self.dim, r1 - r0);
+        // U's rows: entry 0 the reciprocal of the diagonal, entry j column r + j.
+        // Both filled row by row (never zeroed first).
+        let mut u: Vec<[f64; W]> = Vec::with_capacity(m);
+        let mut b = Vec::with_capacity(m * dim);
+        let mut lanes = Lanes::new();
+        let mut span = None;
+        for s0 in (r0..r1).step_by(LANES) {
+            let n = LANES.min(r1 - s0);
+            for (lane, r) in (s0..s0 + n).enumerate() {
+                let i = r - self.nl;
+                let xi = self.x[i];
+                // The knot interval t_l <= x_i < t_(l+1) (at the right end the last
+                // non-empty one).
+                let l = match span {
+                    None => find_span(self.t, K, self.nt, xi),
+                    Some(from) => find_span_from(self.t, K, self.nt, xi, from),
+                };
+                span = Some(l);
+                check_band(r, l, K, || format!("x[{i}] = {xi}"))?;
+                lanes.x[lane] = xi;
+                lanes.span[lane] = l;
+                b.extend_from_slice(&self.y[i * dim..(i + 1) * dim]);
+            }
+            lanes.basis::<K>(self.t, n);
+            for (lane, r) in (s0..s0 + n).enumerate() {
+                let e: [f64; W] = std::array::from_fn(|j| lanes.basis[j][lane]);
+                let (i, d) = (r - r0, lanes.span[lane] - r);
+                let f = &mut lanes.factors[lane];
+                let pivoted = if i >= K && i + K < m {
+                    eliminate_inner::<K>(d, &e, &mut u, f)
+                } else {
+                    eliminate_edge(K, d, &e, &mut u, m, f)
+                };
+                if !pivoted {
+                    return Ok(None);
+                }
+            }
+            let rows = s0 - r0..s0 - r0 + n;
+            match dim {
+                1 => forward::<K, 1>(&lanes.factors, &mut b, rows, 1),
+                2 => forward::<K, 2>(&lanes.factors, &mut b, rows, 2),
+                3 => forward::<K, 3>(&lanes.factors, &mut b, rows, 3),
+                _ => forward::<K, 0>(&lanes.factors, &mut b, rows, dim),
+            }
+        }
+        match dim {
+            1 => backward::<K, 1>(&u, &mut b, 1),
+            2 => backward::<K, 2>(&u, &mut b, 2),
+            3 => backward::<K, 3>(&u, &mut b, 3),
+            _ => backward::<K, 0>(&u, &mut b, dim),
+        }
+        Ok(Some(b))
+    }
+}
+
+/// The knots and basis values of a block of rows (structure of arrays, lane i for the
+/// block's row i).
+struct Lanes {
+    x: [f64; LANES],
+    span: [usize; LANES],
+    /// Lane i's knots t[l+1-k ..= l+k] (2k of them).
+    window: [[f64; LANES]; 2 * W],
+    /// Lane i's k + 1 nonzero basis values at x.
+    basis: [[f64; LANES]; W],
+    /// Lane i's multipliers: U's row i − K + p times factors[i][p] was subtracted from it.
+    factors: [[f64; W]; LANES],
+}
+
+impl Lanes {
+    fn new() -> Box<Self> {
+        Box::new(Lanes {
+            x: [0.0; LANES],
+            span: [0; LANES],
+            window: [[0.0; LANES]; 2 * W],
+            basis: [[0.0; LANES]; W],
+            factors: [[0.0; W]; LANES],
+        })
+    }
+
+    /// The basis values of the first `n` lanes (whole blocks vectorize best: the lanes past
+    /// n repeat lane n - 1).
+    #[inline(always)]
+    fn basis<const K: usize>(&mut self, t: &[f64], n: usize) {
+        for i in n..LANES {
+            self.x[i] = self.x[n - 1];
+            self.span[i] = self.span[n - 1];
+        }
+        for (i, &l) in self.span.iter().enumerate() {
+            for (q, w) in t[l + 1 - K..=l + K].iter().enumerate() {
+                self.window[q][i] = *w;
+            }
+        }
+        for i in 0..LANES {
+            let w: [f64; 2 * W] = std::array::from_fn(|q| self.window[q][i]);
+            let nb = cox_de_boor::<K>(&w, self.x[i]);
+            for (r, v) in nb.into_iter().enumerate() {
+                self.basis[r][i] = v;
+            }
+        }
+    }
+}
+
+/// The k + 1 nonzero B-splines of degree K at x on the knot window w = t[l+1-K ..= l+K]
+/// of x's knot interval l (the interval K − 1 of the window): [`basis_funs`], so its bits.
+#[inline(always)]
+fn cox_de_boor<const K: usize>(w: &[f64; 2 * W], x: f64) -> [f64; W] {
+    let mut nb = [0.0f64; W];
+    basis_funs(w, K - 1, x, K, &mut nb[..=K]);
+    nb
+}
+
+/// Eliminates row i (entries `e` from column i + d − K on) against U's rows above it and
+/// appends its row of U: [`eliminate`] with the offset d a constant.
+#[inline(always)]
+fn eliminate_inner<const K: usize>(
+    d: usize,
+    e: &[f64; W],
+    u: &mut Vec<[f64; W]>,
+    f: &mut [f64; W],
+) -> bool {
+    match d {
+        0 => eliminate::<K, 0>(e, u, f),
+        1 => eliminate::<K, 1>(e, u, f),
+        2 => eliminate::<K, 2>(e, u, f),
+        3 => eliminate::<K, 3>(e, u, f),
+        4 => eliminate::<K, 4>(e, u, f),
+        5 => eliminate::<K, 5>(e, u, f),
+        6 => eliminate::<K, 6>(e, u, f),
+        _ => eliminate::<K, 7>(e, u, f),
+    }
+}
+
+/// Row i of a window, all of whose k + 1 entries lie inside it (K <= i, i + K < rows):
+/// the row over columns i − K ..= i + K is v[p] (column i − K + p), its entries at
+/// v[D ..= D + K]; the entries left of the diagonal are eliminated by U's rows i − K + p
+/// (p >= D: those left of the row's first entry are zero) with the multipliers f[p] (0
+/// below D); U's rows 0..i are `u`, row i is appended. False when the pivot is not
+/// clearly positive ([`TP_PIVOT`]).
+#[inline(always)]
+fn eliminate<const K: usize, const D: usize>(
+    e: &[f64; W],
+    u: &mut Vec<[f64; W]>,
+    f: &mut [f64; W],
+) -> bool {
+    if D > K {
+        return false; // no such row (check_band): keeps the index ranges below valid
+    }
+    let i = u.len();
+    let mut v = [0.0f64; 2 * W];
+    v[D..=D + K].copy_from_slice(&e[..=K]);
+    let big = e[..=K].iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    f[..D].fill(0.0);
+    for p in D..K {
+        let uc = &u[i + p - K];
+        f[p] = v[p] * uc[0];
+        for j in 1..=K {
+            v[p + j] -= f[p] * uc[j];
+        }
+    }
+    push_pivot_row(K, &v, big, u)
+}
+
+/// [`eliminate`] for a row at a window's edge: entries outside the window dropped (those
+/// coefficients held at zero, the window's artificial ends), any offset; `m` rows.
+fn eliminate_edge(
+    k: usize,
+    d: usize,
+    e: &[f64; W],
+    u: &mut Vec<[f64; W]>,
+    m: usize,
+    f: &mut [f64; W],
+) -> bool {
+    let i = u.len();
+    let mut v = [0.0f64; 2 * W];
+    let mut big = 0.0f64;
+    // Column i - k + p at v[p]; the row's entry j at p = d + j.
+    for (j, &a) in e[..=k].iter().enumerate() {
+        let p = d + j;
+        if p + i >= k && p + i < m + k {
+            v[p] = a;
+            big = big.max(a.abs());
+        }
+    }
+    f.fill(0.0);
+    for p in k.saturating_sub(i)..k {
+        let c = i + p - k;
+        f[p] = v[p] * u[c][0];
+        if f[p] != 0.0 {
+            for j in 1..=k {
+                v[p + j] -= f[p] * u[c][j];
+            }
+        }
+    }
+    push_pivot_row(k, &v, big, u)
+}
+
+/// The forward substitution of the right-hand sides of `rows` (rows of DIM numbers; DIM =
+/// 0: `dim`) with their rows' multipliers (`factors[lane]` for row rows.start + lane).
+/// With DIM fixed, the K rows before the current one stay in registers (a row's multiplier
+/// of a row before the window is zero).
+#[inline(always)]
+fn forward<const K: usize, const DIM: usize>(
+    factors: &[[f64; W]; LANES],
+    b: &mut [f64],
+    rows: std::ops::Range<usize>,
+    dim: usize,
+) {
+    if DIM == 0 {
+        for (i, f) in rows.zip(factors) {
+            let (done, rest) = b.split_at_mut(i * dim);
+            for p in K.saturating_sub(i)..K {
+                let y = &done[(i + p - K) * dim..(i + p - K + 1) * dim];
+                for (x, y) in rest[..dim].iter_mut().zip(y) {
+                    *x -= f[p] * y;
+                }
+            }
+        }
+        return;
+    }
+    let mut prev = [[0.0f64; DIM]; K];
+    for (p, row) in prev.iter_mut().enumerate() {
+        if rows.start + p >= K {
+            let c = rows.start + p - K;
+            row.copy_from_slice(&b[c * DIM..(c + 1) * DIM]);
+        }
+    }
+    for (i, f) in rows.zip(factors) {
+        let x = &mut b[i * DIM..(i + 1) * DIM];
+        let mut v: [f64; DIM] = std::array::from_fn(|d| x[d]);
+        for (fp, y) in f.iter().zip(&prev) {
+            for (v, y) in v.iter_mut().zip(y) {
+                *v -= fp * y;
+            }
+        }
+        x.copy_from_slice(&v);
+        for p in 1..K {
+            prev[p - 1] = prev[p];
+        }
+        prev[K - 1] = v;
+    }
+}
+
+/// The back substitution with U over the forward-substituted right-hand sides `b` (rows of
+/// DIM numbers; DIM = 0: `dim`); with DIM fixed, the K rows after the current one stay in
+/// registers (U's entries in columns past the window are zero).
+#[inline(always)]
+fn backward<const K: usize, const DIM: usize>(u: &[[f64; W]], b: &mut [f64], dim: usize) {
+    let m = u.len();
+    if DIM == 0 {
+        for i in (0..m).rev() {
+            let (head, tail) = b.split_at_mut((i + 1) * dim);
+            let x = &mut head[i * dim..];
+            let row = &u[i];
+            for j in 1..=K.min(m - 1 - i) {
+                for (x, y) in x.iter_mut().zip(&tail[(j - 1) * dim..j * dim]) {
+                    *x -= row[j] * y;
+                }
+            }
+            x.iter_mut().for_each(|x| *x *= row[0]);
+        }
+        return;
+    }
+    // next[j - 1]: the solution of row i + j.
+    let mut next = [[0.0f64; DIM]; K];
+    for (i, row) in u.iter().enumerate().rev() {
+        let x = &mut b[i * DIM..(i + 1) * DIM];
+        let mut v: [f64; DIM] = std::array::from_fn(|d| x[d]);
+        for (uj, y) in row[1..=K].iter().zip(&next) {
+            for (v, y) in v.iter_mut().zip(y) {
+                *v -= uj * y;
+            }
+        }
+        v.iter_mut().for_each(|v| *v *= row[0]);
+        x.copy_from_slice(&v);
+        for j in (1..K).rev() {
+            next[j] = next[j - 1];
+        }
+        next[0] = v;
+    }
+}
+
+/// U's row from the eliminated row v (diagonal at v[k]): the reciprocal of the pivot and
+/// the k entries right of it, appended to `u`; false when the pivot is not clearly
+/// positive. (Written entry by entry into its place: a row assembled on the stack and
+/// copied would be read back wider than it was written, which stalls.)
+#[inline(always)]
+fn push_pivot_row(k: usize, v: &[f64; 2 * W], big: f64, u: &mut Vec<[f64; W]>) -> bool {
+    let pivot = v[k];
+    if pivot.is_nan() || pivot <= TP_PIVOT * big {
+        return false;
+    }
+    u.push([0.0; W]);
+    let row = u.last_mut().expect("just pushed");
+    row[0] = 1.0 / pivot;
+    #[allow(clippy::manual_memcpy)] // the entries one by one, as said above
+    for j in 1..=k {
+        row[j] = v[k + j];
+    }
+    true
+}
