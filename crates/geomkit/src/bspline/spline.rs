@@ -61,6 +61,8 @@ use crate::{Error, Result};
 
 mod collocation;
 
+use collocation::Spare;
+
 /// The highest degree [`make_interp_spline`] takes (the B-spline curves' own limit).
 pub const MAX_SPLINE_DEGREE: usize = 7;
 
@@ -974,39 +976,56 @@ fn solve_tiled(
 ) -> Result<Vec<f64>> {
     let (nt, dim) = (sys.nt, sys.dim);
     let mut out = vec![0.0; nt * dim];
-    out.par_chunks_mut(tile * dim)
+    // Two windows per task: their eliminations overlap ([`OpenSystem::solve_collocations`]).
+    out.par_chunks_mut(2 * tile * dim)
         .enumerate()
-        .try_for_each(|(w, part)| -> Result<()> {
-            let a0 = w * tile;
+        .try_for_each_init(Spare::default, |spare, (w, part)| -> Result<()> {
+            let a0 = 2 * w * tile;
             let a1 = a0 + part.len() / dim;
-            solve_window(sys, a0, a1, halo, part)?;
+            solve_windows(sys, a0, a1, tile, halo, part, spare)?;
             progress.advance((a1 - a0) as u64)
         })?;
     Ok(out)
 }
 
-/// The coefficients a0..a1 of `sys` into `part`, from the window with `halo` more rows on
-/// each side.
-fn solve_window(
+/// The coefficients a0..a1 of `sys` into `part`, in windows of `tile` rows (one or two),
+/// each from the window with `halo` more rows on each side; buffers from `spare`.
+fn solve_windows(
     sys: &OpenSystem,
     a0: usize,
     a1: usize,
+    tile: usize,
     halo: usize,
     part: &mut [f64],
+    spare: &mut Spare,
 ) -> Result<()> {
     let (nt, dim) = (sys.nt, sys.dim);
-    let (r0, r1) = (a0.saturating_sub(halo), (a1 + halo).min(nt));
-    if sys.collocation_only(r0, r1) {
-        if let Some(b) = sys.solve_collocation(r0, r1)? {
-            part.copy_from_slice(&b[(a0 - r0) * dim..(a1 - r0) * dim]);
-            return Ok(());
+    let owned = [(a0, (a0 + tile).min(a1)), ((a0 + tile).min(a1), a1)];
+    let rows = owned.map(|(a, b)| (a.saturating_sub(halo), (b + halo).min(nt)));
+    let fast = match rows.map(|(r0, r1)| sys.collocation_only(r0, r1) && r0 < r1) {
+        [true, true] => sys.solve_collocations(rows, spare)?,
+        [true, false] => [sys.solve_collocations([rows[0]], spare)?[0].take(), None],
+        [false, true] => [None, sys.solve_collocations([rows[1]], spare)?[0].take()],
+        [false, false] => [None, None],
+    };
+    for ((&(a, b), &(r0, r1)), fast) in owned.iter().zip(&rows).zip(fast) {
+        if a == b {
+            continue;
         }
+        let solved = match fast {
+            Some(s) => s,
+            None => {
+                let (m, mut s) = sys.window(r0, r1)?;
+                m.factor_below(0.0)
+                    .map_err(|_| singular())?
+                    .solve(&mut s, dim);
+                s
+            }
+        };
+        part[(a - a0) * dim..(b - a0) * dim]
+            .copy_from_slice(&solved[(a - r0) * dim..(b - r0) * dim]);
+        spare.recycle(solved);
     }
-    let (a, mut b) = sys.window(r0, r1)?;
-    a.factor_below(0.0)
-        .map_err(|_| singular())?
-        .solve(&mut b, dim);
-    part.copy_from_slice(&b[(a0 - r0) * dim..(a1 - r0) * dim]);
     Ok(())
 }
 
@@ -1031,15 +1050,26 @@ impl OpenSystem<'_> {
     /// nothing else is stored. `None` when a pivot is not clearly positive
     /// ([`TP_PIVOT`]): the caller then pivots.
     pub(super) fn solve_collocation(&self, r0: usize, r1: usize) -> Result<Option<Vec<f64>>> {
+        let [b] = self.solve_collocations([(r0, r1)], &mut Spare::default())?;
+        Ok(b)
+    }
+
+    /// [`OpenSystem::solve_collocation`] of several windows at once (faster than one after
+    /// the other: their rows' eliminations overlap), with buffers from `spare`.
+    pub(super) fn solve_collocations<const S: usize>(
+        &self,
+        windows: [(usize, usize); S],
+        spare: &mut Spare,
+    ) -> Result<[Option<Vec<f64>>; S]> {
         match self.k {
-            1 => self.solve_collocation_k::<1>(r0, r1),
-            2 => self.solve_collocation_k::<2>(r0, r1),
-            3 => self.solve_collocation_k::<3>(r0, r1),
-            4 => self.solve_collocation_k::<4>(r0, r1),
-            5 => self.solve_collocation_k::<5>(r0, r1),
-            6 => self.solve_collocation_k::<6>(r0, r1),
-            7 => self.solve_collocation_k::<7>(r0, r1),
-            _ => Ok(None),
+            1 => self.solve_collocation_k::<1, S>(windows, spare),
+            2 => self.solve_collocation_k::<2, S>(windows, spare),
+            3 => self.solve_collocation_k::<3, S>(windows, spare),
+            4 => self.solve_collocation_k::<4, S>(windows, spare),
+            5 => self.solve_collocation_k::<5, S>(windows, spare),
+            6 => self.solve_collocation_k::<6, S>(windows, spare),
+            7 => self.solve_collocation_k::<7, S>(windows, spare),
+            _ => Ok([const { None }; S]),
         }
     }
 }
