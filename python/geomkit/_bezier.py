@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import aligned, contiguous, index, real_array, real_scalar
 from ._model import Drawable, register_kind
+from ._progress import chunked
 
 __all__ = [
     "ApproxReduction",
@@ -237,6 +238,20 @@ def _two_degrees(to: Any) -> tuple[int, int]:
             f"a surface takes one target degree per direction, to=(n, m); got {len(to)} values"
         )
     return (_degree(to[0], "to[0]"), _degree(to[1], "to[1]"))
+
+
+def _surface_steps(us: NDArray[np.float64], vs: NDArray[np.float64], grid: bool,
+                   out: NDArray[np.float64],
+                   run: Any) -> None:
+    """``run(u, v, out)`` over the grid u × v (`grid`: steps of rows of u, `out` of shape
+    (len(u), len(v), ...)) or the pairs (steps of pairs), with a bar inside
+    ``geomkit.progress()`` (`chunked`); every point is computed on its own, so the steps
+    give the bits of one call."""
+    if grid:
+        chunked(us.shape[0], lambda a, b: run(us[a:b], vs, out[a:b]), "BezierSurface",
+                per=vs.shape[0])
+    else:
+        chunked(us.shape[0], lambda a, b: run(us[a:b], vs[a:b], out[a:b]), "BezierSurface")
 
 
 def _surface_parameters(
@@ -559,7 +574,9 @@ class BezierCurve(Drawable):
         shape = ts.shape
         flat = aligned(ts.reshape(-1))
         out = np.empty((flat.shape[0], self._core.dim))
-        self._core.eval_into(flat, nu, out)
+        core = self._core
+        chunked(flat.shape[0], lambda a, b: core.eval_into(flat[a:b], nu, out[a:b]),
+                "BezierCurve")
         return out.reshape(shape + (self._core.dim,))
 
     def derivative(self, nu: int = 1) -> BezierCurve:
@@ -1360,13 +1377,14 @@ class BezierSurface(Drawable):
         us, vs, shape = _surface_parameters(u, v, grid)
         out = np.empty(shape + (self._core.dim,))
         if self._core.is_rational and du + dv > 0:
-            self._core.partials_into(us, vs, grid, du, dv, out)
+            own = self._core
+            _surface_steps(us, vs, grid, out,
+                           lambda a, b, o: own.partials_into(a, b, grid, du, dv, o))
             return out
         core = self._derived(du, dv)
-        if grid:
-            core.eval_grid_into(us, vs, out)
-        else:
-            core.eval_points_into(us, vs, out.reshape(-1, self._core.dim))
+        flat = out.reshape(-1, self._core.dim)
+        _surface_steps(us, vs, grid, out if grid else flat,
+                       core.eval_grid_into if grid else core.eval_points_into)
         return out
 
     def normal(self, u: ArrayLike, v: ArrayLike, grid: bool = True) -> NDArray[np.float64]:
@@ -1402,7 +1420,8 @@ class BezierSurface(Drawable):
         """
         us, vs, shape = _surface_parameters(u, v, grid)
         out = np.empty(shape + (3,))
-        self._core.normals_into(us, vs, grid, out)
+        core = self._core
+        _surface_steps(us, vs, grid, out, lambda a, b, o: core.normals_into(a, b, grid, o))
         return out
 
     def derivative(self, du: int = 1, dv: int = 0) -> BezierSurface:
