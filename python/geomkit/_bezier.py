@@ -19,10 +19,10 @@ Both classes are immutable, pickle, and convert to the model files the CLI reads
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, Literal, NamedTuple
+from typing import Any, Literal, NamedTuple, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -30,7 +30,9 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import aligned, contiguous, index, real_array, real_scalar
 from ._model import Drawable, register_kind
-from ._progress import chunked
+from ._progress import chunked, reporter
+
+_T = TypeVar("_T")
 
 __all__ = [
     "ApproxReduction",
@@ -238,6 +240,18 @@ def _two_degrees(to: Any) -> tuple[int, int]:
             f"a surface takes one target degree per direction, to=(n, m); got {len(to)} values"
         )
     return (_degree(to[0], "to[0]"), _degree(to[1], "to[1]"))
+
+
+def _reporting(call: Callable[[Any], _T], work: int) -> _T:
+    """``call(progress)``: a degree change, with `progress` the callback of a bar inside
+    ``geomkit.progress()`` when its `work` (multiply-adds, roughly) reaches the block's
+    `min_points`, else None (the core then runs as before)."""
+    report = reporter(work, "degree change")
+    try:
+        return call(report)
+    finally:
+        if report is not None:
+            report.close()
 
 
 def _surface_steps(us: NDArray[np.float64], vs: NDArray[np.float64], grid: bool,
@@ -727,7 +741,9 @@ class BezierCurve(Drawable):
         >>> BezierCurve([[0.0], [3.0], [6.0]]).elevate(3).points.ravel().tolist()
         [0.0, 2.0, 4.0, 6.0]
         """
-        return BezierCurve._wrap(self._core.elevate(_degree(to, "to")))
+        to = _degree(to, "to")
+        return BezierCurve._wrap(_reporting(lambda p: self._core.elevate(to, p),
+                                            (self.degree + 1) * (to + 1) * self.dim))
 
     def reduce(self, to: int, tolerance: float | None = None) -> BezierCurve:
         """The same curve with degree `to` <= n: exact reduction (formula (9), done stably).
@@ -760,7 +776,9 @@ class BezierCurve(Drawable):
         >>> BezierCurve([[0.0], [2.0], [4.0], [6.0]]).reduce(1).points.ravel().tolist()
         [0.0, 6.0]
         """
-        return BezierCurve._wrap(self._core.reduce(_degree(to, "to"), _tolerance(tolerance)))
+        to, tol = _degree(to, "to"), _tolerance(tolerance)
+        return BezierCurve._wrap(_reporting(lambda p: self._core.reduce(to, tol, p),
+                                            (self.degree + 1) * (to + 1) * self.dim))
 
     def change_degree(self, to: int, tolerance: float | None = None) -> BezierCurve:
         """The unified change of degree, formula (10), done stably: `elevate` when `to` >= n,
@@ -788,8 +806,10 @@ class BezierCurve(Drawable):
         >>> BezierCurve([[0.0], [1.0]]).change_degree(2).points.ravel().tolist()
         [0.0, 0.5, 1.0]
         """
+        to, tol = _degree(to, "to"), _tolerance(tolerance)
         return BezierCurve._wrap(
-            self._core.change_degree(_degree(to, "to"), _tolerance(tolerance))
+            _reporting(lambda p: self._core.change_degree(to, tol, p),
+                       (self.degree + 1) * (to + 1) * self.dim)
         )
 
     def degree_report(self, tolerance: float | None = None) -> DegreeReport:
@@ -1454,6 +1474,13 @@ class BezierSurface(Drawable):
 
     # -- change of degree ------------------------------------------------------------------
 
+    def _changed(self, n: int, m: int, tolerance: float | None) -> BezierSurface:
+        """The change to degrees (n, m), with a bar inside ``geomkit.progress()``."""
+        a, b = self.degree
+        work = (a + 1) * (b + 1) * self.dim * (max(a, n) + max(b, m) + 2)
+        return BezierSurface._wrap(
+            _reporting(lambda p: self._core.change_degree(n, m, tolerance, p), work))
+
     def change_degree(self, to: tuple[int, int], tolerance: float | None = None
                       ) -> BezierSurface:
         """The same surface with degrees (n', m'): formula (14) done stably.
@@ -1489,7 +1516,7 @@ class BezierSurface(Drawable):
         [[0.0, 1.0], [1.0, 2.0], [2.0, 3.0]]
         """
         n, m = _two_degrees(to)
-        return BezierSurface._wrap(self._core.change_degree(n, m, _tolerance(tolerance)))
+        return self._changed(n, m, _tolerance(tolerance))
 
     def elevate(self, to: tuple[int, int]) -> BezierSurface:
         """`change_degree` with both degrees >= the current ones (elevation (15)).
@@ -1521,7 +1548,7 @@ class BezierSurface(Drawable):
                 f"cannot elevate a surface of degrees ({a}, {b}) to ({n}, {m}): elevation "
                 "needs degrees >= the current ones (use change_degree to mix)"
             )
-        return BezierSurface._wrap(self._core.change_degree(n, m, None))
+        return self._changed(n, m, None)
 
     def reduce(self, to: tuple[int, int], tolerance: float | None = None) -> BezierSurface:
         """`change_degree` with both degrees <= the current ones: exact reduction (16).
@@ -1557,7 +1584,7 @@ class BezierSurface(Drawable):
                 f"cannot reduce a surface of degrees ({a}, {b}) to ({n}, {m}): reduction "
                 "needs degrees <= the current ones (use change_degree to mix)"
             )
-        return BezierSurface._wrap(self._core.change_degree(n, m, _tolerance(tolerance)))
+        return self._changed(n, m, _tolerance(tolerance))
 
     def change_degree_paper(self, to: tuple[int, int]) -> BezierSurface:
         """Formula (14) exactly as the paper writes it, with the exact matrices

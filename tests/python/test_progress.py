@@ -289,3 +289,43 @@ def test_a_refused_point_in_a_later_step_is_named_as_without_a_bar() -> None:
             c(t)
     assert str(shown.value) == str(plain.value) and "250000" in str(plain.value)
     assert rec.bars and rec.bars[0]["closed"]
+
+
+def test_bezier_degree_changes_report_with_the_same_bits() -> None:
+    pts = np.c_[np.arange(600.0), np.sin(np.arange(600.0) * 0.05), np.arange(600) % 11]
+    c = geomkit.BezierCurve(pts)
+    w = geomkit.BezierCurve(pts[:300], weights=1.0 + 0.5 * (np.arange(300) % 3))
+    small = geomkit.BezierCurve(pts[:20]).elevate(60)
+    u, v = np.meshgrid(np.arange(60.0), np.arange(50.0), indexing="ij")
+    net = np.stack([u, v, (u + v) % 13.0], axis=-1)
+    s = geomkit.BezierSurface(net)
+    calls = [
+        (lambda: c.elevate(1500), lambda r: r.points),
+        (lambda: c.change_degree(1400), lambda r: r.points),
+        (lambda: w.elevate(900), lambda r: r.weights),
+        (lambda: small.reduce(19), lambda r: r.points),
+        (lambda: s.elevate((120, 90)), lambda r: r.net),
+        (lambda: s.change_degree((100, 80)), lambda r: r.net),
+    ]
+    for call, arrays in calls:
+        plain = call()
+        rec = BuildRecorder()
+        with geomkit.progress(rec, min_points=1):
+            shown = call()
+        check_build(rec, "degree change")
+        assert np.array_equal(arrays(plain), arrays(shown))
+        assert plain.degree == shown.degree
+    # The exact reduction of an elevated curve gives its points back (the reference).
+    assert np.allclose(small.reduce(19).points, pts[:20], rtol=0, atol=1e-9)
+    # Small changes stay below the default threshold: no bar.
+    rec = BuildRecorder()
+    with geomkit.progress(rec):
+        geomkit.BezierCurve(pts[:10]).elevate(20)
+    assert rec.bars == []
+    # Ctrl-C from the bar: KeyboardInterrupt, no curve.
+    with pytest.raises(KeyboardInterrupt):
+        with geomkit.progress(Interrupting(), min_points=1):
+            c.elevate(3000)
+    with pytest.raises(KeyboardInterrupt):
+        with geomkit.progress(Interrupting(), min_points=1):
+            s.elevate((300, 200))

@@ -332,3 +332,85 @@ fn curve_mesh_reports_windows_and_long_refinements() {
     });
     assert!(reports >= 3, "{reports}");
 }
+
+#[test]
+fn bezier_degree_changes_report_as_the_new_points_are_computed() {
+    use geomkit::bezier::{BezierCurve, BezierSurface, RationalBezierCurve, RationalBezierSurface};
+    // A curve of degree 599 in 3-D elevated to 1500: about ten reports of 2^18 multiply-adds.
+    let pts: Vec<Vec<f64>> = (0..600)
+        .map(|i| {
+            let t = i as f64 * 0.05;
+            vec![t, t.sin(), (i % 11) as f64]
+        })
+        .collect();
+    let c = BezierCurve::new(pts.clone()).unwrap();
+    let reports = hooked("curve elevation", |p| {
+        c.change_degree_with_progress(1500, None, p)
+    });
+    assert!(reports >= 8, "{reports}");
+    let plain = c.elevate_degree(1500).unwrap();
+    let with = c
+        .change_degree_with_progress(1500, None, &Progress::none())
+        .unwrap();
+    assert_eq!(plain, with);
+    // The elevated curve is the same curve (an independent check: de Casteljau on both).
+    use geomkit::geom::Curve;
+    for t in [0.0, 0.123, 0.5, 0.987, 1.0] {
+        let (a, b) = (c.eval(t), with.eval(t));
+        assert!(
+            a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-9),
+            "t = {t}"
+        );
+    }
+    // A reduction reports at its end; back to the same control points (the exact
+    // reduction of an elevated curve).
+    let small = BezierCurve::new(pts[..20].to_vec()).unwrap();
+    let up = small.elevate_degree(60).unwrap();
+    let back = up
+        .change_degree_with_progress(19, None, &Progress::none())
+        .unwrap();
+    let err = back
+        .points_flat()
+        .iter()
+        .zip(small.points_flat())
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(err < 1e-9, "{err:e}");
+    hooked("curve reduction", |p| {
+        up.change_degree_with_progress(19, None, p)
+    });
+    let weights: Vec<f64> = (0..600).map(|i| 1.0 + 0.5 * ((i % 3) as f64)).collect();
+    let r = RationalBezierCurve::new(pts, weights).unwrap();
+    hooked("rational curve", |p| {
+        r.change_degree_with_progress(1200, None, p)
+    });
+    assert_eq!(
+        r.change_degree_with_progress(600, None, &Progress::none())
+            .unwrap(),
+        r.elevate_degree(600).unwrap()
+    );
+    // A 60 × 50 net of 3-D points elevated to degrees (120, 90): rows, then columns.
+    let net: Vec<Vec<Vec<f64>>> = (0..60)
+        .map(|i| {
+            (0..50)
+                .map(|j| vec![i as f64, j as f64, ((i * j) % 13) as f64])
+                .collect()
+        })
+        .collect();
+    let s = BezierSurface::new(net.clone()).unwrap();
+    let reports = hooked("surface elevation", |p| {
+        s.change_degree_with_progress(120, 90, None, p)
+    });
+    assert!(reports >= 6, "{reports}");
+    assert_eq!(
+        s.change_degree_with_progress(120, 90, None, &Progress::none())
+            .unwrap(),
+        s.change_degree(120, 90, None).unwrap()
+    );
+    let w: Vec<Vec<f64>> = (0..60)
+        .map(|i| (0..50).map(|j| 1.0 + ((i + j) % 4) as f64 * 0.25).collect())
+        .collect();
+    let rs = RationalBezierSurface::new(net, w).unwrap();
+    hooked("rational surface", |p| {
+        rs.change_degree_with_progress(80, 70, None, p)
+    });
+}
