@@ -1402,9 +1402,16 @@ class BezierSurface(Drawable):
                            lambda a, b, o: own.partials_into(a, b, grid, du, dv, o))
             return out
         core = self._derived(du, dv)
-        flat = out.reshape(-1, self._core.dim)
-        _surface_steps(us, vs, grid, out if grid else flat,
-                       core.eval_grid_into if grid else core.eval_points_into)
+        # The steps' calls written out here (not through `_surface_steps`): the GIL test
+        # finds the compiled call on this method's lines.
+        if grid:
+            chunked(us.shape[0], lambda a, b: core.eval_grid_into(us[a:b], vs, out[a:b]),
+                    "BezierSurface", per=vs.shape[0])
+        else:
+            flat = out.reshape(-1, self._core.dim)
+            chunked(us.shape[0],
+                    lambda a, b: core.eval_points_into(us[a:b], vs[a:b], flat[a:b]),
+                    "BezierSurface")
         return out
 
     def normal(self, u: ArrayLike, v: ArrayLike, grid: bool = True) -> NDArray[np.float64]:
