@@ -329,3 +329,13 @@ def test_bezier_degree_changes_report_with_the_same_bits() -> None:
     with pytest.raises(KeyboardInterrupt):
         with geomkit.progress(Interrupting(), min_points=1):
             s.elevate((300, 200))
+
+
+def test_ctrl_c_between_the_steps_of_an_evaluation() -> None:
+    c = geomkit.BezierCurve([[0.0, 0.0], [1.0, 2.0], [2.0, 0.0]])
+    s = geomkit.make_interp_spline(np.arange(10.0), np.arange(10.0) ** 2)
+    t = np.linspace(0, 1, 300_000)
+    for call in (lambda: c(t), lambda: s(9 * t)):
+        with pytest.raises(KeyboardInterrupt):
+            with geomkit.progress(Interrupting(), min_points=1):
+                call()
