@@ -19,10 +19,10 @@ Both classes are immutable, pickle, and convert to the model files the CLI reads
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, Literal, NamedTuple
+from typing import Any, Literal, NamedTuple, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -30,6 +30,9 @@ from numpy.typing import ArrayLike, NDArray
 from . import _geomkit
 from ._arrays import aligned, contiguous, index, real_array, real_scalar
 from ._model import Drawable, register_kind
+from ._progress import chunked, reporter
+
+_T = TypeVar("_T")
 
 __all__ = [
     "ApproxReduction",
@@ -237,6 +240,32 @@ def _two_degrees(to: Any) -> tuple[int, int]:
             f"a surface takes one target degree per direction, to=(n, m); got {len(to)} values"
         )
     return (_degree(to[0], "to[0]"), _degree(to[1], "to[1]"))
+
+
+def _reporting(call: Callable[[Any], _T], work: int) -> _T:
+    """``call(progress)``: a degree change, with `progress` the callback of a bar inside
+    ``geomkit.progress()`` when its `work` (multiply-adds, roughly) reaches the block's
+    `min_points`, else None (the core then runs as before)."""
+    report = reporter(work, "degree change")
+    try:
+        return call(report)
+    finally:
+        if report is not None:
+            report.close()
+
+
+def _surface_steps(us: NDArray[np.float64], vs: NDArray[np.float64], grid: bool,
+                   out: NDArray[np.float64],
+                   run: Any) -> None:
+    """``run(u, v, out)`` over the grid u × v (`grid`: steps of rows of u, `out` of shape
+    (len(u), len(v), ...)) or the pairs (steps of pairs), with a bar inside
+    ``geomkit.progress()`` (`chunked`); every point is computed on its own, so the steps
+    give the bits of one call."""
+    if grid:
+        chunked(us.shape[0], lambda a, b: run(us[a:b], vs, out[a:b]), "BezierSurface",
+                per=vs.shape[0])
+    else:
+        chunked(us.shape[0], lambda a, b: run(us[a:b], vs[a:b], out[a:b]), "BezierSurface")
 
 
 def _surface_parameters(
@@ -559,7 +588,9 @@ class BezierCurve(Drawable):
         shape = ts.shape
         flat = aligned(ts.reshape(-1))
         out = np.empty((flat.shape[0], self._core.dim))
-        self._core.eval_into(flat, nu, out)
+        core = self._core
+        chunked(flat.shape[0], lambda a, b: core.eval_into(flat[a:b], nu, out[a:b]),
+                "BezierCurve")
         return out.reshape(shape + (self._core.dim,))
 
     def derivative(self, nu: int = 1) -> BezierCurve:
@@ -710,7 +741,9 @@ class BezierCurve(Drawable):
         >>> BezierCurve([[0.0], [3.0], [6.0]]).elevate(3).points.ravel().tolist()
         [0.0, 2.0, 4.0, 6.0]
         """
-        return BezierCurve._wrap(self._core.elevate(_degree(to, "to")))
+        to = _degree(to, "to")
+        return BezierCurve._wrap(_reporting(lambda p: self._core.elevate(to, p),
+                                            (self.degree + 1) * (to + 1) * self.dim))
 
     def reduce(self, to: int, tolerance: float | None = None) -> BezierCurve:
         """The same curve with degree `to` <= n: exact reduction (formula (9), done stably).
@@ -743,7 +776,9 @@ class BezierCurve(Drawable):
         >>> BezierCurve([[0.0], [2.0], [4.0], [6.0]]).reduce(1).points.ravel().tolist()
         [0.0, 6.0]
         """
-        return BezierCurve._wrap(self._core.reduce(_degree(to, "to"), _tolerance(tolerance)))
+        to, tol = _degree(to, "to"), _tolerance(tolerance)
+        return BezierCurve._wrap(_reporting(lambda p: self._core.reduce(to, tol, p),
+                                            (self.degree + 1) * (to + 1) * self.dim))
 
     def change_degree(self, to: int, tolerance: float | None = None) -> BezierCurve:
         """The unified change of degree, formula (10), done stably: `elevate` when `to` >= n,
@@ -771,8 +806,10 @@ class BezierCurve(Drawable):
         >>> BezierCurve([[0.0], [1.0]]).change_degree(2).points.ravel().tolist()
         [0.0, 0.5, 1.0]
         """
+        to, tol = _degree(to, "to"), _tolerance(tolerance)
         return BezierCurve._wrap(
-            self._core.change_degree(_degree(to, "to"), _tolerance(tolerance))
+            _reporting(lambda p: self._core.change_degree(to, tol, p),
+                       (self.degree + 1) * (to + 1) * self.dim)
         )
 
     def degree_report(self, tolerance: float | None = None) -> DegreeReport:
@@ -1360,13 +1397,21 @@ class BezierSurface(Drawable):
         us, vs, shape = _surface_parameters(u, v, grid)
         out = np.empty(shape + (self._core.dim,))
         if self._core.is_rational and du + dv > 0:
-            self._core.partials_into(us, vs, grid, du, dv, out)
+            own = self._core
+            _surface_steps(us, vs, grid, out,
+                           lambda a, b, o: own.partials_into(a, b, grid, du, dv, o))
             return out
         core = self._derived(du, dv)
+        # The steps' calls written out here (not through `_surface_steps`): the GIL test
+        # finds the compiled call on this method's lines.
         if grid:
-            core.eval_grid_into(us, vs, out)
+            chunked(us.shape[0], lambda a, b: core.eval_grid_into(us[a:b], vs, out[a:b]),
+                    "BezierSurface", per=vs.shape[0])
         else:
-            core.eval_points_into(us, vs, out.reshape(-1, self._core.dim))
+            flat = out.reshape(-1, self._core.dim)
+            chunked(us.shape[0],
+                    lambda a, b: core.eval_points_into(us[a:b], vs[a:b], flat[a:b]),
+                    "BezierSurface")
         return out
 
     def normal(self, u: ArrayLike, v: ArrayLike, grid: bool = True) -> NDArray[np.float64]:
@@ -1402,7 +1447,8 @@ class BezierSurface(Drawable):
         """
         us, vs, shape = _surface_parameters(u, v, grid)
         out = np.empty(shape + (3,))
-        self._core.normals_into(us, vs, grid, out)
+        core = self._core
+        _surface_steps(us, vs, grid, out, lambda a, b, o: core.normals_into(a, b, grid, o))
         return out
 
     def derivative(self, du: int = 1, dv: int = 0) -> BezierSurface:
@@ -1434,6 +1480,13 @@ class BezierSurface(Drawable):
         return BezierSurface._wrap(self._derived(_order(du, "du"), _order(dv, "dv")))
 
     # -- change of degree ------------------------------------------------------------------
+
+    def _changed(self, n: int, m: int, tolerance: float | None) -> BezierSurface:
+        """The change to degrees (n, m), with a bar inside ``geomkit.progress()``."""
+        a, b = self.degree
+        work = (a + 1) * (b + 1) * self.dim * (max(a, n) + max(b, m) + 2)
+        return BezierSurface._wrap(
+            _reporting(lambda p: self._core.change_degree(n, m, tolerance, p), work))
 
     def change_degree(self, to: tuple[int, int], tolerance: float | None = None
                       ) -> BezierSurface:
@@ -1470,7 +1523,7 @@ class BezierSurface(Drawable):
         [[0.0, 1.0], [1.0, 2.0], [2.0, 3.0]]
         """
         n, m = _two_degrees(to)
-        return BezierSurface._wrap(self._core.change_degree(n, m, _tolerance(tolerance)))
+        return self._changed(n, m, _tolerance(tolerance))
 
     def elevate(self, to: tuple[int, int]) -> BezierSurface:
         """`change_degree` with both degrees >= the current ones (elevation (15)).
@@ -1502,7 +1555,7 @@ class BezierSurface(Drawable):
                 f"cannot elevate a surface of degrees ({a}, {b}) to ({n}, {m}): elevation "
                 "needs degrees >= the current ones (use change_degree to mix)"
             )
-        return BezierSurface._wrap(self._core.change_degree(n, m, None))
+        return self._changed(n, m, None)
 
     def reduce(self, to: tuple[int, int], tolerance: float | None = None) -> BezierSurface:
         """`change_degree` with both degrees <= the current ones: exact reduction (16).
@@ -1538,7 +1591,7 @@ class BezierSurface(Drawable):
                 f"cannot reduce a surface of degrees ({a}, {b}) to ({n}, {m}): reduction "
                 "needs degrees <= the current ones (use change_degree to mix)"
             )
-        return BezierSurface._wrap(self._core.change_degree(n, m, _tolerance(tolerance)))
+        return self._changed(n, m, _tolerance(tolerance))
 
     def change_degree_paper(self, to: tuple[int, int]) -> BezierSurface:
         """Formula (14) exactly as the paper writes it, with the exact matrices

@@ -1095,7 +1095,8 @@ class PointCurve(Drawable):
         """
         ts = real_array(t, "t")
         out = np.empty((ts.size, self.dim))
-        self._core.eval_into(aligned(ts.reshape(-1)), out)
+        flat, core = aligned(ts.reshape(-1)), self._core
+        chunked(flat.shape[0], lambda a, b: core.eval_into(flat[a:b], out[a:b]), "PointCurve")
         return out.reshape(ts.shape + (self.dim,))
 
     def eval(self, t: ArrayLike) -> F64:
@@ -1408,8 +1409,9 @@ class PointSurface(Drawable):
         uu, vv = np.broadcast_arrays(real_array(u, "u"), real_array(v, "v"))
         shape = uu.shape
         out = np.empty((uu.size, self.dim))
-        self._core.eval_into(aligned(uu).reshape(-1),
-                             aligned(vv).reshape(-1), out)
+        us, vs, core = aligned(uu).reshape(-1), aligned(vv).reshape(-1), self._core
+        chunked(us.shape[0], lambda a, b: core.eval_into(us[a:b], vs[a:b], out[a:b]),
+                "PointSurface")
         return out.reshape(shape + (self.dim,))
 
     def grid(self, u: ArrayLike, v: ArrayLike) -> F64:
@@ -1440,7 +1442,9 @@ class PointSurface(Drawable):
         uu = contiguous(u, "u").reshape(-1)
         vv = contiguous(v, "v").reshape(-1)
         out = np.empty(uu.size * vv.size * self.dim)
-        self._core.eval_grid_into(uu, vv, out)
+        row, core = vv.size * self.dim, self._core
+        chunked(uu.size, lambda a, b: core.eval_grid_into(uu[a:b], vv, out[a * row:b * row]),
+                "PointSurface", per=vv.size)
         return out.reshape(uu.size, vv.size, self.dim)
 
     def shares(self, u: float, v: float) -> list[F64]:

@@ -70,7 +70,9 @@ def progress(bar: Callable[..., Any] | None = None, *,
 def chunked(count: int, step: Callable[[int, int], None], desc: str, per: int = 1) -> None:
     """Runs ``step(a, b)`` over ``[0, count)``: in one call, or in steps with a bar inside a
     `progress` block when ``count * per`` points reach its threshold (`per`: points per
-    unit of `count`, e.g. the columns of a grid whose rows are split)."""
+    unit of `count`, e.g. the columns of a grid whose rows are split). A step after the
+    first that raises ValueError (a point the core refuses, named by its index in the step)
+    is answered by the one call's error, which names the index in the whole input."""
     setting = _SETTING.get()
     total = count * per
     if setting is None or total < setting[1] or count < 2:
@@ -79,13 +81,22 @@ def chunked(count: int, step: Callable[[int, int], None], desc: str, per: int = 
     factory, _ = setting
     size = max(math.ceil(count / _STEPS), math.ceil(_MIN_STEP / max(per, 1)), 1)
     bar = _make_bar(factory, total, desc)
+    refused = False
     try:
         for a in range(0, count, size):
             b = min(count, a + size)
-            step(a, b)
+            try:
+                step(a, b)
+            except ValueError:
+                if a == 0:
+                    raise
+                refused = True
+                break
             bar.update((b - a) * per)
     finally:
         bar.close()
+    if refused:
+        step(0, count)
 
 
 def _make_bar(factory: Callable[..., Any] | None, total: int, desc: str) -> Any:

@@ -209,3 +209,133 @@ def test_an_interrupted_build_raises_keyboard_interrupt_promptly() -> None:
             for _ in range(50):
                 geomkit.make_interp_spline(x, y, k=7)
     timer.cancel()
+
+
+# --- curve meshes and the evaluations of Bézier and point-calculus models --------------
+
+
+def test_curve_meshes_report_and_give_the_same_polyline(tmp_path: Any) -> None:
+    # A B-spline of ~3000 spans: the mesher's windows are its breaks.
+    x = np.linspace(0.0, 60.0, 3000)
+    curve = geomkit.make_interp_spline(x, np.c_[np.cos(x), np.sin(x), 0.01 * x])
+    plain = curve.mesh(tolerance=1e-6)
+    rec = BuildRecorder()
+    with geomkit.progress(rec):
+        shown = curve.mesh(tolerance=1e-6)
+    check_build(rec, "mesh")
+    # One unit per starting window: the curve's 2997 spans cut by the 16 equal steps.
+    assert 2997 <= rec.total <= 2997 + 16
+    assert np.array_equal(plain.points, shown.points)
+    assert np.array_equal(plain.parameters, shown.parameters)
+    # Writing meshes it the same way (the file is the same bytes).
+    curve.write(tmp_path / "a.obj", tolerance=1e-6)
+    rec = BuildRecorder()
+    with geomkit.progress(rec):
+        curve.write(tmp_path / "b.obj", tolerance=1e-6)
+    check_build(rec, "mesh")
+    assert (tmp_path / "a.obj").read_bytes() == (tmp_path / "b.obj").read_bytes()
+
+
+def test_an_interrupted_curve_mesh_raises_keyboard_interrupt() -> None:
+    x = np.linspace(0.0, 600.0, 30_000)
+    curve = geomkit.make_interp_spline(x, np.c_[np.cos(x), np.sin(x)])
+    with pytest.raises(KeyboardInterrupt):
+        with geomkit.progress(Interrupting()):
+            curve.mesh(tolerance=1e-7)
+
+
+def test_bezier_evaluations_show_bars_with_the_same_bits() -> None:
+    c = geomkit.BezierCurve([[0, 0, 0], [1, 3, 1], [3, -2, 2], [4, 1, 0], [6, 0, 1]])
+    t = RNG.uniform(0, 1, 300_000)
+    same_with_bar(lambda: c(t), 300_000, "BezierCurve")
+    same_with_bar(lambda: c(t, nu=2), 300_000, "BezierCurve")
+    r = geomkit.BezierCurve([[1, 0], [1, 1], [0, 1]], weights=[1, 2 ** -0.5, 1])
+    same_with_bar(lambda: r(t), 300_000, "BezierCurve")
+    same_with_bar(lambda: r(t, nu=1), 300_000, "BezierCurve")
+    net = RNG.uniform(-1, 1, (4, 5, 3))
+    s = geomkit.BezierSurface(net)
+    u, v = np.linspace(0, 1, 700), np.linspace(0, 1, 300)
+    same_with_bar(lambda: s(u, v), 700 * 300, "BezierSurface")
+    same_with_bar(lambda: s(u, v, du=1, dv=1), 700 * 300, "BezierSurface")
+    same_with_bar(lambda: s.normal(u, v), 700 * 300, "BezierSurface")
+    pu, pv = RNG.uniform(0, 1, 200_000), RNG.uniform(0, 1, 200_000)
+    same_with_bar(lambda: s(pu, pv, grid=False), 200_000, "BezierSurface")
+    w = RNG.uniform(0.5, 2.0, (4, 5))
+    rs = geomkit.BezierSurface(net, weights=w)
+    same_with_bar(lambda: rs(u, v, du=1), 700 * 300, "BezierSurface")
+    same_with_bar(lambda: rs.normal(pu, pv, grid=False), 200_000, "BezierSurface")
+
+
+def test_point_curve_and_surface_evaluations_show_bars_with_the_same_bits() -> None:
+    pc = geomkit.point_curve([[0.0, 1.0], [1.0, 3.0], [2.0, 2.0], [3.0, 5.0]])
+    t = RNG.uniform(0, 3, 300_000)
+    same_with_bar(lambda: pc(t), 300_000, "PointCurve")
+    ps = geomkit.point_surface(RNG.uniform(0, 1, (3, 4)))
+    u, v = RNG.uniform(0, 2, 200_000), RNG.uniform(0, 3, 200_000)
+    same_with_bar(lambda: ps(u, v), 200_000, "PointSurface")
+    same_with_bar(lambda: ps.grid(np.linspace(0, 2, 600), np.linspace(0, 3, 400)), 600 * 400,
+                  "PointSurface")
+
+
+def test_a_refused_point_in_a_later_step_is_named_as_without_a_bar() -> None:
+    c = geomkit.BezierCurve([[0.0, 0.0], [1.0, 2.0], [2.0, 0.0]])
+    t = np.linspace(0, 1, 300_000)
+    t[250_000] = np.nan
+    with pytest.raises(ValueError) as plain:
+        c(t)
+    rec = Recorder()
+    with pytest.raises(ValueError) as shown:
+        with geomkit.progress(rec, min_points=1):
+            c(t)
+    assert str(shown.value) == str(plain.value) and "250000" in str(plain.value)
+    assert rec.bars and rec.bars[0]["closed"]
+
+
+def test_bezier_degree_changes_report_with_the_same_bits() -> None:
+    pts = np.c_[np.arange(600.0), np.sin(np.arange(600.0) * 0.05), np.arange(600) % 11]
+    c = geomkit.BezierCurve(pts)
+    w = geomkit.BezierCurve(pts[:300], weights=1.0 + 0.5 * (np.arange(300) % 3))
+    small = geomkit.BezierCurve(pts[:20]).elevate(60)
+    u, v = np.meshgrid(np.arange(60.0), np.arange(50.0), indexing="ij")
+    net = np.stack([u, v, (u + v) % 13.0], axis=-1)
+    s = geomkit.BezierSurface(net)
+    calls = [
+        (lambda: c.elevate(1500), lambda r: r.points),
+        (lambda: c.change_degree(1400), lambda r: r.points),
+        (lambda: w.elevate(900), lambda r: r.weights),
+        (lambda: small.reduce(19), lambda r: r.points),
+        (lambda: s.elevate((120, 90)), lambda r: r.net),
+        (lambda: s.change_degree((100, 80)), lambda r: r.net),
+    ]
+    for call, arrays in calls:
+        plain = call()
+        rec = BuildRecorder()
+        with geomkit.progress(rec, min_points=1):
+            shown = call()
+        check_build(rec, "degree change")
+        assert np.array_equal(arrays(plain), arrays(shown))
+        assert plain.degree == shown.degree
+    # The exact reduction of an elevated curve gives its points back (the reference).
+    assert np.allclose(small.reduce(19).points, pts[:20], rtol=0, atol=1e-9)
+    # Small changes stay below the default threshold: no bar.
+    rec = BuildRecorder()
+    with geomkit.progress(rec):
+        geomkit.BezierCurve(pts[:10]).elevate(20)
+    assert rec.bars == []
+    # Ctrl-C from the bar: KeyboardInterrupt, no curve.
+    with pytest.raises(KeyboardInterrupt):
+        with geomkit.progress(Interrupting(), min_points=1):
+            c.elevate(3000)
+    with pytest.raises(KeyboardInterrupt):
+        with geomkit.progress(Interrupting(), min_points=1):
+            s.elevate((300, 200))
+
+
+def test_ctrl_c_between_the_steps_of_an_evaluation() -> None:
+    c = geomkit.BezierCurve([[0.0, 0.0], [1.0, 2.0], [2.0, 0.0]])
+    s = geomkit.make_interp_spline(np.arange(10.0), np.arange(10.0) ** 2)
+    t = np.linspace(0, 1, 300_000)
+    for call in (lambda: c(t), lambda: s(9 * t)):
+        with pytest.raises(KeyboardInterrupt):
+            with geomkit.progress(Interrupting(), min_points=1):
+                call()

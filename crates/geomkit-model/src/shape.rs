@@ -8,8 +8,8 @@ use geomkit::bezier::{BezierSurface, RationalBezierSurface};
 use geomkit::bspline::{BsplineCurve, BsplineSurface};
 use geomkit::geom::{Curve, Surface};
 use geomkit::mesh::{
-    tessellate_curve, tessellate_surface_with_progress, CurveOptions, MeshReport, Polyline,
-    SurfaceOptions, TriMesh,
+    tessellate_curve_with_progress, tessellate_surface_with_progress, CurveOptions, MeshReport,
+    Polyline, SurfaceOptions, TriMesh,
 };
 use geomkit::pointcalc::{Nodes, PointEquation, PointSurface};
 
@@ -232,9 +232,10 @@ impl Loaded {
         self.tessellate_with_progress(sampling, &geomkit::progress::Progress::none())
     }
 
-    /// [`Loaded::tessellate_report`] reporting a surface's meshing to `progress`
-    /// ([`geomkit::mesh::tessellate_surface_with_progress`]); `Error::Cancelled` when its
-    /// callback asks to stop.
+    /// [`Loaded::tessellate_report`] reporting the meshing to `progress`
+    /// ([`geomkit::mesh::tessellate_surface_with_progress`] for a surface,
+    /// [`geomkit::mesh::tessellate_curve_with_progress`] for a curve); `Error::Cancelled`
+    /// when its callback asks to stop.
     pub fn tessellate_with_progress(
         &self,
         sampling: Sampling,
@@ -258,7 +259,11 @@ impl Loaded {
                     }
                 }
                 (
-                    Tessellation::Polyline(tessellate_curve(curve.as_ref(), &opts)?),
+                    Tessellation::Polyline(tessellate_curve_with_progress(
+                        curve.as_ref(),
+                        &opts,
+                        progress,
+                    )?),
                     None,
                 )
             }

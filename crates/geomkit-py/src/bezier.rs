@@ -168,6 +168,26 @@ impl BezierCurveCore {
         })
     }
 
+    /// The change to degree `to` (elevation when `to` >= n, exact reduction otherwise) with
+    /// the GIL released, reporting to `progress` when given (`crate::progress::run`: Ctrl-C
+    /// interrupts it). The outer error is Python's, the inner one the library's.
+    fn changed(
+        &self,
+        py: Python<'_>,
+        to: usize,
+        tolerance: Option<f64>,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<geomkit::Result<Self>> {
+        crate::progress::run(py, progress, |p| match &self.inner {
+            CurveKind::Polynomial(c) => c
+                .change_degree_with_progress(to, tolerance, p)
+                .map(Self::polynomial),
+            CurveKind::Rational(r) => r
+                .change_degree_with_progress(to, tolerance, p)
+                .map(Self::rational),
+        })
+    }
+
     /// The library's error of an exact reduction, its advice made the package's: the best
     /// approximation is `reduce_approx`, for polynomial curves only.
     fn exact_reduction_error(&self, e: geomkit::Error) -> PyErr {
@@ -385,41 +405,63 @@ impl BezierCurveCore {
     }
 
     /// Elevation to degree `to` >= n in one step (closed form (8)); the curve is unchanged.
-    fn elevate(&self, py: Python<'_>, to: usize) -> PyResult<Self> {
+    /// `progress`: a callable `progress(done, total)` told how many new control points are
+    /// computed (`crate::progress`; Ctrl-C then interrupts it).
+    #[pyo3(signature = (to, progress=None))]
+    fn elevate(
+        &self,
+        py: Python<'_>,
+        to: usize,
+        progress: Option<Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
         self.check_target(to)?;
-        py.detach(|| match &self.inner {
-            CurveKind::Polynomial(c) => c.elevate_degree(to).map(Self::polynomial),
-            CurveKind::Rational(r) => r.elevate_degree(to).map(Self::rational),
-        })
-        .map_err(value_error)
+        if to < self.degree() {
+            // The library's refusal (an elevation below the degree).
+            return match &self.inner {
+                CurveKind::Polynomial(c) => c.elevate_degree(to).map(Self::polynomial),
+                CurveKind::Rational(r) => r.elevate_degree(to).map(Self::rational),
+            }
+            .map_err(value_error);
+        }
+        self.changed(py, to, None, progress.as_ref())?
+            .map_err(value_error)
     }
 
     /// Exact reduction to degree `to` <= n (formula (9) done stably); errors name the real
-    /// degree when the defect does not allow it.
-    #[pyo3(signature = (to, tolerance=None))]
-    fn reduce(&self, py: Python<'_>, to: usize, tolerance: Option<f64>) -> PyResult<Self> {
-        py.detach(|| match &self.inner {
-            CurveKind::Polynomial(c) => c.reduce_degree(to, tolerance).map(Self::polynomial),
-            CurveKind::Rational(r) => r.reduce_degree(to, tolerance).map(Self::rational),
-        })
-        .map_err(|e| self.exact_reduction_error(e))
+    /// degree when the defect does not allow it. `progress` as for `elevate`.
+    #[pyo3(signature = (to, tolerance=None, progress=None))]
+    fn reduce(
+        &self,
+        py: Python<'_>,
+        to: usize,
+        tolerance: Option<f64>,
+        progress: Option<Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        if to > self.degree() {
+            // The library's refusal (a reduction above the degree).
+            return match &self.inner {
+                CurveKind::Polynomial(c) => c.reduce_degree(to, tolerance).map(Self::polynomial),
+                CurveKind::Rational(r) => r.reduce_degree(to, tolerance).map(Self::rational),
+            }
+            .map_err(|e| self.exact_reduction_error(e));
+        }
+        self.changed(py, to, tolerance, progress.as_ref())?
+            .map_err(|e| self.exact_reduction_error(e))
     }
 
     /// The unified change of degree (formula (10) done stably): elevation when `to` >= n,
-    /// exact reduction otherwise.
-    #[pyo3(signature = (to, tolerance=None))]
-    fn change_degree(&self, py: Python<'_>, to: usize, tolerance: Option<f64>) -> PyResult<Self> {
+    /// exact reduction otherwise. `progress` as for `elevate`.
+    #[pyo3(signature = (to, tolerance=None, progress=None))]
+    fn change_degree(
+        &self,
+        py: Python<'_>,
+        to: usize,
+        tolerance: Option<f64>,
+        progress: Option<Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
         self.check_target(to)?;
-        py.detach(|| match &self.inner {
-            CurveKind::Polynomial(c) => c.change_degree(to, tolerance).map(Self::polynomial),
-            CurveKind::Rational(r) => if to >= r.degree() {
-                r.elevate_degree(to)
-            } else {
-                r.reduce_degree(to, tolerance)
-            }
-            .map(Self::rational),
-        })
-        .map_err(|e| self.exact_reduction_error(e))
+        self.changed(py, to, tolerance, progress.as_ref())?
+            .map_err(|e| self.exact_reduction_error(e))
     }
 
     /// Formal degree, real degree, defect and residuals by the residual test (of the
@@ -879,19 +921,26 @@ impl BezierSurfaceCore {
 
     /// Formula (14) done stably: the same surface with degrees (n', m'), each direction
     /// elevated or exactly reduced (through homogeneous coordinates for a rational surface).
-    #[pyo3(signature = (n, m, tolerance=None))]
+    /// `progress`: a callable `progress(done, total)` told how many new rows and columns of
+    /// the net are computed (`crate::progress`; Ctrl-C then interrupts it).
+    #[pyo3(signature = (n, m, tolerance=None, progress=None))]
     fn change_degree(
         &self,
         py: Python<'_>,
         n: usize,
         m: usize,
         tolerance: Option<f64>,
+        progress: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         self.check_target(n, m)?;
-        py.detach(|| match &self.inner {
-            SurfaceKind::Polynomial(s) => s.change_degree(n, m, tolerance).map(surface),
-            SurfaceKind::Rational(s) => s.change_degree(n, m, tolerance).map(rational_surface),
-        })
+        crate::progress::run(py, progress.as_ref(), |p| match &self.inner {
+            SurfaceKind::Polynomial(s) => s
+                .change_degree_with_progress(n, m, tolerance, p)
+                .map(surface),
+            SurfaceKind::Rational(s) => s
+                .change_degree_with_progress(n, m, tolerance, p)
+                .map(rational_surface),
+        })?
         .map_err(value_error)
     }
 

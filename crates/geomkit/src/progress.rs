@@ -1,14 +1,16 @@
 //! Progress and cancellation for long builds and meshing: a caller's callback, told how much
 //! of a job is done, and able to stop it.
 //!
-//! The long jobs of the library (interpolating splines of any degree and their tiles,
-//! spline surfaces, tessellation) take a [`Progress`] in their `*_with_progress` forms; the
-//! plain forms pass [`Progress::none`], whose reports are one branch on a `None` (no
+//! The long jobs of the library (interpolating splines of any degree and their tiles, the
+//! paper's cubic curves and surfaces and their tiles, heights over grids, tessellation of
+//! surfaces and curves) take a [`Progress`] in their `*_with_progress` forms; the plain
+//! forms pass [`Progress::none`], whose reports are one branch on a `None` (no
 //! measurable cost). A job first announces its total of work units (rows of a system,
 //! tiles, grid rows, refinement rounds), then reports units as they finish — from any rayon
 //! worker: the reports are serialized by a lock, so the callback sees done counts that never
 //! decrease, and the last report has `done == total` when the job succeeds. The callback is
-//! called at most once per tile, window, block of rows or round, never per point.
+//! called at most once per tile, window, parallel chunk of a solve, block of rows or round
+//! (and every 16 384 points of a long curve refinement), never per point.
 //!
 //! The callback returns [`ControlFlow::Break`] to cancel: the job then stops at its next
 //! report and returns [`Error::Cancelled`], never a partial result. The results with and

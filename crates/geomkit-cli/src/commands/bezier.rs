@@ -259,6 +259,13 @@ fn elevate(args: ElevateArgs) -> Result<()> {
     let old = read_model(&args.input)?;
     let ctx = file_context(&args.input);
     let new = match (&old, args.to) {
+        (BezierModel::Curve(c), Degrees::One(n)) if n >= c.degree() => BezierModel::Curve(
+            with_bar(|p| c.change_degree_with_progress(n, None, p)).with_context(ctx)?,
+        ),
+        (BezierModel::Rational(r), Degrees::One(n)) if n >= r.degree() => BezierModel::Rational(
+            with_bar(|p| r.change_degree_with_progress(n, None, p)).with_context(ctx)?,
+        ),
+        // Below the degree: the library's refusal.
         (BezierModel::Curve(c), Degrees::One(n)) => {
             BezierModel::Curve(c.elevate_degree(n).with_context(ctx)?)
         }
@@ -405,16 +412,12 @@ fn change(args: ChangeArgs) -> Result<()> {
     let tol = args.tolerance;
     let new = match (&old, args.to) {
         (BezierModel::Curve(c), Degrees::One(n)) => BezierModel::Curve(
-            c.change_degree(n, tol)
+            with_bar(|p| c.change_degree_with_progress(n, tol, p))
                 .map_err(|e| explain_reduction(e, input, true))?,
         ),
         (BezierModel::Rational(r), Degrees::One(n)) => BezierModel::Rational(
-            if n >= r.degree() {
-                r.elevate_degree(n)
-            } else {
-                r.reduce_degree(n, tol)
-            }
-            .map_err(|e| explain_reduction(e, input, false))?,
+            with_bar(|p| r.change_degree_with_progress(n, tol, p))
+                .map_err(|e| explain_reduction(e, input, false))?,
         ),
         (BezierModel::Surface(_) | BezierModel::RationalSurface(_), Degrees::Two(n, m)) => {
             change_surface(&old, n, m, tol).with_context(file_context(input))?
@@ -457,9 +460,26 @@ fn change_surface(
     m: usize,
     tolerance: Option<f64>,
 ) -> geomkit::Result<BezierModel> {
-    model
-        .change_surface_degree(n, m, tolerance)
-        .expect("called for surfaces only")
+    with_bar(|p| match model {
+        BezierModel::Surface(s) => s
+            .change_degree_with_progress(n, m, tolerance, p)
+            .map(BezierModel::Surface),
+        BezierModel::RationalSurface(s) => s
+            .change_degree_with_progress(n, m, tolerance, p)
+            .map(BezierModel::RationalSurface),
+        BezierModel::Curve(_) | BezierModel::Rational(_) => {
+            unreachable!("called for surfaces only")
+        }
+    })
+}
+
+/// Runs a change of degree with a bar on a terminal (shown after a second) that follows the
+/// library's progress hook: the new control points (rows, then columns of a net).
+fn with_bar<T>(job: impl FnOnce(&geomkit::progress::Progress) -> T) -> T {
+    let bar = crate::progress::Progress::start();
+    bar.phase("changing", 0);
+    let report = bar.reporter();
+    job(&geomkit::progress::Progress::new(&report))
 }
 
 fn write_change(change: Change, format: Format, output: Option<&Path>) -> Result<()> {

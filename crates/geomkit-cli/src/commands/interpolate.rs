@@ -20,12 +20,13 @@ use crate::table::{extension, is_npy, Table};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::ValueEnum;
 use geomkit::bspline::{
-    interpolate_curve_at, interpolate_curve_flat, interpolate_curve_tiled, interpolate_heights,
-    interpolate_heights_at, interpolate_surface_flat, last_repeats_first, make_interp_spline_tiled,
-    make_interp_spline_with_progress, make_interp_surface, parameters, BsplineCurve,
-    BsplineSurface, CurveTiler, EndCondition, EndSpec, InterpolationOptions, Parametrization,
-    SplineEnds, SplineOptions, SurfaceInterpolationOptions, TileOptions, TileSolution,
-    MAX_SPLINE_DEGREE, MIN_SPLINE_HALO,
+    interpolate_curve_at_with_progress, interpolate_curve_flat_with_progress,
+    interpolate_curve_tiled_with_progress, interpolate_heights_at_with_progress,
+    interpolate_heights_with_progress, interpolate_surface_flat_with_progress, last_repeats_first,
+    make_interp_spline_tiled, make_interp_spline_with_progress, make_interp_surface_with_progress,
+    parameters, BsplineCurve, BsplineSurface, CurveTiler, EndCondition, EndSpec,
+    InterpolationOptions, Parametrization, SplineEnds, SplineOptions, SurfaceInterpolationOptions,
+    TileOptions, TileSolution, MAX_SPLINE_DEGREE, MIN_SPLINE_HALO,
 };
 use geomkit_plot::figures::{
     bspline_curve_figure, heightmap_svg, linspace, surface_svg, Layer, REFERENCE,
@@ -264,13 +265,25 @@ fn curve(args: CurveArgs) -> Result<()> {
                     .sample_uniform_fd(samples, &mut points)
                     .context("forward-differenced sampling")?;
             } else {
+                // In blocks, so that the bar moves (each point on its own: the same bits).
                 let (a, b) = curve.domain();
-                curve.eval_many_par(&linspace(a, b, samples), &mut points)?;
+                let ts = linspace(a, b, samples);
+                progress.phase("sampling", samples as u64);
+                for (t, out) in ts
+                    .chunks(SAMPLE_BLOCK)
+                    .zip(points.chunks_mut(SAMPLE_BLOCK * dim))
+                {
+                    curve.eval_many_par(t, out)?;
+                    progress.inc(t.len() as u64);
+                }
             }
-            progress.busy("writing");
+            progress.phase("writing", samples as u64);
             dest.write_with(|w| {
                 let mut sink = RowSink::start(w, format, &[samples, dim], &coordinate_names(dim))?;
-                sink.push(w, &points)?;
+                for rows in points.chunks(SAMPLE_BLOCK * dim) {
+                    sink.push(w, rows)?;
+                    progress.inc((rows.len() / dim) as u64);
+                }
                 sink.finish()
             })
         }
@@ -304,6 +317,9 @@ fn curve(args: CurveArgs) -> Result<()> {
 
 /// A fitted curve with the parameter of each input point.
 type CurveFit = (BsplineCurve, Vec<f64>);
+
+/// Samples of a curve evaluated or written between two steps of the bar.
+const SAMPLE_BLOCK: usize = 1 << 16;
 
 /// `--start-tangent` / `--end-tangent` of the points' dimension.
 fn check_tangents(args: &CurveArgs, dim: usize, name: &str) -> Result<()> {
@@ -375,19 +391,27 @@ fn curve_extended(
     let table = Table::read(&args.input, progress)?;
     let (n, dim) = table.as_records()?;
     check_tangents(args, dim, &table.name())?;
-    progress.busy("solving");
-    let fit = match (&tiles, &args.params) {
-        (_, Some(path)) => {
-            if args.end == EndArg::Repeat {
-                bail!("--params cannot be used with --end repeat (it fixes its own parameters)");
-            }
-            let params = read_params(path, progress)?;
-            interpolate_curve_at(dim, &table.data, &params.data, &options.end)
+    let params = match &args.params {
+        Some(_) if args.end == EndArg::Repeat => {
+            bail!("--params cannot be used with --end repeat (it fixes its own parameters)")
+        }
+        Some(path) => Some(read_params(path, progress)?),
+        None => None,
+    };
+    // The bar follows the library's hook (parameters, then the solve's chunks or tiles).
+    progress.phase("solving", 0);
+    let report = progress.reporter();
+    let hook = geomkit::progress::Progress::new(&report);
+    let fit = match (&tiles, &params) {
+        (_, Some(params)) => {
+            interpolate_curve_at_with_progress(dim, &table.data, &params.data, &options.end, &hook)
                 .with_context(|| format!("{} with parameters from {}", table.name(), params.name()))
         }
-        (Some(tiles), None) => interpolate_curve_tiled(dim, &table.data, &options, tiles)
-            .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text)),
-        (None, None) => interpolate_curve_flat(dim, &table.data, &options)
+        (Some(tiles), None) => {
+            interpolate_curve_tiled_with_progress(dim, &table.data, &options, tiles, &hook)
+                .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text))
+        }
+        (None, None) => interpolate_curve_flat_with_progress(dim, &table.data, &options, &hook)
             .map_err(|e| explain_fit(e, &table, n, Fit::Curve, &end_text)),
     }?;
     let parameters = fit.parameters().to_vec();
@@ -949,7 +973,6 @@ fn surface(args: SurfaceArgs) -> Result<()> {
     }
     let progress = Progress::start();
     let grid = read_grid(&args, &progress)?;
-    progress.busy("solving");
     let (rows, cols) = (grid.rows, grid.cols);
     let explain = |e: geomkit::Error| explain_fit(e, &grid.table, rows, Fit::Surface, &ends_text);
     let fit = if args.heights {
@@ -961,13 +984,19 @@ fn surface(args: SurfaceArgs) -> Result<()> {
         let xs = coords(&args.x, rows, origin.0, spacing.0)?;
         let ys = coords(&args.y, cols, origin.1, spacing.1)?;
         let data = &grid.table.data;
+        // The bar follows the library's hook (blocks of grid rows, then the other direction).
+        progress.phase("solving", 0);
+        let report = progress.reporter();
+        let hook = geomkit::progress::Progress::new(&report);
         let surface = match (&xs, &ys) {
             (Some(xs), Some(ys)) if scipy => {
-                make_interp_surface(xs, ys, data, (rows, cols), degrees)
+                make_interp_surface_with_progress(xs, ys, data, (rows, cols), degrees, &hook)
                     .with_context(|| grid.table.name())?
             }
             (None, None) => {
-                interpolate_heights(data, rows, cols, origin, spacing, &cond_u).map_err(explain)?
+                let end = &cond_u;
+                interpolate_heights_with_progress(data, rows, cols, origin, spacing, end, &hook)
+                    .map_err(explain)?
             }
             _ => {
                 let regular = |n: usize, o: f64, h: f64| (0..n).map(|i| o + i as f64 * h).collect();
@@ -977,7 +1006,7 @@ fn surface(args: SurfaceArgs) -> Result<()> {
                 let ys = ys
                     .clone()
                     .unwrap_or_else(|| regular(cols, origin.1, spacing.1));
-                interpolate_heights_at(data, &xs, &ys, &cond_u)
+                interpolate_heights_at_with_progress(data, &xs, &ys, &cond_u, &hook)
                     .with_context(|| grid.table.name())?
             }
         };
@@ -995,8 +1024,13 @@ fn surface(args: SurfaceArgs) -> Result<()> {
         let options = SurfaceInterpolationOptions::default()
             .with_ends(cond_u, cond_v)
             .with_parametrization(param);
-        let fit = interpolate_surface_flat(rows, cols, grid.dim, &grid.table.data, &options)
-            .map_err(explain)?;
+        progress.phase("solving", 0);
+        let report = progress.reporter();
+        let hook = geomkit::progress::Progress::new(&report);
+        let data = &grid.table.data;
+        let fit =
+            interpolate_surface_flat_with_progress(rows, cols, grid.dim, data, &options, &hook)
+                .map_err(explain)?;
         SurfaceFit {
             surface: fit.surface,
             params_u: fit.params_u,

@@ -17,6 +17,7 @@
 use super::curve::{eval_accurate, flatten_points, BezierCurve};
 use super::degree::DegreeReport;
 use crate::geom::{check_point, Curve};
+use crate::progress::Progress;
 use crate::{Error, Result};
 
 /// A rational Bézier curve with positive weights.
@@ -197,6 +198,21 @@ impl RationalBezierCurve {
     /// is not positive.
     pub fn reduce_degree(&self, n_new: usize, tolerance: Option<f64>) -> Result<Self> {
         Self::from_homogeneous(self.homogeneous.reduce_degree(n_new, tolerance)?)
+    }
+
+    /// Elevation when n' >= n, exact reduction otherwise (through homogeneous coordinates),
+    /// reporting to `progress` as [`BezierCurve::change_degree_with_progress`] does. The
+    /// same curve, bit for bit, as [`Self::elevate_degree`] / [`Self::reduce_degree`].
+    pub fn change_degree_with_progress(
+        &self,
+        n_new: usize,
+        tolerance: Option<f64>,
+        progress: &Progress,
+    ) -> Result<Self> {
+        let h = self
+            .homogeneous
+            .change_degree_with_progress(n_new, tolerance, progress)?;
+        Self::from_homogeneous(h)
     }
 }
 

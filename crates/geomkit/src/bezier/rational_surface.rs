@@ -32,6 +32,7 @@ use super::rational::{homogeneous_flat, project, split_homogeneous};
 use super::surface::{BezierSurface, Direction, SurfaceDegreeReport};
 use crate::geom::{check_point, Surface};
 use crate::points::{check_eval_args, flatten_grid, unit_normal};
+use crate::progress::Progress;
 use crate::{Error, Result};
 
 /// A rational tensor-product Bézier surface with positive weights.
@@ -213,6 +214,21 @@ impl RationalBezierSurface {
         tolerance: Option<f64>,
     ) -> Result<Self> {
         Self::from_homogeneous(self.homogeneous.change_degree(n_new, m_new, tolerance)?)
+    }
+
+    /// [`RationalBezierSurface::change_degree`] reporting to `progress` as
+    /// [`BezierSurface::change_degree_with_progress`] does (on the homogeneous net).
+    pub fn change_degree_with_progress(
+        &self,
+        n_new: usize,
+        m_new: usize,
+        tolerance: Option<f64>,
+        progress: &Progress,
+    ) -> Result<Self> {
+        let h = self
+            .homogeneous
+            .change_degree_with_progress(n_new, m_new, tolerance, progress)?;
+        Self::from_homogeneous(h)
     }
 
     /// The Cartesian net with each point's weight appended (dimension r + 1, not

@@ -28,6 +28,7 @@ use super::curve::{basis_funs, basis_funs_derivs, cubic_basis_at_knot, BsplineCu
 use super::tridiag::TridiagSystem;
 use crate::par::*;
 use crate::points::flatten_points;
+use crate::progress::Progress;
 use crate::{Error, Result};
 
 /// How the ends of an open interpolating curve are determined.
@@ -182,6 +183,37 @@ pub fn interpolate_curve_flat(
     points: &[f64],
     options: &InterpolationOptions,
 ) -> Result<CurveInterpolation> {
+    interpolate_curve_flat_with_progress(dim, points, options, &Progress::none())
+}
+
+/// [`interpolate_curve_flat`] reporting to `progress` ([`crate::progress`]). The units are
+/// the points, twice: N once the parameters (and, for chord-length and centripetal ones,
+/// the check of the points) are done, then N for the solve — reported per parallel chunk
+/// of rows (about 8 000 points of 3-D) for open curves, at its end for periodic curves and
+/// the paper's repeated ends (sequential O(N) solves). The same curve, bit for bit, as
+/// without it; [`Error::Cancelled`] when the callback asks to stop, never a partial curve.
+///
+/// ```
+/// use geomkit::bspline::{interpolate_curve_flat_with_progress, InterpolationOptions};
+/// use geomkit::progress::Progress;
+/// use std::ops::ControlFlow;
+/// let pts: Vec<f64> = (0..100_000).flat_map(|i| [i as f64, (i as f64 * 1e-3).sin()]).collect();
+/// let last = std::sync::Mutex::new((0, 0));
+/// let report = |done: u64, total: u64| {
+///     *last.lock().unwrap() = (done, total);
+///     ControlFlow::Continue(())
+/// };
+/// let opts = InterpolationOptions::default();
+/// let fit = interpolate_curve_flat_with_progress(2, &pts, &opts, &Progress::new(&report)).unwrap();
+/// assert_eq!(*last.lock().unwrap(), (200_000, 200_000));
+/// assert_eq!(fit.curve().n_control(), 100_002);
+/// ```
+pub fn interpolate_curve_flat_with_progress(
+    dim: usize,
+    points: &[f64],
+    options: &InterpolationOptions,
+    progress: &Progress,
+) -> Result<CurveInterpolation> {
     // Chord lengths need finite points; other parametrizations leave the check to the solve.
     let validated = options.parametrization != Parametrization::Uniform;
     if validated {
@@ -198,9 +230,12 @@ pub fn interpolate_curve_flat(
     if closed {
         check_distinct_periodic(n)?;
     }
+    progress.add_total(2 * n as u64)?;
     if closed && n == 2 {
         let t = parameters(points, dim, options.parametrization, true)?;
-        return periodic_through_two(points, dim, &t);
+        let fit = periodic_through_two(points, dim, &t)?;
+        progress.finish()?;
+        return Ok(fit);
     }
     let knots = knots_around_parameters(
         points,
@@ -209,8 +244,11 @@ pub fn interpolate_curve_flat(
         options.end == EndCondition::Periodic,
         0.0,
     )?;
-    Solver1d::new_single(knots, &options.end, options.parametrization)?
-        .interpolate(points, dim, validated)
+    progress.advance(n as u64)?;
+    let fit = Solver1d::new_single(knots, &options.end, options.parametrization)?
+        .interpolate_reporting(points, dim, validated, progress)?;
+    progress.finish()?;
+    Ok(fit)
 }
 
 /// Interpolates row-major points at given parameters (SciPy's `make_interp_spline(x, y)`):
@@ -233,6 +271,20 @@ pub fn interpolate_curve_at(
     points: &[f64],
     parameters: &[f64],
     end: &EndCondition,
+) -> Result<CurveInterpolation> {
+    interpolate_curve_at_with_progress(dim, points, parameters, end, &Progress::none())
+}
+
+/// [`interpolate_curve_at`] reporting to `progress` ([`crate::progress`]), in the units of
+/// [`interpolate_curve_flat_with_progress`] (N for the check of the parameters, N for the
+/// solve). The same curve, bit for bit, as without it; [`Error::Cancelled`] when the
+/// callback asks to stop.
+pub fn interpolate_curve_at_with_progress(
+    dim: usize,
+    points: &[f64],
+    parameters: &[f64],
+    end: &EndCondition,
+    progress: &Progress,
 ) -> Result<CurveInterpolation> {
     crate::points::check_shape("reference points", dim, points)?;
     if *end == EndCondition::Repeat {
@@ -268,16 +320,22 @@ pub fn interpolate_curve_at(
             ),
         });
     }
+    progress.add_total(2 * n as u64)?;
     check_parameters(parameters, parameters.len())?;
     let points = &points[..n * dim];
     if closed {
         check_distinct_periodic(n)?;
     }
-    if closed && n == 2 {
-        return periodic_through_two(points, dim, parameters);
-    }
-    let solver = Solver1d::new_single(knots_around(parameters), end, Parametrization::ChordLength)?;
-    solver.interpolate(points, dim, false)
+    let fit = if closed && n == 2 {
+        periodic_through_two(points, dim, parameters)?
+    } else {
+        let knots = knots_around(parameters);
+        progress.advance(n as u64)?;
+        let solver = Solver1d::new_single(knots, end, Parametrization::ChordLength)?;
+        solver.interpolate_reporting(points, dim, false, progress)?
+    };
+    progress.finish()?;
+    Ok(fit)
 }
 
 /// Whether the last of the row-major points repeats the first, within SciPy's `allclose`
@@ -711,8 +769,20 @@ impl Solver1d {
         dim: usize,
         validated: bool,
     ) -> Result<CurveInterpolation> {
+        self.interpolate_reporting(points, dim, validated, &Progress::none())
+    }
+
+    /// [`Solver1d::interpolate`] reporting the solve's rows to `progress` (N units; see
+    /// [`Solver1d::solve_reporting`]).
+    pub fn interpolate_reporting(
+        self,
+        points: &[f64],
+        dim: usize,
+        validated: bool,
+        progress: &Progress,
+    ) -> Result<CurveInterpolation> {
         let mut control = vec![0.0; self.n_control() * dim];
-        self.solve_checked(points, dim, &mut control, validated)?;
+        self.solve_checked_reporting(points, dim, &mut control, validated, progress)?;
         Ok(CurveInterpolation::new(
             BsplineCurve::from_trusted(3, self.knots, dim, control),
             self.params,
@@ -1101,29 +1171,63 @@ impl Solver1d {
         out: &mut [f64],
         validated: bool,
     ) -> Result<()> {
+        self.solve_checked_reporting(points, dim, out, validated, &Progress::none())
+    }
+
+    /// [`Solver1d::solve_checked`] reporting to `progress` ([`Solver1d::solve_reporting`]).
+    fn solve_checked_reporting(
+        &self,
+        points: &[f64],
+        dim: usize,
+        out: &mut [f64],
+        validated: bool,
+        progress: &Progress,
+    ) -> Result<()> {
         let validate = || crate::points::validate_points("reference points", dim, points);
         if !validated && !self.solves_fused() {
             validate()?;
         }
-        self.solve(points, dim, out).or_else(|e| {
-            if !validated {
-                validate()?;
-            }
-            Err(e)
-        })
+        self.solve_reporting(points, dim, out, progress)
+            .or_else(|e| {
+                if e == Error::Cancelled {
+                    return Err(e);
+                }
+                if !validated {
+                    validate()?;
+                }
+                Err(e)
+            })
     }
 
     /// Control points (row-major, `n_control() * dim`) interpolating `points` (N × dim).
     /// Errors: a given tangent of the wrong dimension or not finite.
     pub fn solve(&self, points: &[f64], dim: usize, out: &mut [f64]) -> Result<()> {
+        self.solve_reporting(points, dim, out, &Progress::none())
+    }
+
+    /// [`Solver1d::solve`] reporting its N + 2 rows to `progress`: per parallel chunk of rows
+    /// for the one-pass open solves ([`Solver1d::solves_fused`]), at the end for the
+    /// others. Cancelled: [`Error::Cancelled`] (the remaining chunks are skipped).
+    pub fn solve_reporting(
+        &self,
+        points: &[f64],
+        dim: usize,
+        out: &mut [f64],
+        progress: &Progress,
+    ) -> Result<()> {
         let n = points.len() / dim;
         debug_assert_eq!(out.len(), self.n_control() * dim);
+        progress.check()?;
         match &self.kind {
             Kind::Open {
                 sys, interp_scale, ..
             } if sys.is_toeplitz() => {
                 let ends = self.open_ends(points, dim)?;
-                if sys.solve_scaled_into(&ends[0], points, &ends[1], *interp_scale, out, dim) {
+                let (first, last, scale) = (&ends[0], &ends[1], *interp_scale);
+                let finite =
+                    sys.solve_scaled_into_reporting(first, points, last, scale, out, dim, progress);
+                progress.check()?;
+                if finite {
                     return Ok(());
                 }
             }
@@ -1141,18 +1245,18 @@ impl Solver1d {
             Kind::OpenOnce { rows, .. } => {
                 let ends = self.open_ends(points, dim)?;
                 let inner = |r: usize| interp_row(&self.knots, r);
-                let finite = TridiagSystem::solve_general_into(
+                let finite = TridiagSystem::solve_general_into_reporting(
                     n + 2,
                     &inner,
                     rows[0].clone(),
                     rows[1].clone(),
-                    &ends[0],
-                    points,
-                    &ends[1],
+                    (&ends[0], points, &ends[1]),
                     out,
                     dim,
-                )
-                .ok_or(Error::Numerical {
+                    progress,
+                );
+                progress.check()?;
+                let finite = finite.ok_or(Error::Numerical {
                     operation: "banded solve",
                     reason: "the interpolation system is singular",
                 })?;
@@ -1192,6 +1296,8 @@ impl Solver1d {
                 }
             }
         }
+        // The sequential solves report at their end.
+        progress.advance((n + 2) as u64)?;
         check_solution(out, dim)
     }
 }

@@ -41,7 +41,8 @@ pub use surface::SurfaceCurvature;
 pub use calculus::Extrapolate;
 pub use curve::BsplineCurve;
 pub use interpolate::{
-    interpolate_curve, interpolate_curve_at, interpolate_curve_flat, last_repeats_first,
+    interpolate_curve, interpolate_curve_at, interpolate_curve_at_with_progress,
+    interpolate_curve_flat, interpolate_curve_flat_with_progress, last_repeats_first,
     paper_dense_inner_points, parameters, parameters_from, CurveInterpolation, CurveInterpolator,
     EndCondition, InterpolationOptions, Parametrization,
 };
@@ -56,11 +57,13 @@ pub use spline_tiles::{
     make_interp_spline_tiled, SplineTile, SplineTilePlan, SplineTiler, MIN_SPLINE_HALO,
 };
 pub use surface::{
-    interpolate_heights, interpolate_heights_at, interpolate_surface, interpolate_surface_flat,
+    interpolate_heights, interpolate_heights_at, interpolate_heights_at_with_progress,
+    interpolate_heights_with_progress, interpolate_surface, interpolate_surface_flat,
     interpolate_surface_flat_with_progress, BsplineSurface, SurfaceInterpolation,
     SurfaceInterpolationOptions,
 };
 pub use tiles::{
     interpolate_curve_tiled, interpolate_curve_tiled_with_progress, interpolate_surface_tiled,
-    paper_fragments_averaged, CurveTiler, TileOptions, TilePlan, TileSolution,
+    interpolate_surface_tiled_with_progress, paper_fragments_averaged, CurveTiler, TileOptions,
+    TilePlan, TileSolution,
 };

@@ -704,20 +704,9 @@ fn axis_span(knots: &[f64], p: usize, n: usize, inv_step: Option<f64>, x: f64) -
     }
 }
 
-/// The separable solve: rows along v, then along u.
-pub(crate) fn separable(
-    grid: &[f64],
-    m: usize,
-    n: usize,
-    dim: usize,
-    sys_u: &Solver1d,
-    sys_v: &Solver1d,
-) -> Result<SurfaceInterpolation> {
-    separable_with_progress(grid, m, n, dim, sys_u, sys_v, &Progress::none())
-}
-
-/// [`separable`], reporting the m rows along v and then m units for the solve along u.
-fn separable_with_progress(
+/// The separable solve: rows along v, then along u, reporting the m rows along v and then
+/// m units for the solve along u.
+pub(crate) fn separable_with_progress(
     grid: &[f64],
     m: usize,
     n: usize,
@@ -770,6 +759,34 @@ pub fn interpolate_heights(
     spacing: (f64, f64),
     end: &EndCondition,
 ) -> Result<BsplineSurface> {
+    interpolate_heights_with_progress(z, rows, cols, origin, spacing, end, &Progress::none())
+}
+
+/// [`interpolate_heights`] reporting to `progress` ([`crate::progress`]) in the units of
+/// [`interpolate_surface_flat_with_progress`]: the grid rows solved along y (per block of
+/// rows), then as many for the solve along x. The same surface, bit for bit, as without
+/// it; [`Error::Cancelled`] when the callback asks to stop.
+///
+/// ```
+/// use geomkit::bspline::{interpolate_heights_with_progress, EndCondition};
+/// use geomkit::progress::Progress;
+/// use std::ops::ControlFlow;
+/// let z: Vec<f64> = (0..300 * 200).map(|k| ((k % 200) as f64 * 0.1).sin()).collect();
+/// let stop = |_: u64, _: u64| ControlFlow::Break(());
+/// let end = EndCondition::NotAKnot;
+/// let e = interpolate_heights_with_progress(&z, 300, 200, (0.0, 0.0), (1.0, 1.0), &end,
+///     &Progress::new(&stop));
+/// assert_eq!(e.unwrap_err(), geomkit::Error::Cancelled);
+/// ```
+pub fn interpolate_heights_with_progress(
+    z: &[f64],
+    rows: usize,
+    cols: usize,
+    origin: (f64, f64),
+    spacing: (f64, f64),
+    end: &EndCondition,
+    progress: &Progress,
+) -> Result<BsplineSurface> {
     let (dx, dy) = spacing;
     if !(dx.is_finite()
         && dy.is_finite()
@@ -793,7 +810,7 @@ pub fn interpolate_heights(
     let opts = SurfaceInterpolationOptions::default()
         .with_end(end.clone())
         .with_parametrization(Parametrization::Uniform);
-    let fit = interpolate_surface_flat(rows, cols, 1, z, &opts)?;
+    let fit = interpolate_surface_flat_with_progress(rows, cols, 1, z, &opts, progress)?;
     let s = fit.surface;
     let map = |k: &[f64], o: f64, h: f64| k.iter().map(|t| o + t * h).collect::<Vec<_>>();
     let (ku, kv) = (map(&s.knots_u, origin.0, dx), map(&s.knots_v, origin.1, dy));
@@ -817,6 +834,19 @@ pub fn interpolate_heights_at(
     xs: &[f64],
     ys: &[f64],
     end: &EndCondition,
+) -> Result<BsplineSurface> {
+    interpolate_heights_at_with_progress(z, xs, ys, end, &Progress::none())
+}
+
+/// [`interpolate_heights_at`] reporting to `progress` ([`crate::progress`]): the rows of z
+/// solved along y (per block of rows), then as many units for the solve along x. The same
+/// surface, bit for bit, as without it; [`Error::Cancelled`] when the callback asks to stop.
+pub fn interpolate_heights_at_with_progress(
+    z: &[f64],
+    xs: &[f64],
+    ys: &[f64],
+    end: &EndCondition,
+    progress: &Progress,
 ) -> Result<BsplineSurface> {
     if *end == EndCondition::Periodic || *end == EndCondition::Repeat {
         return Err(Error::InvalidOption {
@@ -856,7 +886,10 @@ pub fn interpolate_heights_at(
     let p = Parametrization::ChordLength;
     let sys_u = Solver1d::new(knots_around(xs), end, p)?;
     let sys_v = Solver1d::new(knots_around(ys), end, p)?;
-    Ok(separable(z, xs.len(), ys.len(), 1, &sys_u, &sys_v)?.surface)
+    progress.add_total(2 * xs.len() as u64)?;
+    let fit = separable_with_progress(z, xs.len(), ys.len(), 1, &sys_u, &sys_v, progress)?;
+    progress.finish()?;
+    Ok(fit.surface)
 }
 
 /// The distinct knots strictly inside (a, b).

@@ -221,6 +221,23 @@ pub fn interpolate_surface_tiled(
     options: &super::SurfaceInterpolationOptions,
     tiles: &TileOptions,
 ) -> Result<super::SurfaceInterpolation> {
+    let none = Progress::none();
+    interpolate_surface_tiled_with_progress(rows, cols, dim, grid, options, tiles, &none)
+}
+
+/// [`interpolate_surface_tiled`] reporting to `progress` ([`crate::progress`]) as each block
+/// solves (units: the grid rows each block reads, halo included, solved along v — reported
+/// per block of rows — then as many for its solve along u). The same surface, bit for bit,
+/// as without it; [`Error::Cancelled`] when the callback asks to stop.
+pub fn interpolate_surface_tiled_with_progress(
+    rows: usize,
+    cols: usize,
+    dim: usize,
+    grid: &[f64],
+    options: &super::SurfaceInterpolationOptions,
+    tiles: &TileOptions,
+    progress: &Progress,
+) -> Result<super::SurfaceInterpolation> {
     for end in [&options.end_u, &options.end_v] {
         if matches!(end, EndCondition::Periodic | EndCondition::Repeat) {
             return Err(Error::InvalidOption {
@@ -239,6 +256,8 @@ pub fn interpolate_surface_tiled(
     let (tu, tv) = super::surface::grid_parameters_both(grid, rows, cols, dim, options)?;
     let (nu, nv) = (rows + 2, cols + 2);
     let (plan_u, plan_v) = (plan_tiles(rows, tiles), plan_tiles(cols, tiles));
+    let rows_read: usize = plan_u.iter().map(|p| p.read.len()).sum();
+    progress.add_total(2 * (rows_read * plan_v.len()) as u64)?;
     let mut control = vec![0.0; nu * nv * dim];
     // Split the net into the disjoint row bands that each row of blocks writes.
     let mut bands: Vec<(&TilePlan, &mut [f64])> = Vec::with_capacity(plan_u.len());
@@ -284,7 +303,9 @@ pub fn interpolate_surface_tiled(
                         &grid[(i * cols + rv.start) * dim..(i * cols + rv.end) * dim],
                     );
                 }
-                let local = super::surface::separable(&block, m, n, dim, &sys_u, &sys_v)?;
+                let local = super::surface::separable_with_progress(
+                    &block, m, n, dim, &sys_u, &sys_v, progress,
+                )?;
                 let net = local.surface.control_flat();
                 let lnv = n + 2;
                 for (bi, gi) in pu.write.clone().enumerate() {
@@ -297,6 +318,7 @@ pub fn interpolate_surface_tiled(
             }
             Ok(())
         })?;
+    progress.finish()?;
     let knots = |t: &[f64]| super::interpolate::open_knots(t);
     Ok(super::SurfaceInterpolation {
         surface: super::BsplineSurface::from_flat(

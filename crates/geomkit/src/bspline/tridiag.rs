@@ -22,6 +22,7 @@
 
 use super::banded::BandMatrix;
 use crate::par::*;
+use crate::progress::Progress;
 
 /// Toeplitz pivots stored explicitly; beyond, they equal the limit to the last bit.
 const STORED: usize = 64;
@@ -408,6 +409,7 @@ impl TridiagSystem {
     /// for large systems; a single chunk is the sequential solve). The input is read once and
     /// the output written once, with no copy of b. Returns whether every entry of the
     /// solution is finite.
+    #[cfg(test)]
     pub fn solve_scaled_into(
         &self,
         first: &[f64],
@@ -416,6 +418,23 @@ impl TridiagSystem {
         scale: f64,
         out: &mut [f64],
         cols: usize,
+    ) -> bool {
+        let none = Progress::none();
+        self.solve_scaled_into_reporting(first, interior, last, scale, out, cols, &none)
+    }
+
+    /// [`TridiagSystem::solve_scaled_into`] reporting each chunk's rows to `progress`; once
+    /// it is cancelled the remaining chunks are skipped (`out` is then garbage: the caller
+    /// checks `progress`).
+    pub(crate) fn solve_scaled_into_reporting(
+        &self,
+        first: &[f64],
+        interior: &[f64],
+        last: &[f64],
+        scale: f64,
+        out: &mut [f64],
+        cols: usize,
+        progress: &Progress,
     ) -> bool {
         let inv = self.toeplitz_inv("solve_scaled_into");
         let n = self.n;
@@ -442,6 +461,9 @@ impl TridiagSystem {
             .map(|(k, part)| {
                 let lo = k * chunk;
                 let hi = lo + part.len() / cols;
+                if progress.is_cancelled() {
+                    return true;
+                }
                 let mut y = vec![0.0; cols];
                 let mut b = vec![0.0; cols];
                 // Forward from HALO rows before the chunk (from row 0 near the start, so
@@ -485,6 +507,7 @@ impl TridiagSystem {
                         finite &= v.is_finite();
                     }
                 }
+                let _ = progress.advance((hi - lo) as u64);
                 finite
             })
             .filter(|&finite| !finite)
@@ -546,6 +569,7 @@ impl TridiagSystem {
     /// approximation); the local pivots exist because every contiguous principal minor of
     /// a totally positive matrix is positive. `None` when the system is singular, else
     /// whether every entry of the solution is finite.
+    #[cfg(test)]
     pub fn solve_general_into<'a>(
         n: usize,
         inner: &(impl Fn(usize) -> [f64; 3] + Sync),
@@ -556,6 +580,24 @@ impl TridiagSystem {
         last: &'a [f64],
         out: &mut [f64],
         cols: usize,
+    ) -> Option<bool> {
+        let none = Progress::none();
+        let (b, c) = ((first, interior, last), cols);
+        Self::solve_general_into_reporting(n, inner, start, end, b, out, c, &none)
+    }
+
+    /// [`TridiagSystem::solve_general_into`] reporting each chunk's rows to `progress`;
+    /// once it is cancelled the remaining chunks are skipped and the answer is `None` (the
+    /// caller checks `progress` first).
+    pub(crate) fn solve_general_into_reporting<'a>(
+        n: usize,
+        inner: &(impl Fn(usize) -> [f64; 3] + Sync),
+        start: (usize, Vec<f64>),
+        end: (usize, Vec<f64>),
+        (first, interior, last): (&'a [f64], &'a [f64], &'a [f64]),
+        out: &mut [f64],
+        cols: usize,
+        progress: &Progress,
     ) -> Option<bool> {
         if n < 2 {
             return None;
@@ -599,13 +641,18 @@ impl TridiagSystem {
             .into_par_iter()
             .zip(bounds.par_iter())
             .map_init(Vec::new, |u, (part, &(lo, hi))| {
+                if progress.is_cancelled() {
+                    return None;
+                }
                 // Unrolled for the common dimensions.
-                match cols {
+                let spikes = match cols {
                     1 => sweep_chunk::<1>(part, lo, hi, &row, &rhs, cols, u),
                     2 => sweep_chunk::<2>(part, lo, hi, &row, &rhs, cols, u),
                     3 => sweep_chunk::<3>(part, lo, hi, &row, &rhs, cols, u),
                     _ => sweep_chunk::<0>(part, lo, hi, &row, &rhs, cols, u),
-                }
+                };
+                let _ = progress.advance((hi - lo) as u64);
+                spikes
             })
             .collect::<Option<_>>()?;
         let mut finite = spikes.iter().all(|s| s.finite);

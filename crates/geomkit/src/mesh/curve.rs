@@ -2,6 +2,7 @@
 
 use super::surface::with_breaks;
 use crate::geom::{linspace, Curve};
+use crate::progress::Progress;
 use crate::{Error, Result};
 
 /// Options of [`tessellate_curve`].
@@ -177,6 +178,42 @@ fn distance_to_segment(p: &[f64], a: &[f64], b: &[f64]) -> f64 {
 /// assert!(p.len() > 40 && p.len() < 200, "{}", p.len());
 /// ```
 pub fn tessellate_curve(curve: &dyn Curve, options: &CurveOptions) -> Result<Polyline> {
+    tessellate_curve_with_progress(curve, options, &Progress::none())
+}
+
+/// Curve points evaluated between two reports of [`tessellate_curve_with_progress`] within
+/// one window of the starting sampling (a long bisection still reports, and can be
+/// cancelled, this often).
+const EVALS_PER_REPORT: usize = 1 << 14;
+
+/// [`tessellate_curve`] reporting to `progress` ([`crate::progress`]). The units are the
+/// windows of the starting sampling (`min_segments` equal steps and the curve's breaks:
+/// a B-spline of N knots has about N), reported as they are refined — at most about a
+/// thousand reports, plus one per 16 384 curve points evaluated inside a window (the
+/// same done count again), so that a long refinement can be cancelled. The same polyline,
+/// bit for bit, as without it; [`Error::Cancelled`] when the callback asks to stop.
+///
+/// ```
+/// use geomkit::bezier::BezierCurve;
+/// use geomkit::mesh::{tessellate_curve_with_progress, CurveOptions};
+/// use geomkit::progress::Progress;
+/// use std::ops::ControlFlow;
+/// let c = BezierCurve::new(vec![vec![0., 0.], vec![1., 2.], vec![2., 0.]]).unwrap();
+/// let last = std::sync::Mutex::new((0, 0));
+/// let report = |done: u64, total: u64| {
+///     *last.lock().unwrap() = (done, total);
+///     ControlFlow::Continue(())
+/// };
+/// let options = CurveOptions::default().with_tolerance(1e-4);
+/// let p = tessellate_curve_with_progress(&c, &options, &Progress::new(&report)).unwrap();
+/// assert_eq!(*last.lock().unwrap(), (16, 16)); // the 16 starting segments
+/// assert!(p.len() > 40);
+/// ```
+pub fn tessellate_curve_with_progress(
+    curve: &dyn Curve,
+    options: &CurveOptions,
+    progress: &Progress,
+) -> Result<Polyline> {
     let d = curve.dim();
     let (a, b) = curve.domain();
     let eval = |t: f64, index: usize| -> Result<Vec<f64>> {
@@ -248,10 +285,19 @@ pub fn tessellate_curve(curve: &dyn Curve, options: &CurveOptions) -> Result<Pol
     let mut capped = 0.0f64;
     // Segments still to draw after the current window: they each need a point.
     let mut later = start.len() - 1;
+    let windows = start.len() - 1;
+    progress.add_total(windows as u64)?;
+    // Windows per report, windows refined since the last one, points evaluated since.
+    let (step, mut pending, mut evals) = (windows.div_ceil(1024), 0, 0);
     for w in start.windows(2) {
         later -= 1;
         let mut stack = vec![(w[0], w[1])];
         while let Some((t0, t1)) = stack.pop() {
+            evals += 4;
+            if evals >= EVALS_PER_REPORT {
+                progress.advance(0)?;
+                evals = 0;
+            }
             let p0 = points[points.len() - d..].to_vec();
             let p1 = eval(t1, params.len())?;
             let far = if t1 - t0 > (b - a) * 1e-12 {
@@ -278,7 +324,13 @@ pub fn tessellate_curve(curve: &dyn Curve, options: &CurveOptions) -> Result<Pol
                 points.extend_from_slice(&p1);
             }
         }
+        pending += 1;
+        if pending == step {
+            progress.advance(pending as u64)?;
+            (pending, evals) = (0, 0);
+        }
     }
+    progress.finish()?;
     if let (Some(t), true) = (options.tolerance, capped > 0.0) {
         return Err(Error::ToleranceOutOfReach {
             tolerance: t,

@@ -41,7 +41,7 @@ mod surface;
 mod trimesh;
 mod write;
 
-pub use curve::{tessellate_curve, CurveOptions, Polyline};
+pub use curve::{tessellate_curve, tessellate_curve_with_progress, CurveOptions, Polyline};
 pub use surface::{
     tessellate_surface, tessellate_surface_report, tessellate_surface_with_progress, MeshReport,
     Sampling, SurfaceOptions, MAX_TRIANGLES,
