@@ -32,6 +32,7 @@ use crate::points::{check_eval_args, flatten_grid, unit_normal};
 use crate::{Error, Result};
 
 mod approx;
+mod curvature;
 pub use approx::SurfaceApproxReduction;
 
 /// A parametric direction of a surface.
