@@ -82,7 +82,8 @@ pub fn format_of(name: Option<&str>) -> ApiResult<Format> {
     })
 }
 
-fn body(b: &BodyRequest) -> ApiResult<(RuledSurface, String)> {
+/// One of the paper's bodies as its ruled surface and a description ("cube (Dolya's body)").
+pub fn body(b: &BodyRequest) -> ApiResult<(RuledSurface, String)> {
     let h = b.height.unwrap_or(2.0);
     let r = b.radius.unwrap_or(1.0);
     if b.ngon.is_some_and(|n| n > 10_000) {

@@ -105,8 +105,13 @@ pub struct Seam {
     pub to: f64,
     /// Whether this is the line where the surface closes on itself (u0 ~ u1 or v0 ~ v1).
     pub closing: bool,
-    /// How smooth the surface is across the piece.
+    /// How smooth the surface is across the piece (in its parameters).
     pub smoothness: Smoothness,
+    /// Whether the tangent plane is continuous across the piece (geometric continuity G1,
+    /// which C1 implies): false on a crease, true where only the parametrization kinks
+    /// (a C0 line inside a flat face). Points where the surface is singular (S_u × S_v = 0)
+    /// are skipped.
+    pub tangent_continuous: bool,
     /// The largest jump of the cross-derivative of each order 0..=checked (Euclidean
     /// norm), up to the first that exceeds its tolerance.
     pub jumps: Vec<f64>,
@@ -174,6 +179,18 @@ pub fn seams(surface: &dyn Surface, options: &SeamOptions) -> Result<Vec<Seam>> 
                     extent,
                     options,
                 )?;
+                let tangent_continuous = match smoothness {
+                    Smoothness::Discontinuous => false,
+                    Smoothness::C(0) => tangent_plane_continuous(
+                        surface,
+                        line,
+                        (start, end),
+                        (from, to),
+                        width,
+                        options,
+                    )?,
+                    _ => true,
+                };
                 out.push(Seam {
                     line,
                     value: start,
@@ -181,6 +198,7 @@ pub fn seams(surface: &dyn Surface, options: &SeamOptions) -> Result<Vec<Seam>> 
                     to,
                     closing,
                     smoothness,
+                    tangent_continuous,
                     jumps,
                     tolerances,
                 });
@@ -314,6 +332,62 @@ fn classify(
     Ok((Smoothness::Smooth, jumps, tolerances))
 }
 
+/// The unit normal of the surface (a height field's graph) at (a, b) in the line's
+/// coordinates; `None` where S_u × S_v vanishes.
+fn unit_normal(s: &dyn Surface, line: SeamLine, a: f64, b: f64) -> Result<Option<[f64; 3]>> {
+    let d = s.dim();
+    let (mut su, mut sv) = ([0.0; 3], [0.0; 3]);
+    let (u, v) = match line {
+        SeamLine::U => (a, b),
+        SeamLine::V => (b, a),
+    };
+    s.derivative_into(u, v, (1, 0), &mut su[..d])?;
+    s.derivative_into(u, v, (0, 1), &mut sv[..d])?;
+    if d == 1 {
+        su = [1.0, 0.0, su[0]];
+        sv = [0.0, 1.0, sv[0]];
+    }
+    let c = [
+        su[1] * sv[2] - su[2] * sv[1],
+        su[2] * sv[0] - su[0] * sv[2],
+        su[0] * sv[1] - su[1] * sv[0],
+    ];
+    let len = norm(&c);
+    let scale = norm(&su) * norm(&sv);
+    Ok((len.is_finite() && len > 1e-9 * scale).then(|| c.map(|x| x / len)))
+}
+
+/// Whether the unit normals on both sides agree (within 1e-6 rad) along the piece.
+fn tangent_plane_continuous(
+    s: &dyn Surface,
+    line: SeamLine,
+    (start, end): (f64, f64),
+    (from, to): (f64, f64),
+    width: f64,
+    options: &SeamOptions,
+) -> Result<bool> {
+    let delta = 1e-9 * width;
+    let (after, before) = if start != end {
+        (start + delta, end - delta)
+    } else {
+        (start + delta, start - delta)
+    };
+    let n = options.samples;
+    for i in 0..n {
+        let b = from + (to - from) * (i as f64 + 0.5) / n as f64;
+        let (Some(p), Some(q)) = (
+            unit_normal(s, line, before, b)?,
+            unit_normal(s, line, after, b)?,
+        ) else {
+            continue;
+        };
+        if distance(&p, &q) > 1e-6 {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
 fn norm(p: &[f64]) -> f64 {
     p.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
@@ -415,9 +489,18 @@ mod tests {
         let rims: Vec<_> = found.iter().filter(|s| s.line == SeamLine::V).collect();
         assert!(!rims.is_empty());
         assert!(rims.iter().any(|s| s.smoothness == Smoothness::C(0)));
+        // The cube: the lines from the caps' centres to the corners lie inside the flat top
+        // and bottom faces (C0 in the parameters, tangent plane continuous); the edges are
+        // creases: 4 vertical ones (3 inner vertex lines and the closing line) and the 2
+        // rims of 4 sides each.
         let cube = bodies::cube().unwrap();
         let found = seams(&cube, &SeamOptions::default()).unwrap();
         assert!(found.iter().any(|s| s.closing));
+        let creases: Vec<_> = found.iter().filter(|s| !s.tangent_continuous).collect();
+        let inside: Vec<_> = found.iter().filter(|s| s.tangent_continuous).collect();
+        assert_eq!(creases.len(), 4 + 2 * 4);
+        assert_eq!(inside.len(), 2 * 4);
+        assert!(found.iter().all(|s| s.smoothness == Smoothness::C(0)));
     }
 
     #[test]
