@@ -304,3 +304,31 @@ async fn bezier_curvature_colouring_matches_the_sphere_and_the_saddle() {
         assert_eq!(m["colour"], colour);
     }
 }
+
+#[tokio::test]
+async fn a_rational_bezier_curve_has_a_formula_on_its_circle() {
+    // The quarter circle: (1, 0), (1, 1), (0, 1) with weights 1, 1/√2, 1; its formula, run
+    // on the engine's tape, is on x² + y² = 1 and ends at the end points.
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    let m =
+        json!({"type": "bezier_curve", "points": [[1, 0], [1, 1], [0, 1]], "weights": [1, h, 1]});
+    let f = ok(
+        &app(),
+        "/api/formula",
+        json!({"model": m, "format": "sympy"}),
+    )
+    .await;
+    assert_eq!(f["coordinates"], json!(["x", "y"]));
+    let model =
+        geomkit_model::AnyModel::from_file(geomkit_model::parse_file(&m.to_string()).unwrap())
+            .unwrap();
+    let (formula, _) = geomkit_server::api::formula::model_formula(model).unwrap();
+    let ts: Vec<f64> = (0..=20).map(|i| i as f64 / 20.0).collect();
+    let mut out = vec![0.0; ts.len() * 2];
+    formula.eval_batch(&[&ts], &mut out).unwrap();
+    for p in out.chunks_exact(2) {
+        assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-15, "{p:?}");
+    }
+    assert_eq!((out[0], out[1]), (1.0, 0.0));
+    assert!(out[40].abs() < 1e-15 && (out[41] - 1.0).abs() < 1e-15);
+}
