@@ -1288,6 +1288,7 @@ const SHORTCUTS = [
   ['C', 'curvature comb on / off', 'bspline', () => $('comb').click()],
   ['L', 'closed curve on / off', 'bspline', () => $('closed').click()],
   ['M', 'optimum: maximum / minimum', 'pointcalc', () => { const g = $('pc-goal'); g.value = g.value === 'max' ? 'min' : 'max'; g.dispatchEvent(new Event('change')); }],
+  ['←, →, ↑, ↓', 'rotate a 3-D view (the bodies, surfaces and heights tabs; with Shift: pan; + / −: zoom)', null, null],
   ['?', 'this list', null, () => showHelp()],
 ];
 
@@ -1311,6 +1312,7 @@ function showHelp() {
     ['click', 'insert a vertex / add a reference point'],
     ['Alt+click, right-click', 'remove the point'],
     ['Shift+drag, wheel on a vertex', 'its weight (a rational Bézier curve)'],
+    ['hover, click a seam', 'its continuity (bodies tab); drag: rotate, right-drag: pan, wheel: zoom'],
   ].map(([keys, what]) => {
     const tr = document.createElement('tr');
     const k = document.createElement('td');
