@@ -239,6 +239,13 @@ try {
   await idle();
   const savedBody = await savedFile('cylinder.json');
   check(savedBody.type === 'ruled', 'Save in the body tab writes the body\'s ruled model file');
+  // Export from the body tab: its mesh as GLB, its formula as text.
+  const [glb] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', 'glb')]);
+  const glbBytes = await readFile(await glb.path());
+  check(glbBytes.subarray(0, 4).toString('latin1') === 'glTF' && glbBytes.length > 1000, `Export GLB in the body tab: a glTF binary of ${glbBytes.length} bytes`);
+  const [txt] = await Promise.all([page.waitForEvent('download'), page.selectOption('#export', 'formula')]);
+  const text = await readFile(await txt.path(), 'utf8');
+  check(text.length > 50 && text === (await page.textContent('#formula')), `Export formula in the body tab: the ${text.length} characters of the formula panel`);
   const openFile = async (name) => {
     await page.click('#open');
     await page.click(`#file-list button:has-text("${name}")`);
@@ -296,6 +303,22 @@ try {
   d = await doc();
   const samePoints = d.bspline.points.length === bs.points.length && d.bspline.points.every((p, i) => Math.hypot(p[0] - bs.points[i][0], p[1] - bs.points[i][1]) < 1e-9);
   check(d.mode === 'bspline' && samePoints && d.bspline.end === 'natural' && d.bspline.param === 'centripetal' && (await page.inputValue('#end')) === 'natural', 'spline.json reopens in the B-spline tab with its points, end condition (natural) and parametrization (centripetal)');
+
+  // A closed curve (periodic).
+  await page.click('button[data-mode="bspline"]');
+  await idle();
+  await page.check('#closed');
+  await idle();
+  const closedPoints = (await doc()).bspline.points;
+  saveAs = 'closed.json';
+  await page.click('#save');
+  await savedFile('closed.json');
+  await page.uncheck('#closed');
+  await idle();
+  await openFile('closed.json');
+  d = await doc();
+  const sameClosed = d.bspline.points.length === closedPoints.length && d.bspline.points.every((p, i) => Math.hypot(p[0] - closedPoints[i][0], p[1] - closedPoints[i][1]) < 1e-9);
+  check(d.mode === 'bspline' && d.bspline.closed && sameClosed && await page.isChecked('#closed'), `closed.json reopens as the closed curve through its ${closedPoints.length} points`);
 
   // 5. The 3-D tabs: a Bézier surface and a heights grid (end condition natural).
   await page.click('button[data-mode="surface"]');

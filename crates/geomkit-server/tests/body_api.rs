@@ -90,7 +90,7 @@ async fn the_cube_seams_are_creases_on_its_single_formula() {
         .map(|x| x.as_u64().unwrap())
         .collect();
     assert_eq!(pos.len(), nor.len());
-    assert!(tri.len() >= 36 && tri.len() % 3 == 0);
+    assert!(tri.len() >= 36 && tri.len().is_multiple_of(3));
     assert!(tri.iter().all(|&i| (i as usize) < pos.len() / 3));
     for p in pos.chunks_exact(3) {
         let m = p.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -233,6 +233,15 @@ async fn bad_requests_are_refused_with_their_reason() {
         StatusCode::BAD_REQUEST,
     )
     .await;
+    // A bilinear spline on 100 × 100 cells: 20 200 seam pieces, over the limit of 20 000.
+    let mut knots: Vec<f64> = (0..=100).map(f64::from).chain([0.0, 100.0]).collect();
+    knots.sort_by(f64::total_cmp);
+    let net: Vec<Vec<[f64; 3]>> = (0..101)
+        .map(|i| (0..101).map(|j| [i as f64, j as f64, 0.0]).collect())
+        .collect();
+    let big = json!({"type": "bspline_surface", "degree": [1, 1], "knots_u": knots, "knots_v": knots, "net": net});
+    let e = fails(&app, json!({"model": big}), StatusCode::PAYLOAD_TOO_LARGE).await;
+    assert!(e["error"].as_str().unwrap().contains("20000"), "{e}");
 }
 
 /// An octant of the sphere of radius `r` as a rational biquadratic net.

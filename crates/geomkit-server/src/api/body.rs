@@ -27,6 +27,9 @@ use geomkit_model::{AnyModel, BezierModel, Loaded, ModelFile, Sampling, Tessella
 use serde::Deserialize;
 use serde_json::{json, Value};
 
+/// Most seam pieces the view classifies (a 70 × 70 grid of cells has about 10 000).
+pub const MAX_SEAM_PIECES: usize = 20_000;
+
 /// `{"model": M}` or `{"body": B}`, `"tolerance"`, `"seam_samples"`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -128,6 +131,19 @@ fn report_jump(model: &AnyModel, seam: &Seam) -> Option<f64> {
 /// The answer for a model: mesh, seams, legend.
 pub fn view(model: &AnyModel, tolerance: Option<f64>, seam_samples: usize) -> ApiResult<Value> {
     let (surface, names) = surface_of(model)?;
+    // Each seam piece costs 17 × 4 × 2 derivatives: refuse grids with more than
+    // MAX_SEAM_PIECES of them before computing anything long.
+    let (bu, bv) = surface.breaks();
+    let pieces = (bu.len() + 1) * (bv.len() + 2) + (bv.len() + 1) * (bu.len() + 2);
+    if pieces > MAX_SEAM_PIECES {
+        return Err(ApiError::too_large(format!(
+            "model has {} × {} grid lines: about {pieces} seam pieces to classify, the body \
+             view marks at most {MAX_SEAM_PIECES}",
+            bu.len(),
+            bv.len()
+        ))
+        .with("path", "model"));
+    }
     let loaded = Loaded::from_model(model.clone()).map_err(|e| ApiError::model("model", e))?;
     let mesh = match loaded
         .tessellate(Sampling::Tolerance(tolerance))
