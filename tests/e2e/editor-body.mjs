@@ -226,12 +226,23 @@ try {
   answer = await bodyAnswer();
   check(/cylinder/.test(answer.what) && answer.seams.every((s) => s.smoothness !== 'discontinuous'), `the cylinder: ${answer.seams.length} seams (${answer.legend.map((l) => `${l.count} ${l.crease ? 'creases' : l.smoothness}`).join(', ')})`);
   await page.screenshot({ path: path.join(shots, 'editor-body-cylinder.png') });
+  // Its radius from the panel: the rims are circles of radius 1.5 about the axis.
+  await page.fill('#body-radius', '1.5');
+  await page.press('#body-radius', 'Enter');
+  await idle();
+  answer = await bodyAnswer();
+  const rims = answer.seams.filter((s) => s.crease);
+  const radii = rims.flatMap((s) => { const r = []; for (let k = 0; k < s.points.length; k += 3) r.push(Math.hypot(s.points[k], s.points[k + 1])); return r; });
+  check(rims.length === 2 && radii.every((r) => Math.abs(r - 1.5) < 1e-12), `the radius field makes a cylinder of radius 1.5: its ${rims.length} rims at radius 1.5 (${radii.length} points)`);
+  await page.click('#undo');
+  await idle();
+  check((await doc()).body.radius === undefined && (await page.inputValue('#body-radius')) === '1', 'undo the radius');
   await page.click('#undo');
   await idle();
   check((await doc()).body.kind === 'cube' && /cube/.test((await bodyAnswer()).what), 'undo brings the cube back');
   await page.click('#redo');
   await idle();
-  check((await doc()).body.kind === 'cylinder', 'redo the cylinder');
+  check((await doc()).body.kind === 'cylinder' && (await page.isDisabled('#body-ngon')) && !(await page.isDisabled('#body-radius')), 'redo the cylinder (radius and height apply, sides do not)');
 
   // 2. Save the body: its ruled model file; reopen it into the body tab.
   saveAs = 'cylinder.json';

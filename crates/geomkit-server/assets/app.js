@@ -310,8 +310,21 @@ function spliceWindow(r) {
 
 /** The body tab's source: one of Dolya's bodies, or a surface opened from a file. */
 function bodySource() {
-  return doc.body.model ? { model: doc.body.model } : { body: { kind: doc.body.kind } };
+  if (doc.body.model) return { model: doc.body.model };
+  const body = { kind: doc.body.kind };
+  for (const p of BODY_PARAMS[doc.body.kind] || []) if (doc.body[p] !== undefined) body[p] = doc.body[p];
+  return { body };
 }
+
+/** The parameters each body takes from the panel (the API's names). */
+const BODY_PARAMS = {
+  cone: ['height', 'radius'],
+  cylinder: ['height', 'radius'],
+  frustum: ['height', 'radius'],
+  prism: ['height', 'radius', 'ngon'],
+  pyramid: ['height', 'radius', 'ngon'],
+};
+const BODY_DEFAULTS = { height: 2, radius: 1, ngon: 6 };
 
 /** The last /api/body/view answer and what it was for (a syntax change refetches only the
  * formula). */
@@ -324,7 +337,8 @@ async function computeBody() {
   const fresh = key !== bodyKey;
   const [f, v] = await Promise.all([
     post('/api/formula', { ...source, format: syntax }),
-    fresh ? post('/api/body/view', source) : Promise.resolve(bodyAnswer),
+    // 129 points per seam: a circle's rim stays round.
+    fresh ? post('/api/body/view', { ...source, seam_samples: 129 }) : Promise.resolve(bodyAnswer),
   ]);
   if (fresh) {
     bodyAnswer = v;
@@ -1022,7 +1036,9 @@ $('comb-scale').addEventListener('input', () => { doc.bspline.combScale = +$('co
 $('comb-scale').addEventListener('change', () => commit());
 $('body-kind').addEventListener('change', () => {
   if ($('body-kind').value === 'file') return;
-  doc.body = { kind: $('body-kind').value };
+  const { height, radius, ngon } = doc.body;
+  doc.body = { kind: $('body-kind').value, height, radius, ngon };
+  syncBodyKind();
   commit();
   refresh();
 });
@@ -1042,6 +1058,22 @@ function syncBodyKind() {
     opt.remove();
   }
   sel.value = doc.body.model ? 'file' : doc.body.kind;
+  const takes = doc.body.model ? [] : BODY_PARAMS[doc.body.kind] || [];
+  for (const p of ['height', 'radius', 'ngon']) {
+    const input = $(`body-${p}`);
+    input.disabled = !takes.includes(p);
+    input.value = doc.body[p] ?? BODY_DEFAULTS[p];
+  }
+}
+
+for (const p of ['height', 'radius', 'ngon']) {
+  $(`body-${p}`).addEventListener('change', () => {
+    const x = +$(`body-${p}`).value;
+    if (!(Number.isFinite(x) && x > 0)) { status(`The ${p} must be a number > 0.`, true); syncBodyKind(); return; }
+    doc.body[p] = p === 'ngon' ? Math.round(x) : x;
+    commit();
+    refresh();
+  });
 }
 
 function setMode(mode, record = true) {
