@@ -72,7 +72,7 @@ const browser = await chromium.launch({ executablePath: args.chromium, args: ['-
 const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
 const consoleErrors = [];
 page.on('console', (m) => {
-  // Refusals (422: no formula of a rational curve, a reduction below the real degree) are
+  // Refusals (422: a reduction below the real degree) are
   // answers the page shows; the browser logs them.
   if (m.type() === 'error' && !/status of 422/.test(m.text())) consoleErrors.push(m.text());
 });

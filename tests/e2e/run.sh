@@ -82,4 +82,5 @@ timeout --kill-after=10 300 node "$here/editor.mjs" --geomkit "$root/target/rele
 [ "$editor_status" -eq 0 ] || die "the editor check failed (messages above; screenshots in $out)"
 timeout --kill-after=10 300 node "$here/editor-tables.mjs" --geomkit "$root/target/release/geomkit" --out "$out" --chromium "$chromium" || die "the editor's tables and weights check failed (messages above; screenshots in $out)"
 timeout --kill-after=10 300 node "$here/editor-3d.mjs" --geomkit "$root/target/release/geomkit" --out "$out" --chromium "$chromium" || die "the editor's 3-D check failed (messages above; screenshots in $out)"
+timeout --kill-after=10 300 node "$here/editor-body.mjs" --geomkit "$root/target/release/geomkit" --out "$out" --chromium "$chromium" || die "the editor's body tab and file round trips check failed (messages above; screenshots in $out)"
 say "ok: screenshots in $out"

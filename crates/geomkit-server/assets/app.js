@@ -5,6 +5,7 @@
 import { ApiError, download, get, post, put } from './api.js';
 import { View, el } from './view.js';
 import { INITIAL as POINTCALC, PointcalcMode } from './pointcalc.js';
+import { bodyView } from './body3d.js';
 
 const $ = (id) => document.getElementById(id);
 const svg = $('canvas');
@@ -81,6 +82,8 @@ window.geomkit = {
     while (actions > 0 || scheduler.busy() || drawQueued || pointcalc.busy()) await new Promise((r) => setTimeout(r, 5));
   },
   setDoc: (d) => { doc = clone(d); commit(); syncControls(); needFit = 'always'; refresh(); },
+  /** Opens a model file into its tab (the 3-D tabs' Open hands the 2-D ones over). */
+  open: (m, name) => loadModel(m, name),
 };
 
 function model() {
@@ -305,18 +308,57 @@ function spliceWindow(r) {
   return true;
 }
 
+/** The body tab's source: one of Dolya's bodies, or a surface opened from a file. */
+function bodySource() {
+  if (doc.body.model) return { model: doc.body.model };
+  const body = { kind: doc.body.kind };
+  for (const p of BODY_PARAMS[doc.body.kind] || []) if (doc.body[p] !== undefined) body[p] = doc.body[p];
+  return { body };
+}
+
+/** The parameters each body takes from the panel (the API's names). */
+const BODY_PARAMS = {
+  cone: ['height', 'radius'],
+  cylinder: ['height', 'radius'],
+  frustum: ['height', 'radius'],
+  prism: ['height', 'radius', 'ngon'],
+  pyramid: ['height', 'radius', 'ngon'],
+};
+const BODY_DEFAULTS = { height: 2, radius: 1, ngon: 6 };
+
+/** The last /api/body/view answer and what it was for (a syntax change refetches only the
+ * formula). */
+let bodyAnswer = null;
+let bodyKey = '';
+
 async function computeBody() {
-  const f = await post('/api/formula', { body: { kind: doc.body.kind }, format: syntax });
-  // The picture: the model crate's shaded view of the body's ruled-surface file.
-  const img = $('picture');
-  if (f.model) {
-    const blob = await post('/api/export', { model: f.model, format: 'svg', title: f.what, subtitle: `one formula of ${f.op_count} operations` });
-    if (img.dataset.url) URL.revokeObjectURL(img.dataset.url);
-    img.dataset.url = URL.createObjectURL(blob);
-    img.src = img.dataset.url;
+  const source = bodySource();
+  const key = JSON.stringify(source);
+  const fresh = key !== bodyKey;
+  const [f, v] = await Promise.all([
+    post('/api/formula', { ...source, format: syntax }),
+    // 129 points per seam: a circle's rim stays round.
+    fresh ? post('/api/body/view', { ...source, seam_samples: 129 }) : Promise.resolve(bodyAnswer),
+  ]);
+  if (fresh) {
+    bodyAnswer = v;
+    bodyKey = key;
+    // The 3-D view: the mesh with the seams of the formula marked (body3d.js).
+    bodyView.show(v, true);
   }
   showFormula(f);
-  status(`${f.what}: one formula, ${f.op_count} operations.`);
+  const counts = v.legend.map((l) => `${l.count} ${l.crease ? 'creases' : l.smoothness}`).join(', ');
+  $('body-seams').textContent = v.seams.length ? counts : 'none';
+  $('body-continuity').textContent = v.continuity
+    ? (v.continuity.continuous ? 'yes' : `no: jump ${fmt(v.continuity.max_jump)}`)
+    : '–';
+  status(`${v.what}: one formula, ${f.op_count} operations; ${v.seams.length} seam${v.seams.length === 1 ? '' : 's'} marked on the surface.`);
+}
+
+/** The body tab's model file: the opened one, or the body's ruled surface. */
+function bodyModel() {
+  if (doc.body.model) return doc.body.model;
+  return bodyAnswer && bodyKey === JSON.stringify(bodySource()) ? bodyAnswer.model : null;
 }
 
 async function computeFormula() {
@@ -976,7 +1018,7 @@ function syncControls() {
   $('end').disabled = b.closed;
   $('comb').checked = b.comb;
   $('comb-scale').value = b.combScale;
-  $('body-kind').value = doc.body.kind;
+  syncBodyKind();
   pointcalc.sync();
   setMode(doc.mode, false);
 }
@@ -992,7 +1034,47 @@ for (const [id, key, prop] of [['end', 'end', 'value'], ['param', 'param', 'valu
 }
 $('comb-scale').addEventListener('input', () => { doc.bspline.combScale = +$('comb-scale').value; draw(); });
 $('comb-scale').addEventListener('change', () => commit());
-$('body-kind').addEventListener('change', () => { doc.body.kind = $('body-kind').value; commit(); refresh(); });
+$('body-kind').addEventListener('change', () => {
+  if ($('body-kind').value === 'file') return;
+  const { height, radius, ngon } = doc.body;
+  doc.body = { kind: $('body-kind').value, height, radius, ngon };
+  syncBodyKind();
+  commit();
+  refresh();
+});
+
+/** The kind selector, with an entry for a surface opened from a file. */
+function syncBodyKind() {
+  const sel = $('body-kind');
+  let opt = sel.querySelector('option[value="file"]');
+  if (doc.body.model) {
+    if (!opt) {
+      opt = document.createElement('option');
+      opt.value = 'file';
+      sel.appendChild(opt);
+    }
+    opt.textContent = `file: ${doc.body.name || 'model'}`;
+  } else if (opt) {
+    opt.remove();
+  }
+  sel.value = doc.body.model ? 'file' : doc.body.kind;
+  const takes = doc.body.model ? [] : BODY_PARAMS[doc.body.kind] || [];
+  for (const p of ['height', 'radius', 'ngon']) {
+    const input = $(`body-${p}`);
+    input.disabled = !takes.includes(p);
+    input.value = doc.body[p] ?? BODY_DEFAULTS[p];
+  }
+}
+
+for (const p of ['height', 'radius', 'ngon']) {
+  $(`body-${p}`).addEventListener('change', () => {
+    const x = +$(`body-${p}`).value;
+    if (!(Number.isFinite(x) && x > 0)) { status(`The ${p} must be a number > 0.`, true); syncBodyKind(); return; }
+    doc.body[p] = p === 'ngon' ? Math.round(x) : x;
+    commit();
+    refresh();
+  });
+}
 
 function setMode(mode, record = true) {
   const changed = doc.mode !== mode;
@@ -1005,7 +1087,8 @@ function setMode(mode, record = true) {
   for (const id of ['pointcalc-panel', 'pc-result-card']) $(id).hidden = !pc;
   $('pc-plot').toggleAttribute('hidden', !pc); // an SVG element: no .hidden property
   $('pc-slice-card').hidden = !pc || doc.pointcalc.factors.length <= 2;
-  $('picture').hidden = mode !== 'body';
+  $('picture').hidden = true;
+  document.querySelector('main').classList.toggle('mode-body', mode === 'body');
   const flat = mode === 'body' || pc;
   layer.hidden = flat;
   svg.style.visibility = flat ? 'hidden' : 'visible';
@@ -1062,8 +1145,45 @@ $('copy').addEventListener('click', async () => {
 // Open, save, export
 
 function currentModelOrBody() {
-  if (doc.mode === 'body') return null;
+  if (doc.mode === 'body') return bodyModel();
   return model();
+}
+
+/** Model files the body tab opens. */
+const BODY_TYPES = ['composite_surface', 'composite_explicit', 'ruled', 'bspline_surface', 'formula'];
+
+/** A heights grid as the heights tab saves it: a B-spline surface in R^1 with its grid. */
+function isHeights(m) {
+  return m.type === 'bspline_surface' && Array.isArray(m.net) && m.net[0] && m.net[0][0] && m.net[0][0].length === 1
+    && Array.isArray(m.parameters_u) && Array.isArray(m.parameters_v);
+}
+
+/** Whether two numbers' lists (nested) agree within rounding. */
+function sameNumbers(a, b) {
+  const flat = (x) => (Array.isArray(x) ? x.flatMap(flat) : [x]);
+  const [p, q] = [flat(a ?? []), flat(b ?? [])];
+  const scale = Math.max(1, ...p.map(Math.abs));
+  return p.length === q.length && p.every((v, i) => Math.abs(v - q[i]) <= 1e-9 * scale);
+}
+
+/** The B-spline tab's options (end condition, parametrization, closed) that interpolate
+ * `points` into the curve of file `m`, the current ones tried first; null if none does. */
+async function bsplineOptionsOf(m, points) {
+  const b = doc.bspline;
+  const ends = ['not-a-knot', 'natural', 'clamped', 'bessel', 'repeat', 'outer'];
+  const params = ['chord', 'centripetal', 'uniform'];
+  const tries = [{ end: b.end, param: b.param, closed: b.closed }];
+  for (const param of params) tries.push({ end: b.end, param, closed: true });
+  for (const end of ends) for (const param of params) tries.push({ end, param, closed: false });
+  for (const t of tries) {
+    const end = t.end === 'outer' ? { kind: 'outer', offset: 1 } : t.end;
+    let r;
+    try {
+      r = await post('/api/bspline/interpolate', { points, end, parametrization: t.param, closed: t.closed, samples_per_span: 1, comb: { per_span: 0 } });
+    } catch { continue; }
+    if (sameNumbers(r.model.knots, m.knots) && sameNumbers(r.model.control_points, m.control_points)) return t;
+  }
+  return null;
 }
 
 async function loadModel(m, name) {
@@ -1077,15 +1197,24 @@ async function loadModel(m, name) {
     const s = await post('/api/samples', { model: m, samples: 2 });
     doc.mode = 'bspline';
     doc.bspline.points = s.references.map((r) => [r.point[0], r.point[1] ?? 0]);
+    // Its options: those whose interpolant through the points is this curve.
+    const found = await bsplineOptionsOf(m, doc.bspline.points);
+    if (found) Object.assign(doc.bspline, found);
+    else status(`${name}: not made with the tab's options; re-interpolated with the current ones`, true);
   } else if (m.type === 'pointcalc-model') {
     doc.mode = 'pointcalc';
     const dim = pointcalc.load(m);
     if (dim > 1) status(`${name}: ${dim} responses; the table edits the first`);
-  } else if (m.type === 'bezier_surface' && window.geomkit3d) {
-    return window.geomkit3d.open(m, name); // the 3-D view (surface.js)
+  } else if ((m.type === 'bezier_surface' || isHeights(m)) && window.geomkit3d) {
+    return window.geomkit3d.open(m, name); // the 3-D tabs (surface.js)
+  } else if (BODY_TYPES.includes(m.type)) {
+    // Composite, ruled and B-spline surfaces: the body tab, in 3-D with their seams.
+    doc.mode = 'body';
+    doc.body = { kind: 'file', model: m, name };
   } else {
-    throw new Error(`${name}: the editor edits 2-D Bézier curves, interpolating B-spline curves and point-calculus models (this is a ${m.type})`);
+    throw new Error(`${name}: the editor opens Bézier and B-spline curves, point-calculus models, Bézier surfaces, heights grids and composite, ruled or B-spline surfaces (this is a ${m.type})`);
   }
+  window.geomkit3d?.deactivate();
   proposal = null;
   hideApprox();
   commit();
@@ -1137,10 +1266,11 @@ $('file-input').addEventListener('change', async () => {
 
 async function save() {
   const m = currentModelOrBody();
-  if (!m) { status('Nothing to save in this mode; export the formula instead.', true); return; }
+  if (!m) { status('Nothing to save yet: wait for the drawing.', true); return; }
   try {
     if (filesAvailable) {
-      const name = prompt('Save as (a .json name in the server\'s folder):', `${doc.mode}.json`);
+      const suggested = doc.mode === 'body' ? (doc.body.name || `${doc.body.kind}.json`) : `${doc.mode}.json`;
+      const name = prompt('Save as (a .json name in the server\'s folder):', suggested);
       if (!name) return;
       const r = await put(`/api/files/${encodeURIComponent(name)}`, { model: m });
       status(`Saved ${r.name} (${r.what}, ${r.bytes} bytes).`);
@@ -1157,12 +1287,14 @@ $('export').addEventListener('change', async () => {
   $('export').value = '';
   if (!format) return;
   try {
-    if (doc.mode === 'body') {
-      if (format !== 'formula') { status('Bodies export their formula here; meshes: geomkit compose body KIND -o OUT.glb', true); return; }
+    if (doc.mode === 'body' && format === 'formula') {
       download(new Blob([formulaText], { type: 'text/plain' }), `${doc.body.kind}.txt`);
+      status(`Exported ${doc.body.kind}.txt (${formulaText.length} characters).`);
       return;
     }
-    const blob = await post('/api/export', { model: model(), format, syntax });
+    const m = currentModelOrBody();
+    if (!m) { status('Nothing to export yet: wait for the drawing.', true); return; }
+    const blob = await post('/api/export', { model: m, format, syntax });
     download(blob, `model.${format === 'formula' ? 'txt' : format}`);
     status(`Exported model.${format === 'formula' ? 'txt' : format}.`);
   } catch (e) { showError(e); }
@@ -1188,6 +1320,7 @@ const SHORTCUTS = [
   ['C', 'curvature comb on / off', 'bspline', () => $('comb').click()],
   ['L', 'closed curve on / off', 'bspline', () => $('closed').click()],
   ['M', 'optimum: maximum / minimum', 'pointcalc', () => { const g = $('pc-goal'); g.value = g.value === 'max' ? 'min' : 'max'; g.dispatchEvent(new Event('change')); }],
+  ['←, →, ↑, ↓', 'rotate a 3-D view (the bodies, surfaces and heights tabs; with Shift: pan; + / −: zoom)', null, null],
   ['?', 'this list', null, () => showHelp()],
 ];
 
@@ -1211,6 +1344,7 @@ function showHelp() {
     ['click', 'insert a vertex / add a reference point'],
     ['Alt+click, right-click', 'remove the point'],
     ['Shift+drag, wheel on a vertex', 'its weight (a rational Bézier curve)'],
+    ['hover, click a seam', 'its continuity (bodies tab); drag: rotate, right-drag: pan, wheel: zoom'],
   ].map(([keys, what]) => {
     const tr = document.createElement('tr');
     const k = document.createElement('td');
@@ -1240,6 +1374,7 @@ window.addEventListener('keydown', (ev) => {
   // The tabs in their order (the 3-D ones are surface.js's: it takes their clicks).
   else if (/^[1-6]$/.test(key)) run(() => document.querySelectorAll('.tabs button[data-mode]')[+key - 1].click());
   else if (window.geomkit3d?.active()) return; // the 3-D tabs' own keys: surface.js
+  else if (doc.mode === 'body' && bodyView.key(ev)) ev.preventDefault(); // the body's 3-D view
   else if (key === 'f' && doc.mode !== 'body' && doc.mode !== 'pointcalc') run(() => { fitView(); draw(); });
   else if ((key === '+' || key === '=') && bezier) run(() => $('deg-up').click());
   else if (key === '-' && bezier) run(() => $('deg-down').click());

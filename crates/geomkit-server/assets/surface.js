@@ -41,7 +41,7 @@ function defaultHeights() {
 
 const initial = {
   mode: 'surface',
-  surface: { net: defaultNet(), weights: null },
+  surface: { net: defaultNet(), weights: null, colour: 'none' },
   heights: { ...defaultHeights(), end: 'not-a-knot', colour: 'gaussian' },
 };
 
@@ -108,6 +108,7 @@ function restore(at) {
   doc.mode = mode;
   dropProposal();
   selected = null;
+  showMode(); // the selectors show the restored options
   refresh();
   updateUndoButtons();
 }
@@ -171,7 +172,7 @@ async function compute(seq) {
     const m = clone(model());
     let mesh;
     [mesh, report] = await Promise.all([
-      post('/api/surface/mesh', { model: m, samples: samples() }),
+      post('/api/surface/mesh', { model: m, samples: samples(), colour: doc.surface.colour || 'none' }),
       fine ? post('/api/bezier/degree', { model: m }) : Promise.resolve(null),
     ]);
     next = { mesh, model: m };
@@ -568,6 +569,7 @@ $('s-col-del').addEventListener('click', act(() => removeLine('v')));
 // Heights: options, the default grid, CSV and .npy files
 
 $('h-end').addEventListener('change', () => { doc.heights.end = $('h-end').value; commit(); refresh(); });
+$('s-colour').addEventListener('change', () => { doc.surface.colour = $('s-colour').value; commit(); refresh(); });
 $('h-colour').addEventListener('change', () => { doc.heights.colour = $('h-colour').value; commit(); refresh(); });
 $('h-default').addEventListener('click', () => {
   Object.assign(doc.heights, defaultHeights());
@@ -671,11 +673,57 @@ async function filesOn() {
   return filesAvailable;
 }
 
-function openModel(m, name) {
-  if (m.type !== 'bezier_surface') {
-    throw new Error(`${name} is a ${m.type}: the 3-D view opens bezier_surface files (curves: the 2-D tabs; heights: Load CSV / .npy)`);
+/** The heights tab's end conditions, in the order a file's is looked for. */
+const HEIGHT_ENDS = ['not-a-knot', 'natural', 'clamped', 'bessel'];
+
+/** Whether two bspline_surface files hold the same surface (knots and net within
+ * rounding). */
+function sameSurface(a, b) {
+  const flat = (x) => (Array.isArray(x) ? x.flatMap(flat) : [x]);
+  const pairs = [[a.knots_u, b.knots_u], [a.knots_v, b.knots_v], [a.net, b.net]];
+  return pairs.every(([x, y]) => {
+    const [p, q] = [flat(x), flat(y)];
+    const scale = Math.max(1, ...p.map(Math.abs));
+    return p.length === q.length && p.every((v, i) => Math.abs(v - q[i]) <= 1e-9 * scale);
+  });
+}
+
+/** A heights grid saved by the heights tab (a bspline_surface in R^1 with its grid
+ * `parameters_u`, `parameters_v`): its heights are the surface at the grid (the server's
+ * samples); its end condition, the one of the tab whose interpolant is this surface. */
+async function openHeights(m, name) {
+  const x = m.parameters_u, y = m.parameters_v;
+  if (!Array.isArray(x) || !Array.isArray(y)) throw new Error(`${name}: a B-spline surface without its grid (parameters_u, parameters_v) is not a heights grid`);
+  const s = await post('/api/samples', { model: m, samples: 2 });
+  if (s.references.length !== x.length * y.length) throw new Error(`${name}: ${s.references.length} reference points for a ${x.length} × ${y.length} grid`);
+  const z = x.map((_, i) => y.map((_, j) => s.references[i * y.length + j][2]));
+  let end = null;
+  for (const e of HEIGHT_ENDS) {
+    const r = await post('/api/surface/heights', { z, x, y, end: e, samples: 2, colour: 'none' });
+    if (sameSurface(r.model, m)) { end = e; break; }
   }
-  doc.surface = { net: m.net, weights: m.weights || null };
+  doc.heights = { x, y, z, end: end || 'not-a-knot', colour: doc.heights.colour };
+  activate('heights');
+  selected = null;
+  needFit = true;
+  dropProposal();
+  commit();
+  refresh();
+  status(`Opened ${name}: ${x.length} × ${y.length} heights, ${end ? `end condition ${end}` : 'an end condition the tab does not offer (drawn not-a-knot)'}.`);
+}
+
+/** Whether a model file opens in a 3-D tab here (else in app.js's tabs). */
+function ours(m) {
+  return m.type === 'bezier_surface'
+    || (m.type === 'bspline_surface' && Array.isArray(m.parameters_u) && m.net?.[0]?.[0]?.length === 1);
+}
+
+async function openModel(m, name) {
+  if (m.type === 'bspline_surface') return openHeights(m, name);
+  if (m.type !== 'bezier_surface') {
+    throw new Error(`${name} is a ${m.type}: the 3-D tabs open bezier_surface files and heights grids (bspline_surface in R^1 with its grid)`);
+  }
+  doc.surface = { net: m.net, weights: m.weights || null, colour: doc.surface.colour || 'none' };
   activate('surface');
   selected = null;
   needFit = true;
@@ -704,7 +752,8 @@ async function openDialog() {
     b.addEventListener('click', act(async () => {
       $('open-dialog').close();
       const r = await get(`/api/files/${encodeURIComponent(f.name)}`);
-      openModel(r.model, f.name);
+      if (ours(r.model)) await openModel(r.model, f.name);
+      else await window.geomkit.open(r.model, f.name); // the other tabs (app.js)
     }));
     li.appendChild(b);
     list.appendChild(li);
@@ -715,7 +764,10 @@ async function openDialog() {
 $('s-file').addEventListener('change', act(async () => {
   const f = $('s-file').files[0];
   $('s-file').value = '';
-  if (f) openModel(JSON.parse(await f.text()), f.name);
+  if (!f) return;
+  const m = JSON.parse(await f.text());
+  if (ours(m)) await openModel(m, f.name);
+  else await window.geomkit.open(m, f.name);
 }));
 
 async function save() {
@@ -791,6 +843,7 @@ function showMode() {
   $('heights-panel').hidden = doc.mode !== 'heights';
   $('h-end').value = doc.heights.end;
   $('h-colour').value = doc.heights.colour;
+  $('s-colour').value = doc.surface.colour || 'none';
   $('legend3d').hidden = true;
   $('hint3d').textContent = 'Drag: rotate · right-drag: pan · wheel: zoom · F: fit' + (doc.mode === 'surface' ? ' · Alt+drag a vertex: along z' : ' · drag a point: its height');
 }
@@ -847,8 +900,11 @@ window.geomkit3d = {
   active: () => active,
   parseCsv,
   parseNpy,
-  /** Opens a bezier_surface model file in the surface tab (app.js's Open uses it). */
+  /** Opens a bezier_surface file in the surface tab, a heights grid in the heights tab
+   * (app.js's Open uses it). */
   open: (m, name) => openModel(m, name),
+  /** Hands the stage back to the 2-D tabs (app.js opening a file into one of them). */
+  deactivate: () => { if (active) deactivate(); },
   idle: async () => {
     while (actions > 0 || scheduler.busy()) await new Promise((r) => setTimeout(r, 5));
   },

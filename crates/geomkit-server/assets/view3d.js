@@ -42,13 +42,17 @@ void main() {
 const VERTEX_FLAT = `#version 300 es
 uniform mat4 uMvp;
 uniform float uSize;
+uniform vec2 uOffset;
+uniform float uBias;
 in vec3 aPos;
 in vec3 aColor;
 out vec3 vColor;
 void main() {
   gl_Position = uMvp * vec4(aPos, 1.0);
   // Lines and points in front of the surface they lie on.
-  gl_Position.z -= 0.0015 * gl_Position.w;
+  gl_Position.z -= uBias * gl_Position.w;
+  // Thick lines: the same line drawn again shifted by a pixel (uOffset in clip units).
+  gl_Position.xy += uOffset * gl_Position.w;
   gl_PointSize = uSize;
   vColor = aColor;
 }`;
@@ -150,6 +154,7 @@ export class View3D {
     this.flatProgram = compile(gl, VERTEX_FLAT, FRAGMENT_FLAT);
     this.mesh = null;
     this.lines = [];
+    this.seams = [];
     this.points = null;
     // The camera: orbiting `target` at `distance`, yaw about +z, pitch above the xy plane.
     this.target = [0, 0, 0];
@@ -258,24 +263,6 @@ export class View3D {
 
   /** Uploads a grid mesh: rows × cols vertices, flat positions and normals, RGB colours. */
   setMesh({ rows, cols, positions, normals, colors }) {
-    const gl = this.gl;
-    if (this.mesh) release(gl, this.mesh);
-    const vao = gl.createVertexArray();
-    gl.bindVertexArray(vao);
-    const buffers = [];
-    const attr = (name, data) => {
-      const b = gl.createBuffer();
-      buffers.push(b);
-      if (name === 'aPos') this.positionBuffer = b;
-      gl.bindBuffer(gl.ARRAY_BUFFER, b);
-      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(data), gl.STATIC_DRAW);
-      const loc = gl.getAttribLocation(this.meshProgram, name);
-      gl.enableVertexAttribArray(loc);
-      gl.vertexAttribPointer(loc, 3, gl.FLOAT, false, 0, 0);
-    };
-    attr('aPos', positions);
-    attr('aNormal', normals);
-    attr('aColor', colors);
     const idx = new Uint32Array((rows - 1) * (cols - 1) * 6);
     let k = 0;
     for (let i = 0; i + 1 < rows; i++) {
@@ -285,12 +272,7 @@ export class View3D {
         idx[k++] = b; idx[k++] = c; idx[k++] = d;
       }
     }
-    const ib = gl.createBuffer();
-    buffers.push(ib);
-    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib);
-    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, idx, gl.STATIC_DRAW);
-    gl.bindVertexArray(null);
-    this.mesh = { vao, buffers, count: idx.length, vertices: rows * cols };
+    this.setTriangles({ positions, normals, colors, triangles: idx });
   }
 
   /** The mesh's positions read back from the GPU's vertex buffer (for tests). */
@@ -305,6 +287,46 @@ export class View3D {
   }
 
   clearMesh() { this.mesh = null; }
+
+  /** Uploads an indexed triangle mesh (a grid's, or a tessellation's with split vertices at
+   * creases): flat positions, normals and RGB colours per vertex, `triangles` three indices
+   * each. */
+  setTriangles({ positions, normals, colors, triangles }) {
+    const gl = this.gl;
+    if (this.mesh) release(gl, this.mesh);
+    const vao = gl.createVertexArray();
+    gl.bindVertexArray(vao);
+    const buffers = [];
+    for (const [name, data] of [['aPos', positions], ['aNormal', normals], ['aColor', colors]]) {
+      const b = gl.createBuffer();
+      buffers.push(b);
+      if (name === 'aPos') this.positionBuffer = b;
+      gl.bindBuffer(gl.ARRAY_BUFFER, b);
+      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(data), gl.STATIC_DRAW);
+      const loc = gl.getAttribLocation(this.meshProgram, name);
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, 3, gl.FLOAT, false, 0, 0);
+    }
+    const ib = gl.createBuffer();
+    buffers.push(ib);
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib);
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, triangles instanceof Uint32Array ? triangles : new Uint32Array(triangles), gl.STATIC_DRAW);
+    gl.bindVertexArray(null);
+    this.mesh = { vao, buffers, count: triangles.length, vertices: positions.length / 3 };
+  }
+
+  /** Lines drawn on the surface (hidden behind it), `width` pixels wide: a list of
+   * {segments: flat [x0, y0, z0, x1, y1, z1, ...] pairs, rgb, width}. */
+  setSeams(list) {
+    for (const l of this.seams) release(this.gl, l);
+    this.seams = [];
+    for (const { segments, rgb, width = 3 } of list) {
+      if (!segments.length) continue;
+      const colors = new Float32Array(segments.length);
+      for (let i = 0; i < colors.length; i += 3) colors.set(rgb, i);
+      this.seams.push(Object.assign(this.flatBuffer(segments, colors), { width }));
+    }
+  }
 
   flatBuffer(positions, colors) {
     const gl = this.gl;
@@ -358,11 +380,27 @@ export class View3D {
       gl.bindVertexArray(this.mesh.vao);
       gl.drawElements(gl.TRIANGLES, this.mesh.count, gl.UNSIGNED_INT, 0);
     }
-    // The net and its vertices stay visible through the surface (they are what one edits).
-    gl.disable(gl.DEPTH_TEST);
     gl.useProgram(this.flatProgram);
     gl.uniformMatrix4fv(gl.getUniformLocation(this.flatProgram, 'uMvp'), false, mvp);
     gl.uniform1f(gl.getUniformLocation(this.flatProgram, 'uRound'), 0);
+    // Seams: on the surface, behind it hidden; thick by drawing each again a pixel aside.
+    const offset = gl.getUniformLocation(this.flatProgram, 'uOffset');
+    const bias = gl.getUniformLocation(this.flatProgram, 'uBias');
+    // Just in front of the faces they lie on; not enough to show through at the corners.
+    gl.uniform1f(bias, 0.0002);
+    const px = [2 / this.canvas.width, 2 / this.canvas.height];
+    for (const l of this.seams) {
+      gl.bindVertexArray(l.vao);
+      const r = Math.max(0, (l.width * (this.scale || 1) * (window.devicePixelRatio || 1) - 1) / 2);
+      for (const [dx, dy] of [[0, 0], [r, 0], [-r, 0], [0, r], [0, -r], [r / 2, r / 2], [-r / 2, -r / 2], [r / 2, -r / 2], [-r / 2, r / 2]]) {
+        gl.uniform2f(offset, dx * px[0], dy * px[1]);
+        gl.drawArrays(gl.LINES, 0, l.count);
+      }
+    }
+    gl.uniform2f(offset, 0, 0);
+    gl.uniform1f(bias, 0.0015);
+    // The net and its vertices stay visible through the surface (they are what one edits).
+    gl.disable(gl.DEPTH_TEST);
     for (const l of this.lines) {
       gl.bindVertexArray(l.vao);
       gl.drawArrays(gl.LINES, 0, l.count);

@@ -47,6 +47,11 @@ pub const ASSETS: &[Asset] = &[
         body: include_str!("../assets/view3d.js"),
     },
     Asset {
+        name: "body3d.js",
+        mime: "text/javascript; charset=utf-8",
+        body: include_str!("../assets/body3d.js"),
+    },
+    Asset {
         name: "surface.js",
         mime: "text/javascript; charset=utf-8",
         body: include_str!("../assets/surface.js"),

@@ -7,7 +7,8 @@
 //!   degree of Bézier curves (exactly, with the library's refusal, or by the best
 //!   approximation with its error band), interpolate B-splines with curvature combs, print
 //!   single formulas in the 11 syntaxes, fit point-calculus models, export SVG / PNG / STL /
-//!   GLB / OBJ / formula, open and save model files in one folder;
+//!   GLB / OBJ / formula, open and save model files in one folder, mesh bodies and
+//!   composite surfaces with the seams of their formula classified by continuity;
 //! - the editor page, every asset embedded in the binary ([`assets`]): no network at run
 //!   time.
 //!

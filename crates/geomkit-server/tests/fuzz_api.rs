@@ -29,6 +29,7 @@ const ENDPOINTS: &[&str] = &[
     "/api/surface/edit",
     "/api/surface/approximate",
     "/api/surface/heights",
+    "/api/body/view",
 ];
 
 /// Valid requests (endpoint, body), the seeds of the mutations.
@@ -95,6 +96,10 @@ fn seeds() -> Vec<(&'static str, Value)> {
         (
             "/api/surface/heights",
             json!({"z": [[0, 1, 0], [1, 2, 1], [0, 1, 0]], "samples": 3, "colour": "mean"}),
+        ),
+        (
+            "/api/body/view",
+            json!({"body": {"kind": "pyramid", "ngon": 5}, "seam_samples": 3, "tolerance": 0.1}),
         ),
     ]
 }

@@ -4,7 +4,8 @@
 //!
 //! Models: composite surfaces (parametric or explicit), B-spline surfaces (their cells as
 //! patches), Bézier surfaces (one patch), ruled surfaces, piecewise functions and composite
-//! curves, B-spline and polynomial Bézier curves (their spans as pieces), point-calculus
+//! curves, B-spline and polynomial Bézier curves (their spans as pieces), rational Bézier
+//! curves (the homogeneous curve's polynomials divided by the weight's), point-calculus
 //! models (the point equation: one formula per response over the factors), and formula
 //! files (their stored text).
 
@@ -82,7 +83,8 @@ pub fn format_of(name: Option<&str>) -> ApiResult<Format> {
     })
 }
 
-fn body(b: &BodyRequest) -> ApiResult<(RuledSurface, String)> {
+/// One of the paper's bodies as its ruled surface and a description ("cube (Dolya's body)").
+pub fn body(b: &BodyRequest) -> ApiResult<(RuledSurface, String)> {
     let h = b.height.unwrap_or(2.0);
     let r = b.radius.unwrap_or(1.0);
     if b.ngon.is_some_and(|n| n > 10_000) {
@@ -182,6 +184,18 @@ pub fn model_formula(model: AnyModel) -> ApiResult<(Formula, Value)> {
             Ok((s.formula().map_err(geometry)?, report))
         }
         AnyModel::Bezier(BezierModel::Curve(c)) => curve_formula(&bezier_as_bspline(&c)?),
+        AnyModel::Bezier(BezierModel::Rational(c)) => {
+            // p = A / w: the polynomial formulas of the homogeneous curve (A, w), divided.
+            let (mut f, report) = curve_formula(&bezier_as_bspline(c.homogeneous())?)?;
+            let d = f.roots.len() - 1;
+            let w = f.roots[d];
+            for i in 0..d {
+                f.roots[i] = f.graph.div(f.roots[i], w);
+            }
+            f.roots.truncate(d);
+            f.names.truncate(d);
+            Ok((f, report))
+        }
         AnyModel::BsplineCurve(m) => curve_formula(&m.curve),
         AnyModel::Piecewise(p) => {
             let report = report_json(p.continuity(), p.statement());

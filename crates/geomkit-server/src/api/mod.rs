@@ -19,9 +19,11 @@
 //! | `POST /api/pointcalc/grid` | a point-calculus model along one factor or over two (contours) |
 //! | `POST /api/export` | SVG, PNG, STL, GLB, OBJ or formula text of a model |
 //! | `POST /api/surface/mesh`, `/edit`, `/approximate`, `/heights` | the 3-D view: shaded meshes with curvature or error colouring, row/column edits, best L2 approximation of surfaces, height fields ([`surface`]) |
+//! | `POST /api/body/view` | a body or composite surface in 3-D: its mesh and its seams, each with its smoothness (C^k, smooth, discontinuous) as a polyline on the surface ([`body`]) |
 //! | `GET /api/files`, `GET`/`PUT /api/files/{name}` | model files in the `--dir` folder |
 
 pub mod bezier;
+pub mod body;
 pub mod bspline;
 pub mod export;
 pub mod files;
@@ -60,6 +62,7 @@ pub fn routes() -> Router<AppState> {
         .route("/api/surface/edit", post(surface::edit))
         .route("/api/surface/approximate", post(surface::approximate))
         .route("/api/surface/heights", post(surface::heights))
+        .route("/api/body/view", post(body::view_handler))
         .route("/api/files", get(files::list))
         .route("/api/files/{name}", get(files::open).put(files::save))
 }

@@ -2,7 +2,7 @@
 //!
 //! - `mesh`: a shaded grid of a Bézier (rational too) or B-spline surface in R³, or of a
 //!   height field z(x, y): positions, unit normals, and a value per vertex to colour by
-//!   (Gaussian or mean curvature of B-spline surfaces, or the distance to a reference
+//!   (Gaussian or mean curvature, or the distance to a reference
 //!   surface: the error of an approximation), with the control net.
 //! - `edit`: insert or remove a row (u) or column (v) of a Bézier net, with weights for
 //!   rational nets (Fig. 4 of spec/bezier-order.md), and how far the surface moved.
@@ -192,9 +192,9 @@ pub enum Colour {
     /// No colouring.
     #[default]
     None,
-    /// Gaussian curvature K (B-spline surfaces).
+    /// Gaussian curvature K.
     Gaussian,
-    /// Mean curvature H (B-spline surfaces).
+    /// Mean curvature H (signed with the normal S_u × S_v).
     Mean,
     /// Distance to the `reference` surface at the same (u, v).
     Distance,
@@ -230,18 +230,15 @@ fn mesh(
     let values = match colour {
         Colour::None => None,
         Colour::Gaussian | Colour::Mean => {
-            let Drawn::Bspline(b) = drawn else {
-                return Err(ApiError::unprocessable(
-                    "curvature colouring is for B-spline surfaces (bspline_surface)",
-                )
-                .with("path", "colour"));
+            let curvature = |u: f64, v: f64| match drawn {
+                Drawn::Bezier(b) => b.curvature(u, v),
+                Drawn::Rational(b) => b.curvature(u, v),
+                Drawn::Bspline(b) => b.curvature(u, v),
             };
             let mut out = Vec::with_capacity(k * k);
             for &u in &us {
                 for &v in &vs {
-                    let c = b
-                        .curvature(u, v)
-                        .map_err(|e| ApiError::geometry("curvature", e))?;
+                    let c = curvature(u, v).map_err(|e| ApiError::geometry("curvature", e))?;
                     // A singular point has no curvature: 0 (drawn neutral).
                     out.push(c.map_or(0.0, |c| {
                         if colour == Colour::Gaussian {

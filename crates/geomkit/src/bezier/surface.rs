@@ -33,6 +33,7 @@ use crate::progress::Progress;
 use crate::{Error, Result};
 
 mod approx;
+mod curvature;
 pub use approx::SurfaceApproxReduction;
 
 /// A parametric direction of a surface.

@@ -36,6 +36,7 @@ mod surface;
 mod tiles;
 mod tridiag;
 
+pub(crate) use surface::curvature_of;
 pub use surface::SurfaceCurvature;
 
 pub use calculus::Extrapolate;

@@ -26,6 +26,7 @@ use crate::{Error, Result};
 
 mod batch;
 mod curvature;
+pub(crate) use curvature::curvature_of;
 pub use curvature::SurfaceCurvature;
 
 /// A tensor-product B-spline surface S(u, v) = Σ_i Σ_j N_i(u) N_j(v) c_ij of degrees (p, q),

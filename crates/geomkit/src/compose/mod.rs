@@ -28,6 +28,7 @@ mod piecewise;
 mod poly;
 mod ramp;
 mod ruled;
+mod seams;
 mod surface;
 
 pub use expr_patch::ExprPatch;
@@ -38,4 +39,5 @@ pub use piecewise::Piecewise;
 pub use poly::PolyPatch;
 pub use ramp::{ramp, ramp_checked, ramp_exact, simplest_rational};
 pub use ruled::{RuledCurve, RuledSurface, MAX_RULED_COORDINATE};
+pub use seams::{seams, Seam, SeamLine, SeamOptions, Smoothness};
 pub use surface::{CompositeSurface, ContinuityReport, GridLine, Jump, SurfaceKind, EDGE_SAMPLES};

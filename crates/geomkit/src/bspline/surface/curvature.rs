@@ -22,6 +22,7 @@
 //! ```
 
 use super::BsplineSurface;
+use crate::geom::Surface;
 use crate::{Error, Result};
 
 /// The curvatures of a surface at a point.
@@ -41,44 +42,51 @@ impl BsplineSurface {
     /// Errors: a surface of dimension other than 1 or 3 ([`Error::WrongDimension`]);
     /// non-finite parameters ([`Error::NonFinite`]).
     pub fn curvature(&self, u: f64, v: f64) -> Result<Option<SurfaceCurvature>> {
-        for (index, t) in [u, v].into_iter().enumerate() {
-            if !t.is_finite() {
-                return Err(Error::NonFinite {
-                    what: "curvature parameter",
-                    index,
-                });
-            }
-        }
-        let d = self.dim;
-        if d != 1 && d != 3 {
-            return Err(Error::WrongDimension {
-                operation: "surface curvature (a surface in R^3 or a height field)",
-                expected: 3,
-                got: d,
+        curvature_of(self, u, v)
+    }
+}
+
+/// K and H of any surface in R³ or height field (R¹) at (u, v) from its partial derivatives
+/// up to order 2 ([`Surface::derivative_into`]); `None` where S_u × S_v vanishes. Errors:
+/// those of [`BsplineSurface::curvature`], and the surface's derivatives'.
+pub(crate) fn curvature_of(s: &dyn Surface, u: f64, v: f64) -> Result<Option<SurfaceCurvature>> {
+    for (index, t) in [u, v].into_iter().enumerate() {
+        if !t.is_finite() {
+            return Err(Error::NonFinite {
+                what: "curvature parameter",
+                index,
             });
         }
-        let mut parts = [[0.0; 3]; 5];
-        for (k, (ku, kv)) in [(1, 0), (0, 1), (2, 0), (1, 1), (0, 2)]
-            .into_iter()
-            .enumerate()
-        {
-            self.eval_derivative(u, v, ku, kv, &mut parts[k][..d]);
-        }
-        let [su, sv, suu, suv, svv] = if d == 1 {
-            // The graph (x, y, f): S_x = (1, 0, f_x), S_y = (0, 1, f_y), S_xx = (0, 0, f_xx)…
-            let f = |k: usize| parts[k][0];
-            [
-                [1.0, 0.0, f(0)],
-                [0.0, 1.0, f(1)],
-                [0.0, 0.0, f(2)],
-                [0.0, 0.0, f(3)],
-                [0.0, 0.0, f(4)],
-            ]
-        } else {
-            parts
-        };
-        Ok(fundamental_forms(su, sv, suu, suv, svv))
     }
+    let d = s.dim();
+    if d != 1 && d != 3 {
+        return Err(Error::WrongDimension {
+            operation: "surface curvature (a surface in R^3 or a height field)",
+            expected: 3,
+            got: d,
+        });
+    }
+    let mut parts = [[0.0; 3]; 5];
+    for (k, order) in [(1, 0), (0, 1), (2, 0), (1, 1), (0, 2)]
+        .into_iter()
+        .enumerate()
+    {
+        s.derivative_into(u, v, order, &mut parts[k][..d])?;
+    }
+    let [su, sv, suu, suv, svv] = if d == 1 {
+        // The graph (x, y, f): S_x = (1, 0, f_x), S_y = (0, 1, f_y), S_xx = (0, 0, f_xx)…
+        let f = |k: usize| parts[k][0];
+        [
+            [1.0, 0.0, f(0)],
+            [0.0, 1.0, f(1)],
+            [0.0, 0.0, f(2)],
+            [0.0, 0.0, f(3)],
+            [0.0, 0.0, f(4)],
+        ]
+    } else {
+        parts
+    };
+    Ok(fundamental_forms(su, sv, suu, suv, svv))
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
