@@ -61,7 +61,7 @@ use crate::{Error, Result};
 
 mod collocation;
 
-use collocation::Spare;
+use collocation::{Solution, Spare};
 
 /// The highest degree [`make_interp_spline`] takes (the B-spline curves' own limit).
 pub const MAX_SPLINE_DEGREE: usize = 7;
@@ -491,29 +491,53 @@ const REPORT_ROWS: usize = 1 << 16;
 /// For n < k + 1 points the inner part is empty (the knots then need end conditions).
 pub fn not_a_knot_knots(x: &[f64], k: usize) -> Vec<f64> {
     let n = x.len();
-    let mut t = vec![x[0]; k + 1];
     if k % 2 == 1 {
         let h = k.div_ceil(2);
-        if n > 2 * h {
-            t.extend_from_slice(&x[h..n - h]);
-        }
+        let inner = if n > 2 * h { &x[h..n - h] } else { &[] };
+        knots_with_ends(x, k + 1, inner.len(), |j, out| {
+            out.copy_from_slice(&inner[j..j + out.len()]);
+        })
     } else {
         let h = k / 2;
         // Midpoints m_i = (x_i + x_(i+1))/2, i = h .. n - 1 - h.
-        t.extend((h..(n - 1).saturating_sub(h)).map(|i| (x[i] + x[i + 1]) / 2.0));
+        let count = (n - 1).saturating_sub(h).saturating_sub(h);
+        knots_with_ends(x, k + 1, count, |j, out| {
+            for (i, m) in (h + j..).zip(out) {
+                *m = (x[i] + x[i + 1]) / 2.0;
+            }
+        })
     }
-    t.extend(std::iter::repeat_n(x[n - 1], k + 1));
-    t
 }
 
 /// The knots for derivative end conditions: every x, the ends k + 1 fold (SciPy's
 /// `_augknt`).
 pub fn augmented_knots(x: &[f64], k: usize) -> Vec<f64> {
-    let n = x.len();
-    let mut t = Vec::with_capacity(n + 2 * k);
-    t.extend(std::iter::repeat_n(x[0], k));
-    t.extend_from_slice(x);
-    t.extend(std::iter::repeat_n(x[n - 1], k));
+    knots_with_ends(x, k, x.len(), |j, out| {
+        out.copy_from_slice(&x[j..j + out.len()]);
+    })
+}
+
+/// Knots: x[0] `ends` times, `inner` knots from `fill(j, out)` (knots j.. into `out`), x's
+/// last `ends` times. Long knot vectors are filled in parallel blocks.
+fn knots_with_ends(
+    x: &[f64],
+    ends: usize,
+    inner: usize,
+    fill: impl Fn(usize, &mut [f64]) + Sync,
+) -> Vec<f64> {
+    const BLOCK: usize = 1 << 16;
+    let mut t = crate::mem::zeros(inner + 2 * ends);
+    let (head, rest) = t.split_at_mut(ends);
+    let (body, tail) = rest.split_at_mut(inner);
+    head.fill(x[0]);
+    tail.fill(x[x.len() - 1]);
+    if inner <= BLOCK {
+        fill(0, body);
+    } else {
+        body.par_chunks_mut(BLOCK)
+            .enumerate()
+            .for_each(|(b, out)| fill(b * BLOCK, out));
+    }
     t
 }
 
@@ -762,10 +786,9 @@ pub(super) fn solve_open(
     let sys = OpenSystem::new(x, y, dim, t, k, left, right)?;
     progress.add_total(nt as u64)?;
     if nt > TILED_ROWS {
-        let c = solve_tiled(&sys, TILE_ROWS, TILE_HALO, progress)?;
+        let (c, (big, finite)) = solve_tiled(&sys, TILE_ROWS, TILE_HALO, progress)?;
         // Ill-conditioned (coefficients far above the data), or without decay (the seams
         // do not hold): the whole system, refined.
-        let (big, finite) = scan(&c);
         let scale = sys.ends_scale().max(largest_y);
         if finite && big <= AMPLIFIED_TILES * scale && seams_hold(&sys, &c, TILE_ROWS)? {
             return Ok(c);
@@ -967,25 +990,36 @@ impl<'a> OpenSystem<'a> {
 /// The coefficients of `sys` from windows of `tile` rows, each solved with `halo` more rows
 /// on each side (discarded), in parallel: equal to the whole system's solution within
 /// rounding where the influence decays over the halo ([`TILE_HALO`]). Memory: a few windows'
-/// bands, never the whole system's.
+/// bands, never the whole system's. Also returns [`scan`] of the coefficients (each part
+/// scanned while it is in cache).
 fn solve_tiled(
     sys: &OpenSystem,
     tile: usize,
     halo: usize,
     progress: &Progress,
-) -> Result<Vec<f64>> {
+) -> Result<(Vec<f64>, (f64, bool))> {
     let (nt, dim) = (sys.nt, sys.dim);
-    let mut out = vec![0.0; nt * dim];
+    let mut out = crate::mem::zeros(nt * dim);
+    let chunk = 2 * tile * dim;
+    let mut scans = vec![(0.0, true); out.len().div_ceil(chunk)];
     // Two windows per task: their eliminations overlap ([`OpenSystem::solve_collocations`]).
-    out.par_chunks_mut(2 * tile * dim)
+    out.par_chunks_mut(chunk)
+        .zip(scans.par_iter_mut())
         .enumerate()
-        .try_for_each_init(Spare::default, |spare, (w, part)| -> Result<()> {
-            let a0 = 2 * w * tile;
-            let a1 = a0 + part.len() / dim;
-            solve_windows(sys, a0, a1, tile, halo, part, spare)?;
-            progress.advance((a1 - a0) as u64)
-        })?;
-    Ok(out)
+        .try_for_each_init(
+            Spare::default,
+            |spare, (w, (part, scanned))| -> Result<()> {
+                let a0 = 2 * w * tile;
+                let a1 = a0 + part.len() / dim;
+                solve_windows(sys, a0, a1, tile, halo, part, spare)?;
+                *scanned = scan_block(part);
+                progress.advance((a1 - a0) as u64)
+            },
+        )?;
+    let scanned = scans
+        .into_iter()
+        .fold((0.0f64, true), |a, b| (a.0.max(b.0), a.1 && b.1));
+    Ok((out, scanned))
 }
 
 /// The coefficients a0..a1 of `sys` into `part`, in windows of `tile` rows (one or two),
@@ -999,32 +1033,43 @@ fn solve_windows(
     part: &mut [f64],
     spare: &mut Spare,
 ) -> Result<()> {
-    let (nt, dim) = (sys.nt, sys.dim);
-    let owned = [(a0, (a0 + tile).min(a1)), ((a0 + tile).min(a1), a1)];
-    let rows = owned.map(|(a, b)| (a.saturating_sub(halo), (b + halo).min(nt)));
-    let fast = match rows.map(|(r0, r1)| sys.collocation_only(r0, r1) && r0 < r1) {
-        [true, true] => sys.solve_collocations(rows, spare)?,
-        [true, false] => [sys.solve_collocations([rows[0]], spare)?[0].take(), None],
-        [false, true] => [None, sys.solve_collocations([rows[1]], spare)?[0].take()],
-        [false, false] => [None, None],
+    let dim = sys.dim;
+    let mid = (a0 + tile).min(a1);
+    let owned = [(a0, mid), (mid, a1)];
+    let rows = owned.map(|(a, b)| (a.saturating_sub(halo), (b + halo).min(sys.nt)));
+    let fast: [bool; 2] = std::array::from_fn(|w| {
+        owned[w].0 < owned[w].1 && sys.collocation_only(rows[w].0, rows[w].1)
+    });
+    let (p0, p1) = part.split_at_mut((mid - a0) * dim);
+    let mut parts = [p0, p1];
+    let [q0, q1] = &mut parts;
+    let own = |w: usize| owned[w].0 - rows[w].0..owned[w].1 - rows[w].0;
+    let (s0, s1) = (
+        Solution {
+            rows: own(0),
+            out: q0,
+        },
+        Solution {
+            rows: own(1),
+            out: q1,
+        },
+    );
+    let solved = match fast {
+        [true, true] => sys.solve_collocations(rows, [s0, s1], spare)?,
+        [true, false] => [sys.solve_collocations([rows[0]], [s0], spare)?[0], false],
+        [false, true] => [false, sys.solve_collocations([rows[1]], [s1], spare)?[0]],
+        [false, false] => [false, false],
     };
-    for ((&(a, b), &(r0, r1)), fast) in owned.iter().zip(&rows).zip(fast) {
-        if a == b {
+    for (w, out) in parts.into_iter().enumerate() {
+        let ((a, b), (r0, r1)) = (owned[w], rows[w]);
+        if a == b || solved[w] {
             continue;
         }
-        let solved = match fast {
-            Some(s) => s,
-            None => {
-                let (m, mut s) = sys.window(r0, r1)?;
-                m.factor_below(0.0)
-                    .map_err(|_| singular())?
-                    .solve(&mut s, dim);
-                s
-            }
-        };
-        part[(a - a0) * dim..(b - a0) * dim]
-            .copy_from_slice(&solved[(a - r0) * dim..(b - r0) * dim]);
-        spare.recycle(solved);
+        let (m, mut s) = sys.window(r0, r1)?;
+        m.factor_below(0.0)
+            .map_err(|_| singular())?
+            .solve(&mut s, dim);
+        out.copy_from_slice(&s[(a - r0) * dim..(b - r0) * dim]);
     }
     Ok(())
 }
@@ -1050,26 +1095,34 @@ impl OpenSystem<'_> {
     /// nothing else is stored. `None` when a pivot is not clearly positive
     /// ([`TP_PIVOT`]): the caller then pivots.
     pub(super) fn solve_collocation(&self, r0: usize, r1: usize) -> Result<Option<Vec<f64>>> {
-        let [b] = self.solve_collocations([(r0, r1)], &mut Spare::default())?;
-        Ok(b)
+        let mut out = vec![0.0; (r1 - r0) * self.dim];
+        let to = Solution {
+            rows: 0..r1 - r0,
+            out: &mut out,
+        };
+        let [solved] = self.solve_collocations([(r0, r1)], [to], &mut Spare::default())?;
+        Ok(solved.then_some(out))
     }
 
     /// [`OpenSystem::solve_collocation`] of several windows at once (faster than one after
-    /// the other: their rows' eliminations overlap), with buffers from `spare`.
+    /// the other: their rows' eliminations overlap), each window's rows `outs[w].rows`
+    /// written to `outs[w].out`, with buffers from `spare`; false for a window whose pivots
+    /// failed (nothing written).
     pub(super) fn solve_collocations<const S: usize>(
         &self,
         windows: [(usize, usize); S],
+        outs: [Solution<'_>; S],
         spare: &mut Spare,
-    ) -> Result<[Option<Vec<f64>>; S]> {
+    ) -> Result<[bool; S]> {
         match self.k {
-            1 => self.solve_collocation_k::<1, S>(windows, spare),
-            2 => self.solve_collocation_k::<2, S>(windows, spare),
-            3 => self.solve_collocation_k::<3, S>(windows, spare),
-            4 => self.solve_collocation_k::<4, S>(windows, spare),
-            5 => self.solve_collocation_k::<5, S>(windows, spare),
-            6 => self.solve_collocation_k::<6, S>(windows, spare),
-            7 => self.solve_collocation_k::<7, S>(windows, spare),
-            _ => Ok([const { None }; S]),
+            1 => self.solve_collocation_k::<1, S>(windows, outs, spare),
+            2 => self.solve_collocation_k::<2, S>(windows, outs, spare),
+            3 => self.solve_collocation_k::<3, S>(windows, outs, spare),
+            4 => self.solve_collocation_k::<4, S>(windows, outs, spare),
+            5 => self.solve_collocation_k::<5, S>(windows, outs, spare),
+            6 => self.solve_collocation_k::<6, S>(windows, outs, spare),
+            7 => self.solve_collocation_k::<7, S>(windows, outs, spare),
+            _ => Ok([false; S]),
         }
     }
 }
@@ -1166,6 +1219,14 @@ pub(super) fn max_abs(v: &[f64]) -> f64 {
 /// four independent chains of each, compiled for AVX2 where the CPU has it) per chunk,
 /// chunks in parallel; a pass over 10^7 points costs what reading them does.
 fn scan(v: &[f64]) -> (f64, bool) {
+    v.par_chunks(1 << 16)
+        .map(scan_block)
+        .reduce_with(|a, b| (a.0.max(b.0), a.1 && b.1))
+        .unwrap_or((0.0, true))
+}
+
+/// [`scan`] of one block, on the calling thread.
+fn scan_block(c: &[f64]) -> (f64, bool) {
     #[inline(always)]
     fn chunk(c: &[f64]) -> (f64, bool) {
         let (mut lanes, mut zeros) = ([0.0f64; 16], [0.0f64; 16]);
@@ -1184,17 +1245,12 @@ fn scan(v: &[f64]) -> (f64, bool) {
         let z = rest.iter().chain(&zeros).fold(0.0, |a, x| a + 0.0 * x);
         (m, z == 0.0)
     }
-    v.par_chunks(1 << 16)
-        .map(|c| {
-            let mut out = (0.0, true);
-            with_avx2(
-                #[inline(always)]
-                || out = chunk(c),
-            );
-            out
-        })
-        .reduce_with(|a, b| (a.0.max(b.0), a.1 && b.1))
-        .unwrap_or((0.0, true))
+    let mut out = (0.0, true);
+    with_avx2(
+        #[inline(always)]
+        || out = chunk(c),
+    );
+    out
 }
 
 /// [`find_span`] for x at or after the knot interval `from` (the points increase: a walk
@@ -1474,7 +1530,9 @@ mod tests {
             ] {
                 let sys = OpenSystem::new(&x, &y, 2, &t, k, &left, &right).unwrap();
                 let whole = solve_refined(|| sys.window(0, sys.nt), 2).unwrap();
-                let tiled = solve_tiled(&sys, 200, TILE_HALO, &Progress::none()).unwrap();
+                let (tiled, scanned) =
+                    solve_tiled(&sys, 200, TILE_HALO, &Progress::none()).unwrap();
+                assert_eq!(scanned, scan(&tiled), "k {k}: the parts' scans");
                 // Every degree's not-a-knot system decays (even degrees: knots between the
                 // data); derivative conditions on knots at the data do not for even degrees:
                 // the seams show it, and the whole system is solved instead (as it is for

@@ -30,12 +30,13 @@ impl OpenSystem<'_> {
     pub(super) fn solve_collocation_k<const K: usize, const S: usize>(
         &self,
         windows: [(usize, usize); S],
+        outs: [Solution<'_>; S],
         spare: &mut Spare,
-    ) -> Result<[Option<Vec<f64>>; S]> {
-        let mut answer = Ok([const { None }; S]);
+    ) -> Result<[bool; S]> {
+        let mut answer = Ok([false; S]);
         with_avx2(
             #[inline(always)]
-            || answer = self.collocation_blocks::<K, S>(windows, spare),
+            || answer = self.collocation_blocks::<K, S>(windows, outs, spare),
         );
         answer
     }
@@ -44,8 +45,9 @@ impl OpenSystem<'_> {
     fn collocation_blocks<const K: usize, const S: usize>(
         &self,
         windows: [(usize, usize); S],
+        outs: [Solution<'_>; S],
         spare: &mut Spare,
-    ) -> Result<[Option<Vec<f64>>; S]> {
+    ) -> Result<[bool; S]> {
         let dim = self.dim;
         let mut ws = windows.map(|(r0, r1)| Window::new(r0, r1, dim, spare));
         while ws.iter().any(Window::pending) {
@@ -69,8 +71,16 @@ impl OpenSystem<'_> {
                 }
             }
         }
-        Ok(ws.map(|w| w.finish::<K>(dim, spare)))
+        let mut outs = outs.into_iter();
+        Ok(ws.map(|w| w.finish::<K>(dim, outs.next().expect("one per window"), spare)))
     }
+}
+
+/// Where a window's solution goes: its rows `rows` (counted from the window's first row)
+/// into `out`, the rest (the halo) dropped.
+pub(in crate::bspline) struct Solution<'a> {
+    pub(in crate::bspline) rows: std::ops::Range<usize>,
+    pub(in crate::bspline) out: &'a mut [f64],
 }
 
 /// Buffers of finished windows, reused by the next windows on the same thread: fresh
@@ -80,13 +90,6 @@ impl OpenSystem<'_> {
 pub(in crate::bspline) struct Spare {
     u: Vec<Vec<[f64; W]>>,
     b: Vec<Vec<f64>>,
-}
-
-impl Spare {
-    /// Gives a window's solution back for reuse once it was read.
-    pub(in crate::bspline) fn recycle(&mut self, b: Vec<f64>) {
-        self.b.push(b);
-    }
 }
 
 /// An empty vector of capacity at least `n`: one of `spare`'s, else a new one.
@@ -155,8 +158,11 @@ impl Window {
             check_band(r, l, K, || format!("x[{i}] = {xi}"))?;
             self.lanes.x[lane] = xi;
             self.lanes.span[lane] = l;
-            self.b.extend_from_slice(&sys.y[i * dim..(i + 1) * dim]);
         }
+        // The block's right-hand sides: its points' values, in one copy.
+        let i0 = self.s0 - sys.nl;
+        self.b
+            .extend_from_slice(&sys.y[i0 * dim..(i0 + self.n) * dim]);
         self.lanes.basis::<K>(sys.t, self.n);
         Ok(())
     }
@@ -191,23 +197,22 @@ impl Window {
         }
     }
 
-    /// The solution after the back substitution; `None` if a pivot failed. The buffers
-    /// not returned go to `spare`.
+    /// The back substitution into `to`; false (nothing written) if a pivot failed. The
+    /// buffers go to `spare`.
     #[inline(always)]
-    fn finish<const K: usize>(mut self, dim: usize, spare: &mut Spare) -> Option<Vec<f64>> {
-        spare.u.push(std::mem::take(&mut self.u));
-        if self.failed {
-            spare.recycle(self.b);
-            return None;
+    fn finish<const K: usize>(self, dim: usize, to: Solution, spare: &mut Spare) -> bool {
+        let (u, mut b) = (self.u, self.b);
+        if !self.failed {
+            match dim {
+                1 => backward::<K, 1>(&u, &mut b, to, 1),
+                2 => backward::<K, 2>(&u, &mut b, to, 2),
+                3 => backward::<K, 3>(&u, &mut b, to, 3),
+                _ => backward::<K, 0>(&u, &mut b, to, dim),
+            }
         }
-        let (u, b) = (spare.u.last().expect("just kept"), &mut self.b);
-        match dim {
-            1 => backward::<K, 1>(u, b, 1),
-            2 => backward::<K, 2>(u, b, 2),
-            3 => backward::<K, 3>(u, b, 3),
-            _ => backward::<K, 0>(u, b, dim),
-        }
-        Some(self.b)
+        spare.u.push(u);
+        spare.b.push(b);
+        !self.failed
     }
 }
 
@@ -248,12 +253,45 @@ impl Lanes {
                 self.window[q][i] = *w;
             }
         }
-        for i in 0..LANES {
-            let w: [f64; 2 * W] = std::array::from_fn(|q| self.window[q][i]);
-            let nb = cox_de_boor::<K>(&w, self.x[i]);
-            for (r, v) in nb.into_iter().enumerate() {
-                self.basis[r][i] = v;
+        if K == 3 {
+            // basis_funs' own cubic (reciprocals first): its bits.
+            for i in 0..LANES {
+                let w: [f64; 2 * W] = std::array::from_fn(|q| self.window[q][i]);
+                let nb = cox_de_boor::<K>(&w, self.x[i]);
+                for (r, v) in nb.into_iter().enumerate() {
+                    self.basis[r][i] = v;
+                }
             }
+        } else {
+            self.cox_de_boor_lanes::<K>();
+        }
+    }
+
+    /// The loops of [`basis_funs`] (any degree but the cubic) with every step over all
+    /// lanes at once: the same operations in the same order per lane (so the same bits), a
+    /// lane per SIMD slot. (Point by point, the recursion's divisions and its chain of
+    /// `saved` run one after the other.)
+    #[inline(always)]
+    fn cox_de_boor_lanes<const K: usize>(&mut self) {
+        // For x in the window's interval K - 1: left[j] = x - w[K - j], right[j] = w[K - 1 + j] - x.
+        let mut left = [[0.0f64; LANES]; W];
+        let mut right = [[0.0f64; LANES]; W];
+        let n = &mut self.basis;
+        n[0] = [1.0; LANES];
+        for j in 1..=K {
+            for i in 0..LANES {
+                left[j][i] = self.x[i] - self.window[K - j][i];
+                right[j][i] = self.window[K - 1 + j][i] - self.x[i];
+            }
+            let mut saved = [0.0f64; LANES];
+            for r in 0..j {
+                for i in 0..LANES {
+                    let temp = n[r][i] / (right[r + 1][i] + left[j - r][i]);
+                    n[r][i] = saved[i] + right[r + 1][i] * temp;
+                    saved[i] = left[j - r][i] * temp;
+                }
+            }
+            n[j] = saved;
         }
     }
 }
@@ -399,37 +437,50 @@ fn forward<const K: usize, const DIM: usize>(
 }
 
 /// The back substitution with U over the forward-substituted right-hand sides `b` (rows of
-/// DIM numbers; DIM = 0: `dim`); with DIM fixed, the K rows after the current one stay in
-/// registers (U's entries in columns past the window are zero).
+/// DIM numbers; DIM = 0: `dim`), the rows `to.rows` of the solution written to `to.out`.
+/// With DIM fixed, the K rows after the current one stay in registers (U's entries in
+/// columns past the window are zero) and `b` is not written. Each row subtracts the
+/// farthest row's term first: the row just solved enters last, so the chain from one row
+/// to the next is one multiply, one subtraction and the scaling, whatever K.
 #[inline(always)]
-fn backward<const K: usize, const DIM: usize>(u: &[[f64; W]], b: &mut [f64], dim: usize) {
+fn backward<const K: usize, const DIM: usize>(
+    u: &[[f64; W]],
+    b: &mut [f64],
+    to: Solution,
+    dim: usize,
+) {
     let m = u.len();
+    let own = to.rows.clone();
     if DIM == 0 {
         for i in (0..m).rev() {
             let (head, tail) = b.split_at_mut((i + 1) * dim);
             let x = &mut head[i * dim..];
             let row = &u[i];
-            for j in 1..=K.min(m - 1 - i) {
+            for j in (1..=K.min(m - 1 - i)).rev() {
                 for (x, y) in x.iter_mut().zip(&tail[(j - 1) * dim..j * dim]) {
                     *x -= row[j] * y;
                 }
             }
             x.iter_mut().for_each(|x| *x *= row[0]);
         }
+        to.out.copy_from_slice(&b[own.start * dim..own.end * dim]);
         return;
     }
     // next[j - 1]: the solution of row i + j.
     let mut next = [[0.0f64; DIM]; K];
     for (i, row) in u.iter().enumerate().rev() {
-        let x = &mut b[i * DIM..(i + 1) * DIM];
+        let x = &b[i * DIM..(i + 1) * DIM];
         let mut v: [f64; DIM] = std::array::from_fn(|d| x[d]);
-        for (uj, y) in row[1..=K].iter().zip(&next) {
+        for (uj, y) in row[1..=K].iter().zip(&next).rev() {
             for (v, y) in v.iter_mut().zip(y) {
                 *v -= uj * y;
             }
         }
         v.iter_mut().for_each(|v| *v *= row[0]);
-        x.copy_from_slice(&v);
+        if own.contains(&i) {
+            let o = (i - own.start) * DIM;
+            to.out[o..o + DIM].copy_from_slice(&v);
+        }
         for j in (1..K).rev() {
             next[j] = next[j - 1];
         }
