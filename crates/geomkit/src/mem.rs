@@ -1,6 +1,59 @@
-//! Large output buffers.
+//! Large result buffers.
+//!
+//! A result of 10^7 points is hundreds of megabytes of fresh memory, and on Linux each 4 KB
+//! page of it costs a page fault when it is first written (a fifth of an interpolation's
+//! time at that size). [`zeros`] asks the kernel for transparent huge pages (2 MB, one
+//! fault each) on large buffers, as NumPy does for its arrays of 4 MB and more
+//! (`madvise(MADV_HUGEPAGE)`): where the system allows them (`/sys/kernel/mm/
+//! transparent_hugepage/enabled` set to `madvise` or `always`) the faults drop 512-fold;
+//! elsewhere, and on other systems, the advice is a no-op. The contents never change.
 
-/// `len` zeros for a large result that the caller's threads then fill.
+/// Buffers of at least this many bytes are advised (NumPy's threshold).
+const HUGE_FROM: usize = 1 << 22;
+
+/// `len` zeros for a large result that the caller's threads then fill, its pages advised
+/// as huge pages where that helps (module docs).
 pub(crate) fn zeros(len: usize) -> Vec<f64> {
-    vec![0.0; len]
+    let v = vec![0.0f64; len];
+    if len * std::mem::size_of::<f64>() >= HUGE_FROM {
+        advise_huge(&v);
+    }
+    v
+}
+
+#[cfg(target_os = "linux")]
+#[allow(unsafe_code)]
+fn advise_huge(v: &[f64]) {
+    const PAGE: usize = 4096;
+    let start = v.as_ptr() as usize;
+    let end = start + std::mem::size_of_val(v);
+    let first = start.next_multiple_of(PAGE);
+    if first >= end {
+        return;
+    }
+    // SAFETY: the range [first, end) lies inside `v`'s allocation, `first` is page aligned
+    // as madvise requires, and MADV_HUGEPAGE only changes how the kernel backs the pages
+    // (never their contents or their mapping), so no Rust reference is affected. A failure
+    // (e.g. a kernel without transparent huge pages) leaves everything as it was and is
+    // ignored.
+    unsafe {
+        libc::madvise(first as *mut libc::c_void, end - first, libc::MADV_HUGEPAGE);
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn advise_huge(_: &[f64]) {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zeros_are_zeros_of_the_length_asked() {
+        for len in [0, 1, 1000, HUGE_FROM / 8 + 3] {
+            let v = zeros(len);
+            assert_eq!(v.len(), len);
+            assert!(v.iter().all(|&x| x == 0.0));
+        }
+    }
 }

@@ -70,7 +70,7 @@ pub(crate) fn first_index(len: usize, pred: impl Fn(usize) -> bool + Sync) -> Op
 /// Index of the first non-finite number. Large inputs are first scanned in parallel by a
 /// vectorizable test (0·x is NaN exactly for infinities and NaN, ±0 otherwise).
 pub(crate) fn first_non_finite(data: &[f64]) -> Option<usize> {
-    let suspect = |c: &[f64]| c.iter().fold(0.0, |a, x| a + 0.0 * x) != 0.0;
+    let suspect = |c: &[f64]| !all_finite(c);
     let any = if data.len() >= 1 << 16 {
         use crate::par::*;
         data.par_chunks(1 << 14).any(suspect)
@@ -178,15 +178,37 @@ pub(crate) fn unit_normal(a: &[f64], b: &[f64]) -> Option<[f64; 3]> {
     Some([n[0] / len, n[1] / len, n[2] / len])
 }
 
-/// Whether every number of `v` is finite and none is below the one before: one
-/// vectorizable pass (0·x is NaN exactly for infinities and NaN), in parallel blocks for
-/// long `v` (the searches that name the first offender run only when it fails).
-fn finite_and_sorted(v: &[f64]) -> bool {
+/// Whether every number of `c` is finite: sums of 0·x (NaN exactly for infinities and
+/// NaN) in eight independent lanes, which vectorize (one running sum would wait for each
+/// addition in turn).
+#[inline]
+fn all_finite(c: &[f64]) -> bool {
+    let mut lanes = [0.0f64; 8];
+    let mut blocks = c.chunks_exact(8);
+    for b in &mut blocks {
+        for (z, x) in lanes.iter_mut().zip(b) {
+            *z += 0.0 * x;
+        }
+    }
+    let rest = blocks.remainder().iter().fold(0.0, |z, x| z + 0.0 * x);
+    lanes.iter().sum::<f64>() + rest == 0.0
+}
+
+/// Whether every number of `v` is finite and none is below the one before (`strict`: each
+/// above the one before): one vectorizable pass (0·x is NaN exactly for infinities and
+/// NaN), in parallel blocks for long `v` (the searches that name the first offender run
+/// only when it fails).
+pub(crate) fn finite_and_sorted(v: &[f64], strict: bool) -> bool {
     const BLOCK: usize = 1 << 14;
     let block = |b: usize| {
         let c = &v[b * BLOCK..((b + 1) * BLOCK + 1).min(v.len())];
-        let sorted = c.windows(2).fold(true, |ok, w| ok & (w[1] >= w[0]));
-        sorted && c.iter().fold(0.0, |z, x| z + 0.0 * x) == 0.0
+        let pairs = c[1..].iter().zip(c);
+        let sorted = if strict {
+            pairs.fold(true, |ok, (b, a)| ok & (b > a))
+        } else {
+            pairs.fold(true, |ok, (b, a)| ok & (b >= a))
+        };
+        sorted && all_finite(c)
     };
     let blocks = v.len().div_ceil(BLOCK);
     if blocks <= 4 {
@@ -205,7 +227,7 @@ pub(crate) fn check_knots(knots: &[f64], degree: usize, n: usize) -> Result<()> 
             reason: "need (control points + degree + 1) knots",
         });
     }
-    if !finite_and_sorted(knots) {
+    if !finite_and_sorted(knots, false) {
         if let Some(index) = knots.iter().position(|k| !k.is_finite()) {
             return Err(Error::NonFinite {
                 what: "knot",

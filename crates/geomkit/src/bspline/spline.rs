@@ -593,22 +593,22 @@ pub(super) fn check_data(x: &[f64], y: &[f64], dim: usize) -> Result<f64> {
             min: 2,
         });
     }
+    let (largest, finite) = scan(y);
+    if finite && crate::points::finite_and_sorted(x, true) {
+        return Ok(largest);
+    }
     if let Some(i) = crate::points::first_non_finite(x) {
         return Err(Error::NonFinite {
             what: "x",
             index: i,
         });
     }
-    let (largest, finite) = scan(y);
     if !finite {
         let i = crate::points::first_non_finite(y).expect("a number that is not finite");
         return Err(Error::NonFinite {
             what: "y",
             index: i / dim,
         });
-    }
-    if strictly_increasing(x) {
-        return Ok(largest);
     }
     if let Some(i) = (1..x.len()).find(|&i| x[i] == x[i - 1]) {
         return Err(interp(format!(
@@ -628,17 +628,6 @@ pub(super) fn check_data(x: &[f64], y: &[f64], dim: usize) -> Result<f64> {
         )));
     }
     Ok(largest)
-}
-
-/// Whether x_(i+1) > x_i for all i: a vectorizable test, in parallel chunks for long x
-/// (the searches that name the first offending pair run only when it fails).
-fn strictly_increasing(x: &[f64]) -> bool {
-    const CHUNK: usize = 1 << 14;
-    let part = |k: usize| {
-        let c = &x[k * CHUNK..((k + 1) * CHUNK + 1).min(x.len())];
-        c.windows(2).fold(true, |ok, w| ok & (w[1] > w[0]))
-    };
-    (0..x.len().div_ceil(CHUNK)).into_par_iter().all(part)
 }
 
 /// SciPy's check of periodic data: `allclose(y[0], y[-1], atol=1e-15)` (rtol 1e-5).
@@ -1000,16 +989,17 @@ fn solve_tiled(
 ) -> Result<(Vec<f64>, (f64, bool))> {
     let (nt, dim) = (sys.nt, sys.dim);
     let mut out = crate::mem::zeros(nt * dim);
-    let chunk = 2 * tile * dim;
+    let chunk = WINDOWS * tile * dim;
     let mut scans = vec![(0.0, true); out.len().div_ceil(chunk)];
-    // Two windows per task: their eliminations overlap ([`OpenSystem::solve_collocations`]).
+    // WINDOWS windows per task: their eliminations overlap
+    // ([`OpenSystem::solve_collocations`]).
     out.par_chunks_mut(chunk)
         .zip(scans.par_iter_mut())
         .enumerate()
         .try_for_each_init(
             Spare::default,
             |spare, (w, (part, scanned))| -> Result<()> {
-                let a0 = 2 * w * tile;
+                let a0 = WINDOWS * w * tile;
                 let a1 = a0 + part.len() / dim;
                 solve_windows(sys, a0, a1, tile, halo, part, spare)?;
                 *scanned = scan_block(part);
@@ -1022,8 +1012,12 @@ fn solve_tiled(
     Ok((out, scanned))
 }
 
-/// The coefficients a0..a1 of `sys` into `part`, in windows of `tile` rows (one or two),
-/// each from the window with `halo` more rows on each side; buffers from `spare`.
+/// Windows of [`solve_tiled`] solved together by one task.
+const WINDOWS: usize = 2;
+
+/// The coefficients a0..a1 of `sys` into `part`, in windows of `tile` rows (up to
+/// [`WINDOWS`]), each from the window with `halo` more rows on each side; buffers from
+/// `spare`.
 fn solve_windows(
     sys: &OpenSystem,
     a0: usize,
@@ -1034,32 +1028,36 @@ fn solve_windows(
     spare: &mut Spare,
 ) -> Result<()> {
     let dim = sys.dim;
-    let mid = (a0 + tile).min(a1);
-    let owned = [(a0, mid), (mid, a1)];
+    let owned: [(usize, usize); WINDOWS] =
+        std::array::from_fn(|w| ((a0 + w * tile).min(a1), (a0 + (w + 1) * tile).min(a1)));
     let rows = owned.map(|(a, b)| (a.saturating_sub(halo), (b + halo).min(sys.nt)));
-    let fast: [bool; 2] = std::array::from_fn(|w| {
+    let fast: [bool; WINDOWS] = std::array::from_fn(|w| {
         owned[w].0 < owned[w].1 && sys.collocation_only(rows[w].0, rows[w].1)
     });
-    let (p0, p1) = part.split_at_mut((mid - a0) * dim);
-    let mut parts = [p0, p1];
-    let [q0, q1] = &mut parts;
+    let mut parts: [&mut [f64]; WINDOWS] = Default::default();
+    let mut rest = part;
+    for (w, p) in parts.iter_mut().enumerate() {
+        let (head, tail) = rest.split_at_mut((owned[w].1 - owned[w].0) * dim);
+        (*p, rest) = (head, tail);
+    }
     let own = |w: usize| owned[w].0 - rows[w].0..owned[w].1 - rows[w].0;
-    let (s0, s1) = (
-        Solution {
-            rows: own(0),
-            out: q0,
-        },
-        Solution {
-            rows: own(1),
-            out: q1,
-        },
-    );
-    let solved = match fast {
-        [true, true] => sys.solve_collocations(rows, [s0, s1], spare)?,
-        [true, false] => [sys.solve_collocations([rows[0]], [s0], spare)?[0], false],
-        [false, true] => [false, sys.solve_collocations([rows[1]], [s1], spare)?[0]],
-        [false, false] => [false, false],
-    };
+    let mut solved = [false; WINDOWS];
+    if fast == [true; WINDOWS] {
+        let mut w = 0..WINDOWS;
+        let outs = parts.each_mut().map(|out| Solution {
+            rows: own(w.next().expect("one per window")),
+            out,
+        });
+        solved = sys.solve_collocations(rows, outs, spare)?;
+    } else {
+        for w in (0..WINDOWS).filter(|&w| fast[w]) {
+            let out = Solution {
+                rows: own(w),
+                out: &mut *parts[w],
+            };
+            solved[w] = sys.solve_collocations([rows[w]], [out], spare)?[0];
+        }
+    }
     for (w, out) in parts.into_iter().enumerate() {
         let ((a, b), (r0, r1)) = (owned[w], rows[w]);
         if a == b || solved[w] {

@@ -6,7 +6,10 @@
 //! row. A row away from the window's edges has all its k + 1 entries inside the window and
 //! its first entry at a fixed offset d = l − r from the diagonal (its knot interval l minus
 //! its row r, 0 ≤ d ≤ k): the elimination is compiled once per (k, d), with every index a
-//! constant, so the row stays in registers. The whole kernel is compiled for AVX2 where the
+//! constant, so the row stays in registers. The forward substitution (reading the points'
+//! values straight from y) and the back substitution (writing the rows a window owns
+//! straight into the result) run the windows of a task in lockstep: each row waits for the
+//! row before it, so two windows' chains overlap. The whole kernel is compiled for AVX2 where the
 //! CPU has it ([`with_avx2`]); it uses no fused multiply-adds, so the bits are the same
 //! either way.
 
@@ -45,7 +48,7 @@ impl OpenSystem<'_> {
     fn collocation_blocks<const K: usize, const S: usize>(
         &self,
         windows: [(usize, usize); S],
-        outs: [Solution<'_>; S],
+        mut outs: [Solution<'_>; S],
         spare: &mut Spare,
     ) -> Result<[bool; S]> {
         let dim = self.dim;
@@ -65,14 +68,31 @@ impl OpenSystem<'_> {
                     }
                 }
             }
-            for w in &mut ws {
-                if w.n > 0 && !w.failed {
-                    w.forward::<K>(dim);
-                }
+            match dim {
+                1 => forward::<K, 1, S>(&mut ws, self.y, self.nl),
+                2 => forward::<K, 2, S>(&mut ws, self.y, self.nl),
+                3 => forward::<K, 3, S>(&mut ws, self.y, self.nl),
+                _ => ws
+                    .iter_mut()
+                    .for_each(|w| w.forward_any::<K>(self.y, self.nl, dim)),
             }
         }
-        let mut outs = outs.into_iter();
-        Ok(ws.map(|w| w.finish::<K>(dim, outs.next().expect("one per window"), spare)))
+        let solved = ws.each_ref().map(|w| !w.failed);
+        match dim {
+            1 => backward::<K, 1, S>(&ws, &mut outs),
+            2 => backward::<K, 2, S>(&ws, &mut outs),
+            3 => backward::<K, 3, S>(&ws, &mut outs),
+            _ => ws
+                .iter_mut()
+                .zip(&mut outs)
+                .filter(|(w, _)| !w.failed)
+                .for_each(|(w, to)| backward_any(K, &w.u, &mut w.b, to, dim)),
+        }
+        for w in ws {
+            spare.u.push(w.u);
+            spare.b.push(w.b);
+        }
+        Ok(solved)
     }
 }
 
@@ -138,11 +158,10 @@ impl Window {
         !self.failed && self.r0 + self.u.len() < self.r1
     }
 
-    /// The next block: its rows' knot intervals (a walk: the points increase), right-hand
-    /// sides and basis values. Errors: a point whose knot interval does not suit its row.
+    /// The next block: its rows' knot intervals (a walk: the points increase) and basis
+    /// values. Errors: a point whose knot interval does not suit its row.
     #[inline(always)]
     fn prepare<const K: usize>(&mut self, sys: &OpenSystem) -> Result<()> {
-        let dim = sys.dim;
         self.s0 = self.r0 + self.u.len();
         self.n = LANES.min(self.r1 - self.s0);
         for (lane, r) in (self.s0..self.s0 + self.n).enumerate() {
@@ -159,10 +178,6 @@ impl Window {
             self.lanes.x[lane] = xi;
             self.lanes.span[lane] = l;
         }
-        // The block's right-hand sides: its points' values, in one copy.
-        let i0 = self.s0 - sys.nl;
-        self.b
-            .extend_from_slice(&sys.y[i0 * dim..(i0 + self.n) * dim]);
         self.lanes.basis::<K>(sys.t, self.n);
         Ok(())
     }
@@ -184,35 +199,24 @@ impl Window {
         self.failed |= !pivoted;
     }
 
-    /// The forward substitution of the block's right-hand sides.
-    #[inline(always)]
-    fn forward<const K: usize>(&mut self, dim: usize) {
-        let rows = self.s0 - self.r0..self.s0 - self.r0 + self.n;
-        let (f, b) = (&self.lanes.factors, &mut self.b);
-        match dim {
-            1 => forward::<K, 1>(f, b, rows, 1),
-            2 => forward::<K, 2>(f, b, rows, 2),
-            3 => forward::<K, 3>(f, b, rows, 3),
-            _ => forward::<K, 0>(f, b, rows, dim),
+    /// The forward substitution of the block's right-hand sides for any dimension: the
+    /// block's values of y appended to `b`, then substituted there.
+    fn forward_any<const K: usize>(&mut self, y: &[f64], nl: usize, dim: usize) {
+        if self.n == 0 || self.failed {
+            return;
         }
-    }
-
-    /// The back substitution into `to`; false (nothing written) if a pivot failed. The
-    /// buffers go to `spare`.
-    #[inline(always)]
-    fn finish<const K: usize>(self, dim: usize, to: Solution, spare: &mut Spare) -> bool {
-        let (u, mut b) = (self.u, self.b);
-        if !self.failed {
-            match dim {
-                1 => backward::<K, 1>(&u, &mut b, to, 1),
-                2 => backward::<K, 2>(&u, &mut b, to, 2),
-                3 => backward::<K, 3>(&u, &mut b, to, 3),
-                _ => backward::<K, 0>(&u, &mut b, to, dim),
+        let i0 = self.s0 - nl;
+        self.b.extend_from_slice(&y[i0 * dim..(i0 + self.n) * dim]);
+        let rows = self.s0 - self.r0..self.s0 - self.r0 + self.n;
+        for (i, f) in rows.zip(&self.lanes.factors) {
+            let (done, rest) = self.b.split_at_mut(i * dim);
+            for p in K.saturating_sub(i)..K {
+                let y = &done[(i + p - K) * dim..(i + p - K + 1) * dim];
+                for (x, y) in rest[..dim].iter_mut().zip(y) {
+                    *x -= f[p] * y;
+                }
             }
         }
-        spare.u.push(u);
-        spare.b.push(b);
-        !self.failed
     }
 }
 
@@ -390,102 +394,109 @@ fn eliminate_edge(
     push_pivot_row(k, &v, big, u)
 }
 
-/// The forward substitution of the right-hand sides of `rows` (rows of DIM numbers; DIM =
-/// 0: `dim`) with their rows' multipliers (`factors[lane]` for row rows.start + lane).
-/// With DIM fixed, the K rows before the current one stay in registers (a row's multiplier
-/// of a row before the window is zero).
+/// The forward substitution of the current blocks of all windows (rows of DIM numbers), the
+/// windows' rows in lockstep: each row waits for the row before it (a multiply and a
+/// subtraction), so two windows' chains overlap. A row's right-hand side is its point's
+/// value in `y` minus its multipliers times the K rows before it, which stay in registers
+/// (a row's multiplier of a row before the window is zero); the result is appended to the
+/// window's `b`.
 #[inline(always)]
-fn forward<const K: usize, const DIM: usize>(
-    factors: &[[f64; W]; LANES],
-    b: &mut [f64],
-    rows: std::ops::Range<usize>,
-    dim: usize,
+fn forward<const K: usize, const DIM: usize, const S: usize>(
+    ws: &mut [Window; S],
+    y: &[f64],
+    nl: usize,
 ) {
-    if DIM == 0 {
-        for (i, f) in rows.zip(factors) {
-            let (done, rest) = b.split_at_mut(i * dim);
-            for p in K.saturating_sub(i)..K {
-                let y = &done[(i + p - K) * dim..(i + p - K + 1) * dim];
-                for (x, y) in rest[..dim].iter_mut().zip(y) {
-                    *x -= f[p] * y;
+    let mut prev = [[[0.0f64; DIM]; K]; S];
+    for (w, prev) in ws.iter().zip(&mut prev) {
+        let start = w.s0 - w.r0;
+        for (p, row) in prev.iter_mut().enumerate() {
+            if start + p >= K {
+                let c = start + p - K;
+                row.copy_from_slice(&w.b[c * DIM..(c + 1) * DIM]);
+            }
+        }
+    }
+    let n = ws.iter().map(|w| if w.failed { 0 } else { w.n }).max();
+    for lane in 0..n.unwrap_or(0) {
+        for (w, prev) in ws.iter_mut().zip(&mut prev) {
+            if lane >= w.n || w.failed {
+                continue;
+            }
+            let f = &w.lanes.factors[lane];
+            let i = w.s0 + lane - nl;
+            let mut v: [f64; DIM] = std::array::from_fn(|d| y[i * DIM + d]);
+            for (fp, y) in f.iter().zip(prev.iter()) {
+                for (v, y) in v.iter_mut().zip(y) {
+                    *v -= fp * y;
                 }
             }
-        }
-        return;
-    }
-    let mut prev = [[0.0f64; DIM]; K];
-    for (p, row) in prev.iter_mut().enumerate() {
-        if rows.start + p >= K {
-            let c = rows.start + p - K;
-            row.copy_from_slice(&b[c * DIM..(c + 1) * DIM]);
-        }
-    }
-    for (i, f) in rows.zip(factors) {
-        let x = &mut b[i * DIM..(i + 1) * DIM];
-        let mut v: [f64; DIM] = std::array::from_fn(|d| x[d]);
-        for (fp, y) in f.iter().zip(&prev) {
-            for (v, y) in v.iter_mut().zip(y) {
-                *v -= fp * y;
+            w.b.extend_from_slice(&v);
+            for p in 1..K {
+                prev[p - 1] = prev[p];
             }
+            prev[K - 1] = v;
         }
-        x.copy_from_slice(&v);
-        for p in 1..K {
-            prev[p - 1] = prev[p];
-        }
-        prev[K - 1] = v;
     }
 }
 
-/// The back substitution with U over the forward-substituted right-hand sides `b` (rows of
-/// DIM numbers; DIM = 0: `dim`), the rows `to.rows` of the solution written to `to.out`.
-/// With DIM fixed, the K rows after the current one stay in registers (U's entries in
-/// columns past the window are zero) and `b` is not written. Each row subtracts the
-/// farthest row's term first: the row just solved enters last, so the chain from one row
-/// to the next is one multiply, one subtraction and the scaling, whatever K.
+/// The back substitution with U over the forward-substituted right-hand sides of the
+/// windows that did not fail (rows of DIM numbers), the windows' rows in lockstep (from each
+/// window's last row), the rows `outs[w].rows` of window w's solution written to
+/// `outs[w].out`. The K rows after the current one stay in registers (U's entries in
+/// columns past the window are zero). Each row subtracts the farthest row's term first: the
+/// row just solved enters last, so the chain from one row to the next is one multiply, one
+/// subtraction and the scaling, whatever K; two windows' chains overlap.
 #[inline(always)]
-fn backward<const K: usize, const DIM: usize>(
-    u: &[[f64; W]],
-    b: &mut [f64],
-    to: Solution,
-    dim: usize,
+fn backward<const K: usize, const DIM: usize, const S: usize>(
+    ws: &[Window; S],
+    outs: &mut [Solution; S],
 ) {
-    let m = u.len();
-    let own = to.rows.clone();
-    if DIM == 0 {
-        for i in (0..m).rev() {
-            let (head, tail) = b.split_at_mut((i + 1) * dim);
-            let x = &mut head[i * dim..];
-            let row = &u[i];
-            for j in (1..=K.min(m - 1 - i)).rev() {
-                for (x, y) in x.iter_mut().zip(&tail[(j - 1) * dim..j * dim]) {
-                    *x -= row[j] * y;
+    let m = ws.each_ref().map(|w| if w.failed { 0 } else { w.u.len() });
+    // next[w][j - 1]: the solution of window w's row i + j.
+    let mut next = [[[0.0f64; DIM]; K]; S];
+    for step in 0..m.iter().copied().max().unwrap_or(0) {
+        for (((w, to), next), &m) in ws.iter().zip(outs.iter_mut()).zip(&mut next).zip(&m) {
+            if step >= m {
+                continue;
+            }
+            let i = m - 1 - step;
+            let row = &w.u[i];
+            let mut v: [f64; DIM] = std::array::from_fn(|d| w.b[i * DIM + d]);
+            for (uj, y) in row[1..=K].iter().zip(next.iter()).rev() {
+                for (v, y) in v.iter_mut().zip(y) {
+                    *v -= uj * y;
                 }
             }
-            x.iter_mut().for_each(|x| *x *= row[0]);
+            v.iter_mut().for_each(|v| *v *= row[0]);
+            if to.rows.contains(&i) {
+                let o = (i - to.rows.start) * DIM;
+                to.out[o..o + DIM].copy_from_slice(&v);
+            }
+            for j in (1..K).rev() {
+                next[j] = next[j - 1];
+            }
+            next[0] = v;
         }
-        to.out.copy_from_slice(&b[own.start * dim..own.end * dim]);
-        return;
     }
-    // next[j - 1]: the solution of row i + j.
-    let mut next = [[0.0f64; DIM]; K];
-    for (i, row) in u.iter().enumerate().rev() {
-        let x = &b[i * DIM..(i + 1) * DIM];
-        let mut v: [f64; DIM] = std::array::from_fn(|d| x[d]);
-        for (uj, y) in row[1..=K].iter().zip(&next).rev() {
-            for (v, y) in v.iter_mut().zip(y) {
-                *v -= uj * y;
+}
+
+/// [`backward`] of one window for any dimension `dim`, in `b`, then the rows `to.rows`
+/// copied out.
+fn backward_any(k: usize, u: &[[f64; W]], b: &mut [f64], to: &mut Solution, dim: usize) {
+    let m = u.len();
+    for i in (0..m).rev() {
+        let (head, tail) = b.split_at_mut((i + 1) * dim);
+        let x = &mut head[i * dim..];
+        let row = &u[i];
+        for j in (1..=k.min(m - 1 - i)).rev() {
+            for (x, y) in x.iter_mut().zip(&tail[(j - 1) * dim..j * dim]) {
+                *x -= row[j] * y;
             }
         }
-        v.iter_mut().for_each(|v| *v *= row[0]);
-        if own.contains(&i) {
-            let o = (i - own.start) * DIM;
-            to.out[o..o + DIM].copy_from_slice(&v);
-        }
-        for j in (1..K).rev() {
-            next[j] = next[j - 1];
-        }
-        next[0] = v;
+        x.iter_mut().for_each(|x| *x *= row[0]);
     }
+    to.out
+        .copy_from_slice(&b[to.rows.start * dim..to.rows.end * dim]);
 }
 
 /// U's row from the eliminated row v (diagonal at v[k]): the reciprocal of the pivot and
