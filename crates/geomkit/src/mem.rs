@@ -3,13 +3,16 @@
 //! A result of 10^7 points is hundreds of megabytes of fresh memory, and on Linux each 4 KB
 //! page of it costs a page fault when it is first written (a fifth of an interpolation's
 //! time at that size). [`zeros`] asks the kernel for transparent huge pages (2 MB, one
-//! fault each) on large buffers, as NumPy does for its arrays of 4 MB and more
-//! (`madvise(MADV_HUGEPAGE)`): where the system allows them (`/sys/kernel/mm/
-//! transparent_hugepage/enabled` set to `madvise` or `always`) the faults drop 512-fold;
-//! elsewhere, and on other systems, the advice is a no-op. The contents never change.
+//! fault each) on large buffers, as NumPy does for its arrays (`madvise(MADV_HUGEPAGE)`):
+//! where the system allows them (`/sys/kernel/mm/transparent_hugepage/enabled` set to
+//! `madvise` or `always`) the faults drop 512-fold; elsewhere, and on other systems, the
+//! advice is a no-op. The contents never change.
 
-/// Buffers of at least this many bytes are advised (NumPy's threshold).
-const HUGE_FROM: usize = 1 << 22;
+/// Buffers of at least this many bytes are advised: glibc's allocator maps buffers this
+/// large afresh every time (its largest mmap threshold), so the advice meets untouched
+/// pages. (Smaller ones come from reused heap memory, where advising measured slower, not
+/// faster: NumPy's threshold of 4 MB was tried.)
+const HUGE_FROM: usize = 1 << 25;
 
 /// `len` zeros for a large result that the caller's threads then fill, its pages advised
 /// as huge pages where that helps (module docs).
