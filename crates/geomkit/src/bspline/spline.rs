@@ -245,7 +245,7 @@ pub(super) fn interp_spline_parts(
         }
         let mut t = x.to_vec();
         t.push(x[n - 1]);
-        return trusted(0, t, dim, y.to_vec());
+        return trusted_made(x, 0, t, dim, y.to_vec());
     }
     if k == 3 && free && !periodic && options.knots.is_none() && n >= scipy_cubic::MIN_POINTS {
         // One unit: a few passes over the data, in parallel (under a second for 10^7).
@@ -270,7 +270,7 @@ pub(super) fn interp_spline_parts(
             t.push(x[0]);
             t.extend_from_slice(x);
             t.push(x[n - 1]);
-            return trusted(1, t, dim, y.to_vec());
+            return trusted_made(x, 1, t, dim, y.to_vec());
         }
         None if periodic => periodic_knots(x, k),
         None if free => not_a_knot_knots(x, k),
@@ -287,7 +287,10 @@ pub(super) fn interp_spline_parts(
         let right = resolve_end(right, x, y, dim, k, false)?;
         solve_open(x, y, dim, &t, k, &left, &right, largest, progress)?
     };
-    trusted(k, t, dim, c)
+    match options.knots.is_none() && !periodic {
+        true => trusted_made(x, k, t, dim, c),
+        false => trusted(k, t, dim, c),
+    }
 }
 
 /// An error naming the first coefficient of `c` (points of `dim` numbers) that is not
@@ -310,6 +313,20 @@ fn check_finite_coefficients(c: &[f64], dim: usize) -> Result<()> {
 fn trusted(k: usize, t: Vec<f64>, dim: usize, c: Vec<f64>) -> Result<BsplineCurve> {
     crate::points::check_knots(&t, k, c.len() / dim)?;
     Ok(BsplineCurve::from_trusted(k, t, dim, c))
+}
+
+/// [`trusted`] for knots made here from x (checked: finite, strictly increasing) by copying
+/// x and its ends ([`augmented_knots`], odd [`not_a_knot_knots`], k = 0 and 1) or by
+/// midpoints of neighbours (even [`not_a_knot_knots`]): those knots are finite, sorted,
+/// of the right count and span a finite interval whenever |x| < f64::MAX / 2 at both ends
+/// (no midpoint or difference overflows), and are not checked again then (a pass over
+/// them).
+fn trusted_made(x: &[f64], k: usize, t: Vec<f64>, dim: usize, c: Vec<f64>) -> Result<BsplineCurve> {
+    if x[0].abs().max(x[x.len() - 1].abs()) < f64::MAX / 2.0 {
+        Ok(BsplineCurve::from_trusted(k, t, dim, c))
+    } else {
+        trusted(k, t, dim, c)
+    }
 }
 
 /// The interpolating tensor-product spline of degrees (kx, ky) through heights z over the
