@@ -24,6 +24,21 @@ pub(crate) fn zeros(len: usize) -> Vec<f64> {
     v
 }
 
+/// A copy of `v` for a large result: [`zeros`] filled in parallel blocks (the first-touch
+/// faults shared by the threads) where `v` is long.
+pub(crate) fn copy_of(v: &[f64]) -> Vec<f64> {
+    const BLOCK: usize = 1 << 16;
+    if v.len() <= BLOCK {
+        return v.to_vec();
+    }
+    use crate::par::*;
+    let mut out = zeros(v.len());
+    out.par_chunks_mut(BLOCK)
+        .zip(v.par_chunks(BLOCK))
+        .for_each(|(o, i)| o.copy_from_slice(i));
+    out
+}
+
 #[cfg(target_os = "linux")]
 #[allow(unsafe_code)]
 fn advise_huge(v: &[f64]) {
@@ -57,6 +72,8 @@ mod tests {
             let v = zeros(len);
             assert_eq!(v.len(), len);
             assert!(v.iter().all(|&x| x == 0.0));
+            let w: Vec<f64> = (0..len).map(|i| i as f64 - 0.5).collect();
+            assert_eq!(copy_of(&w), w);
         }
     }
 }

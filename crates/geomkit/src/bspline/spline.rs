@@ -243,9 +243,12 @@ pub(super) fn interp_spline_parts(
                     .into(),
             ));
         }
-        let mut t = x.to_vec();
-        t.push(x[n - 1]);
-        return trusted_made(x, 0, t, dim, y.to_vec());
+        let t = knots_with_ends(x, 0, n + 1, |j, out| {
+            let m = out.len().min(n - j);
+            out[..m].copy_from_slice(&x[j..j + m]);
+            out[m..].fill(x[n - 1]);
+        });
+        return trusted_made(x, 0, t, dim, crate::mem::copy_of(y));
     }
     if k == 3 && free && !periodic && options.knots.is_none() && n >= scipy_cubic::MIN_POINTS {
         // One unit: a few passes over the data, in parallel (under a second for 10^7).
@@ -266,11 +269,8 @@ pub(super) fn interp_spline_parts(
         }
         // SciPy's special case: the broken line through the points (closed when periodic).
         None if k == 1 && free => {
-            let mut t = Vec::with_capacity(n + 2);
-            t.push(x[0]);
-            t.extend_from_slice(x);
-            t.push(x[n - 1]);
-            return trusted_made(x, 1, t, dim, y.to_vec());
+            let t = augmented_knots(x, 1);
+            return trusted_made(x, 1, t, dim, crate::mem::copy_of(y));
         }
         None if periodic => periodic_knots(x, k),
         None if free => not_a_knot_knots(x, k),
