@@ -40,6 +40,7 @@ from ._bezier import __all__ as _bezier_all
 from ._bspline import BSpline, make_interp_spline
 from ._compose import *  # noqa: F403
 from ._compose import __all__ as _compose_all
+from ._geomkit import MIN_TILE_SIZE
 from ._model import (
     Drawable,
     Mesh,
@@ -67,6 +68,7 @@ __all__ = sorted(
         "BSpline",
         "BSplineSurface",
         "Drawable",
+        "MIN_TILE_SIZE",
         "Mesh",
         "MeshReport",
         "Model",

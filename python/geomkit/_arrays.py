@@ -9,7 +9,12 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from . import _geomkit
+
 Mode = Literal["extend", "nan", "periodic"]
+
+# Tiles larger than this are all of any data (passed on as this).
+_LARGEST_TILE = 2**62
 
 # SciPy's `extrapolate` values as the compiled module names them.
 _MODES: dict[bool | str, Mode] = {True: "extend", False: "nan", "periodic": "periodic"}
@@ -60,6 +65,21 @@ def index(value: Any, name: str) -> int:
         return operator.index(value)
     except TypeError as e:
         raise TypeError(f"{name} must be an integer, got {type(value).__name__}") from e
+
+
+def tile_size(tile: Any) -> int | None:
+    """The `tile` keyword of the builders: None, or an integer of at least the library's
+    ``MIN_TILE_SIZE`` (a TypeError for booleans, floats and others, a ValueError below)."""
+    if tile is None:
+        return None
+    if isinstance(tile, (bool, np.bool_)):
+        raise TypeError("tile must be an integer (points per tile), got bool")
+    size = index(tile, "tile")
+    if size < _geomkit.MIN_TILE_SIZE:
+        raise ValueError(f"tile must be at least {_geomkit.MIN_TILE_SIZE} points (got {size})")
+    # Beyond any data a tile is all of it; larger Python integers would only overflow on
+    # the way to Rust.
+    return min(size, _LARGEST_TILE)
 
 
 def extrapolate_value(extrapolate: Any) -> bool | str:

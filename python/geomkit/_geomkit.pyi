@@ -15,6 +15,7 @@ _Mode = Literal["extend", "nan", "periodic"]
 
 MAX_SPLINE_DEGREE: int
 MAX_DEGREE: int
+MIN_TILE_SIZE: int
 
 class Curve:
     """A B-spline curve: knots, coefficients (n rows of `dim` numbers), degree 0 to 15."""
@@ -75,6 +76,7 @@ def make_interp_spline_curve(
     right: list[tuple[int, _F64]] | None = None,
     periodic: bool = False,
     progress: Callable[[int, int], None] | None = None,
+    tile: int | None = None,
 ) -> Curve: ...
 def make_interp_surface_heights(
     x: _F64,
@@ -93,6 +95,7 @@ def interpolate_grid(
     end_v: str,
     param: str,
     progress: Callable[[int, int], None] | None = None,
+    tile: int | None = None,
 ) -> tuple[Surface, list[float], list[float]]: ...
 
 class Model:

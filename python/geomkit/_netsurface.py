@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _geomkit
-from ._arrays import aligned, contiguous, real_array
+from ._arrays import aligned, contiguous, real_array, tile_size
 from ._model import Drawable, register_kind
 from ._progress import chunked, reporter
 
@@ -166,7 +166,7 @@ def _rebuild(text: str, params_u: Any, params_v: Any) -> BSplineSurface:
 
 
 def make_interp_surface(points: ArrayLike, bc_type: str | tuple[str, str] = "not-a-knot",
-                        param: str = "chord") -> BSplineSurface:
+                        param: str = "chord", *, tile: int | None = None) -> BSplineSurface:
     """The bicubic B-spline surface through an M x N grid of points (method 2, the CLI's
     ``geomkit interpolate surface``).
 
@@ -182,6 +182,12 @@ def make_interp_surface(points: ArrayLike, bc_type: str | tuple[str, str] = "not
     param : {'chord', 'centripetal', 'uniform'}, optional
         Parameters of the grid lines: chord lengths (default) or their square roots,
         averaged over all grid lines and scaled to [0, M-1] x [0, N-1], or 0, 1, 2, ...
+    tile : int, optional
+        Keyword-only: solve in square blocks of `tile` x `tile` grid points (at least
+        ``geomkit.MIN_TILE_SIZE`` = 2), each with a halo of 32 grid lines on every side, in
+        parallel (the CLI's ``interpolate surface --tile``): the same surface within
+        rounding. Periodic ends couple the whole grid: refused with `tile` (ValueError).
+        Default None: one solve.
 
     Returns
     -------
@@ -192,7 +198,10 @@ def make_interp_surface(points: ArrayLike, bc_type: str | tuple[str, str] = "not
     ------
     ValueError
         For a grid that is not 3-D, non-finite points, too few rows or columns for the end
-        condition, coinciding grid lines with chord parameters, unknown names.
+        condition, coinciding grid lines with chord parameters, unknown names, a `tile`
+        below 2 or with periodic ends.
+    TypeError
+        For points that are not real numbers, a `tile` that is not an integer.
 
     Examples
     --------
@@ -205,6 +214,11 @@ def make_interp_surface(points: ArrayLike, bc_type: str | tuple[str, str] = "not
     >>> p = s(s.params_u, s.params_v)
     >>> bool(np.abs(p - ring).max() < 1e-12)
     True
+    >>> u, v = np.meshgrid(np.arange(200.0), np.arange(150.0), indexing="ij")
+    >>> sheet = np.stack([u, v, np.sin(0.1 * u) * np.cos(0.07 * v)], axis=-1)
+    >>> tiled = geomkit.make_interp_surface(sheet, tile=64)
+    >>> bool(np.abs(tiled.net - geomkit.make_interp_surface(sheet).net).max() < 1e-12)
+    True
     """
     grid = real_array(points, "points")
     if grid.ndim != 3:
@@ -216,11 +230,13 @@ def make_interp_surface(points: ArrayLike, bc_type: str | tuple[str, str] = "not
             raise ValueError(f"bc_type {name!r}: expected one of {', '.join(_ENDS)}")
     if param not in _PARAMS:
         raise ValueError(f"param {param!r}: expected one of {', '.join(_PARAMS)}")
+    tile = tile_size(tile)
     rows, cols, dim = grid.shape
     flat = aligned(grid.reshape(rows * cols, dim))
     report = reporter(flat.size, "make_interp_surface")
     try:
-        core, pu, pv = _geomkit.interpolate_grid(flat, rows, cols, end_u, end_v, param, report)
+        core, pu, pv = _geomkit.interpolate_grid(flat, rows, cols, end_u, end_v, param,
+                                                 report, tile)
     finally:
         if report is not None:
             report.close()

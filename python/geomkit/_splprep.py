@@ -9,6 +9,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._arrays import tile_size
 from ._bspline import BSpline, make_interp_spline
 
 __all__ = ["make_splprep"]
@@ -50,6 +51,7 @@ def make_splprep(
     nest: int | None = None,
     bc_type: Any = None,
     param: Literal["chord", "centripetal", "uniform"] = "chord",
+    tile: int | None = None,
 ) -> tuple[BSpline, NDArray[np.float64]]:
     """The interpolating parametric B-spline curve through points in any dimension, as
     ``scipy.interpolate.make_splprep`` with ``s=0``.
@@ -86,6 +88,10 @@ def make_splprep(
         each normalized to ``[0, 1]``. 'chord' (default, SciPy's): cumulative chord length;
         'centripetal': cumulative square roots of the chord lengths (Lee's centripetal
         parametrization, which keeps sharp turns from overshooting); 'uniform': ``i / (m - 1)``.
+    tile : int, optional
+        geomkit's addition: solve in tiles of `tile` coefficients (at least 2), as
+        `make_interp_spline`'s `tile` (the same spline within rounding; periodic ends and
+        the other cases tiles do not take are solved whole). Default None: no tiles.
 
     Returns
     -------
@@ -101,8 +107,11 @@ def make_splprep(
         For ``s != 0``, weights other than ones, `t` or `nest` (smoothing is out of scope);
         NaN or infinite points; coordinates of different lengths; parameters that are not
         strictly increasing (e.g. repeated consecutive points with chord length); an unknown
-        `param`, or `param` other than 'chord' together with `u`; and what
+        `param`, or `param` other than 'chord' together with `u`; a `tile` below 2; and what
         `make_interp_spline` refuses.
+    TypeError
+        For points that are not real numbers, a `param` that is not a string, a `tile` that
+        is not an integer.
 
     Examples
     --------
@@ -132,6 +141,7 @@ def make_splprep(
         raise ValueError(f"make_splprep: param must be one of {_PARAMS}, got {param!r}")
     if not isinstance(param, str):
         raise TypeError(f"make_splprep: param must be a string, got {type(param).__name__}")
+    tile = tile_size(tile)
 
     try:
         points = np.stack([np.asarray(xj) for xj in x], axis=1)  # type: ignore[union-attr]
@@ -181,4 +191,5 @@ def make_splprep(
             f"make_splprep: the parameters must be strictly increasing: u[{i}] = {params[i]} "
             f">= u[{i + 1}] = {params[i + 1]} (repeated points?)"
         )
-    return make_interp_spline(params, points.T, k=k, bc_type=bc_type, axis=1), params
+    spline = make_interp_spline(params, points.T, k=k, bc_type=bc_type, axis=1, tile=tile)
+    return spline, params

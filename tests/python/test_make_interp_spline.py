@@ -233,3 +233,136 @@ def test_wrong_types_are_type_errors(args, kwargs):
 def test_huge_degree_is_a_value_error_not_an_overflow():
     with pytest.raises(ValueError, match="not supported"):
         geomkit.make_interp_spline(np.arange(6), np.arange(6.0), k=10**30)
+
+
+# --- tiles (tile=T: geomkit.bspline::make_interp_spline_tiled) ------------------------------
+TILE = 256
+
+
+def compare_tiled(x, y, k, *, tile=TILE, rel=1e-11, bc_type=None, axis=0):
+    """geomkit's tiled spline against SciPy's make_interp_spline on the same data: SciPy's
+    knots bit for bit, coefficients and values (with two derivatives) within `rel` of the
+    data's scale. Returns (tiled, SciPy's)."""
+    ours = geomkit.make_interp_spline(x, y, k=k, bc_type=bc_type, axis=axis, tile=tile)
+    theirs = si.make_interp_spline(x, y, k=k, bc_type=bc_type, axis=axis)
+    assert (ours.k, ours.extrapolate, ours.axis) == (theirs.k, theirs.extrapolate, theirs.axis)
+    assert np.array_equal(ours.t, theirs.t), "t"
+    assert_near(ours.c, theirs.c, rel=rel, what="c")
+    xx = np.linspace(x[0], x[-1], 2001)
+    for nu in range(min(k, 2) + 1):
+        assert_near(ours(xx, nu), theirs(xx, nu), rel=rel * 10 ** nu, what=f"nu={nu}")
+    return ours, theirs
+
+
+@pytest.mark.parametrize("k", range(1, 8))
+@pytest.mark.parametrize("trailing", [(), (3,)])
+def test_tiles_not_a_knot_every_degree(k, trailing):
+    """N = 1337 points in tiles of 256 coefficients: six tiles, five seams, on uneven x;
+    even degrees (knots at the midpoints) as odd ones."""
+    x, y = data(1337, trailing, seed=100 + k)
+    ours, theirs = compare_tiled(x, y, k)
+    assert_near(ours(x), y, rel=1e-11, what="interpolates")
+    # The untiled solve agrees as closely (both against SciPy above; here with each other).
+    assert_near(ours.c, geomkit.make_interp_spline(x, y, k=k).c, rel=1e-12, what="untiled")
+
+
+@pytest.mark.parametrize("k, bc", [
+    (3, "natural"),
+    (3, "clamped"),
+    (3, ("natural", "clamped")),
+    (1, None),
+    (5, ([(1, 0.5), (2, -1.0)], [(1, 0.0), (2, 2.0)])),
+    (3, ([(1, 0.5)], [(2, -1.0)])),
+    (7, ([(1, 1.0), (2, 0.0), (3, 0.0)], [(1, -1.0), (2, 0.0), (3, 0.5)])),
+])
+@pytest.mark.parametrize("trailing", [(), (3,)])
+def test_tiles_derivative_conditions_odd_degrees(k, bc, trailing):
+    """The k - 1 conditions split evenly between the ends (piled at one end, the solution
+    of a long system grows like a power of N, in SciPy as in geomkit: not for tiles)."""
+    x, y = data(1200, trailing, seed=7 * k)
+    if isinstance(bc, tuple) and trailing and not isinstance(bc[0], str):
+        bc = tuple([(o, np.full(trailing, v)) for o, v in side] for side in bc)
+    compare_tiled(x, y, k, bc_type=bc)
+
+
+def test_tiles_uniform_x_axis_and_tile_sizes():
+    """Uniform x (SciPy's x = arange), y with the interpolation axis in the middle, tiles
+    from 2 points (each tile a halo of 64 rows around 2 coefficients) to more than N (one
+    tile)."""
+    rng = np.random.default_rng(31)
+    n = 700
+    x = np.arange(n, dtype=float) * 0.5 - 3.0
+    y = rng.normal(size=(2, n, 2))
+    for tile in (2, 97, 300, 10**6, 10**30):
+        compare_tiled(x, y, 5, tile=tile, axis=1)
+    compare_tiled(x, y, 4, tile=150, axis=1)
+
+
+@pytest.mark.parametrize("k, kw", [
+    # even degrees with derivative ends: knots at the data, no decay
+    (4, {"bc_type": ([(1, np.zeros(2)), (2, np.ones(2))], [(1, np.zeros(2))])}),
+    (2, {"bc_type": ([(1, np.ones(2))], None)}),
+    (5, {"bc_type": "periodic"}),         # periodic ends couple the whole curve
+    (0, {}),                              # step function: nothing to solve
+])
+def test_tiles_fall_back_to_the_whole_solve(k, kw):
+    """Where the library's tiler does not apply (its documentation: periodic ends, given
+    knots, degree 0, even degrees with derivative conditions) the whole system is solved:
+    still SciPy's spline."""
+    x, y = data(900, (2,), seed=k + 40)
+    if isinstance(kw.get("bc_type"), str):
+        y[-1] = y[0]
+    ours = geomkit.make_interp_spline(x, y, k=k, tile=128, **kw)
+    theirs = si.make_interp_spline(x, y, k=k, **kw)
+    assert ours.extrapolate == theirs.extrapolate
+    assert_near(ours.t, theirs.t, rel=1e-15, what="t")
+    assert_near(ours.c, theirs.c, rel=1e-10, what="c")
+    # Given knots: SciPy's own.
+    t = si.make_interp_spline(x, y, k=3).t
+    assert_near(geomkit.make_interp_spline(x, y, k=3, t=t, tile=100).c,
+                si.make_interp_spline(x, y, k=3, t=t).c, rel=1e-10, what="given t")
+
+
+@pytest.mark.parametrize("tile, error, match", [
+    (0, ValueError, "tile must be at least 2 points \\(got 0\\)"),
+    (1, ValueError, "tile must be at least 2 points \\(got 1\\)"),
+    (-64, ValueError, "tile must be at least 2"),
+    (2.5, TypeError, "tile must be an integer"),
+    (256.0, TypeError, "tile must be an integer"),
+    ("256", TypeError, "tile must be an integer"),
+    (True, TypeError, "tile must be an integer"),
+    (np.float64(8), TypeError, "tile must be an integer"),
+])
+def test_bad_tiles(tile, error, match):
+    x, y = data(50)
+    with pytest.raises(error, match=match):
+        geomkit.make_interp_spline(x, y, tile=tile)
+    # NumPy integers are integers.
+    assert np.array_equal(geomkit.make_interp_spline(x, y, tile=np.int64(16)).t,
+                          si.make_interp_spline(x, y).t)
+
+
+def test_tile_is_keyword_only_and_data_errors_keep_their_words():
+    x, y = data(50)
+    with pytest.raises(TypeError):
+        geomkit.make_interp_spline(x, y, 3, None, None, 0, True, 16)  # type: ignore[misc]
+    with pytest.raises(ValueError, match="Expect x to not have duplicates"):
+        geomkit.make_interp_spline([0, 1, 1, 2, 3], np.arange(5.0), k=1, tile=2)
+    with pytest.raises(ValueError, match="not a finite number"):
+        geomkit.make_interp_spline(x, np.r_[y[:-1], np.nan], tile=8)
+    with pytest.raises(ValueError, match="The number of derivatives at boundaries"):
+        geomkit.make_interp_spline(x, y, k=5, bc_type="natural", tile=8)
+
+
+def test_docstring_examples_of_the_builders_run():
+    """The examples of make_interp_spline and make_interp_surface (tiles included)."""
+    import doctest
+
+    finder, runner = doctest.DocTestFinder(), doctest.DocTestRunner()
+    attempted = 0
+    for f in (geomkit.make_interp_spline, geomkit.make_interp_surface, geomkit.make_splprep):
+        for test in finder.find(f, f.__name__, globs={}):
+            result = runner.run(test)
+            assert result.failed == 0, f.__name__
+            attempted += result.attempted
+    assert attempted >= 15

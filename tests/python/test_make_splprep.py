@@ -177,3 +177,42 @@ def test_docstring_example_runs():
     for test in doctest.DocTestFinder().find(geomkit.make_splprep, "make_splprep", globs={}):
         runner.run(test)
     assert runner.tries >= 4 and runner.failures == 0
+
+
+@pytest.mark.parametrize("k", [3, 4, 5])
+@pytest.mark.parametrize("param", ["chord", "centripetal"])
+def test_tiles_as_scipy(k, param):
+    """tile=T (make_interp_spline's tiles): 1100 points of a 3-D curve in tiles of 200
+    coefficients (six tiles), against SciPy's make_interp_spline on the same parameters
+    (SciPy's make_splprep for chord lengths): the same knots, coefficients and values
+    within rounding of the data's scale."""
+    phi = np.linspace(0.0, 12.0 * np.pi, 1100)
+    x = [np.cos(phi) * (2 + 0.1 * phi), np.sin(phi), 0.05 * phi + 0.2 * np.sin(3 * phi)]
+    ours, u = geomkit.make_splprep(x, k=k, param=param, tile=200)
+    whole, uw = geomkit.make_splprep(x, k=k, param=param)
+    assert np.array_equal(u, uw)
+    if param == "chord":
+        theirs, su = si.make_splprep(x, k=k)
+        assert np.array_equal(u, su)
+    else:
+        theirs = si.make_interp_spline(u, np.asarray(x), k=k, axis=1)
+    assert np.array_equal(ours.t, theirs.t)
+    assert_near(ours.c, theirs.c, rel=1e-11, what="c")
+    uu = np.linspace(0.0, 1.0, 3001)
+    assert_near(ours(uu), theirs(uu), rel=1e-11, what="values")
+    assert_near(ours(u), np.asarray(x), rel=1e-11, what="interpolates")
+    assert_near(ours.c, whole.c, rel=1e-12, what="untiled")
+
+
+def test_tiles_periodic_and_refusals():
+    """Periodic ends are solved whole (the library's tiler refuses them): SciPy's periodic
+    interpolant on the same parameters; bad tiles as make_interp_spline's."""
+    x = closed_curve(400, 2)
+    ours, u = geomkit.make_splprep(x, k=5, bc_type="periodic", tile=64)
+    theirs = si.make_interp_spline(u, np.asarray(x).T, k=5, bc_type="periodic")
+    assert np.array_equal(ours.t, theirs.t)
+    assert_near(ours.c, theirs.c, rel=1e-10, what="c")
+    with pytest.raises(ValueError, match=r"tile must be at least 2 points \(got 1\)"):
+        geomkit.make_splprep(x, tile=1)
+    with pytest.raises(TypeError, match="tile must be an integer"):
+        geomkit.make_splprep(x, tile=64.0)

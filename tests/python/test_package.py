@@ -67,7 +67,7 @@ def test_stubs_match_the_compiled_module():
     stubs, runtime = _stub_signatures(), _runtime_signatures()
     assert stubs == runtime
     stub_text = (PACKAGE / "_geomkit.pyi").read_text()
-    for constant in ("MAX_SPLINE_DEGREE", "MAX_DEGREE"):
+    for constant in ("MAX_SPLINE_DEGREE", "MAX_DEGREE", "MIN_TILE_SIZE"):
         assert re.search(rf"^{constant}: int$", stub_text, re.MULTILINE)
         assert isinstance(getattr(_geomkit, constant), int)
 
@@ -97,11 +97,15 @@ def test_signatures_are_scipys():
     def params(f):
         return [(p.name, p.default) for p in inspect.signature(f).parameters.values()]
 
-    assert params(geomkit.make_interp_spline) == params(si.make_interp_spline)
+    # SciPy's parameters, then geomkit's keyword-only tile (none by default).
+    assert params(geomkit.make_interp_spline)[:-1] == params(si.make_interp_spline)
+    assert params(geomkit.make_interp_spline)[-1] == ("tile", None)
+    tile = inspect.signature(geomkit.make_interp_spline).parameters["tile"]
+    assert tile.kind is inspect.Parameter.KEYWORD_ONLY
     assert params(geomkit.BSpline) == params(si.BSpline)
-    # SciPy's keywords, in SciPy's order, then geomkit's param
-    assert params(geomkit.make_splprep)[:-1] == params(si.make_splprep)
-    assert params(geomkit.make_splprep)[-1] == ("param", "chord")
+    # SciPy's keywords, in SciPy's order, then geomkit's param and tile
+    assert params(geomkit.make_splprep)[:-2] == params(si.make_splprep)
+    assert params(geomkit.make_splprep)[-2:] == [("param", "chord"), ("tile", None)]
     for name in ("__call__", "derivative", "antiderivative", "integrate", "insert_knot"):
         assert params(getattr(geomkit.BSpline, name)) == params(getattr(si.BSpline, name))
     assert params(geomkit.RectBivariateSpline) == params(si.RectBivariateSpline)
@@ -236,6 +240,19 @@ def test_the_gil_is_released_during_computations():
     on_grid = _seen_inside(lambda: surface(grid, grid[:1500]),
                            geomkit.RectBivariateSpline.__call__, "True, on_grid")
     assert min(build, evaluate, on_grid) > 20, (build, evaluate, on_grid)
+
+
+def test_the_gil_is_released_during_tiled_builds():
+    rng = np.random.default_rng(12)
+    x = np.sort(rng.uniform(0, 10, 1_000_000))
+    y = rng.normal(size=(x.size, 3))
+    spline = _seen_inside(lambda: geomkit.make_interp_spline(x, y, k=5, tile=50_000),
+                          geomkit.make_interp_spline, "make_interp_spline_curve(")
+    g = np.arange(800.0)
+    grid = np.stack([*np.meshgrid(g, g, indexing="ij"), rng.normal(size=(800, 800))], axis=-1)
+    surface = _seen_inside(lambda: geomkit.make_interp_surface(grid, tile=200),
+                           geomkit.make_interp_surface, "interpolate_grid(")
+    assert min(spline, surface) > 20, (spline, surface)
 
 
 def unaligned(a):

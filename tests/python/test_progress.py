@@ -187,6 +187,47 @@ def test_surface_builds_and_meshes_report() -> None:
     assert np.array_equal(m0.vertices, m1.vertices) and np.array_equal(m0.faces, m1.faces)
 
 
+def test_tiled_builds_report_and_give_the_same_bits() -> None:
+    """make_interp_spline, make_splprep and make_interp_surface with tile=T report per tile
+    (the library's hook) inside a block, with the same bits as without it."""
+    x = np.cumsum(RNG.uniform(0.5, 1.5, 200_000))
+    y = np.c_[np.sin(x * 1e-3), np.cos(x * 2e-3)]
+    for k in (3, 4, 5):
+        plain = geomkit.make_interp_spline(x, y, k=k, tile=20_000)
+        rec = BuildRecorder()
+        with geomkit.progress(rec, min_points=1):
+            shown = geomkit.make_interp_spline(x, y, k=k, tile=20_000)
+        check_build(rec, "make_interp_spline")
+        assert np.array_equal(plain.t, shown.t) and np.array_equal(plain.c, shown.c)
+    plain_p, _ = geomkit.make_splprep(y.T, tile=20_000)
+    rec = BuildRecorder()
+    with geomkit.progress(rec, min_points=1):
+        shown_p, _ = geomkit.make_splprep(y.T, tile=20_000)
+    check_build(rec, "make_interp_spline")
+    assert np.array_equal(plain_p.c, shown_p.c)
+    gx, gy = np.linspace(0, 3, 400), np.linspace(0, 2, 300)
+    grid = np.stack([*np.meshgrid(gx, gy, indexing="ij"),
+                     np.sin(gx)[:, None] * np.cos(gy)[None, :]], axis=-1)
+    plain_s = geomkit.make_interp_surface(grid, tile=64)
+    rec = BuildRecorder()
+    with geomkit.progress(rec, min_points=1):
+        shown_s = geomkit.make_interp_surface(grid, tile=64)
+    check_build(rec, "make_interp_surface")
+    assert np.array_equal(plain_s.net, shown_s.net)
+
+
+def test_an_interrupted_tiled_build_raises_keyboard_interrupt() -> None:
+    x = np.arange(2_000_000, dtype=float)
+    with pytest.raises(KeyboardInterrupt):
+        with geomkit.progress(Interrupting(), min_points=1):
+            geomkit.make_interp_spline(x, np.sin(x * 1e-4), k=5, tile=10_000)
+    g = np.arange(1500.0)
+    grid = np.stack([*np.meshgrid(g, g, indexing="ij"), np.sin(g)[:, None] * g], axis=-1)
+    with pytest.raises(KeyboardInterrupt):
+        with geomkit.progress(Interrupting(), min_points=1):
+            geomkit.make_interp_surface(grid, tile=128)
+
+
 class Interrupting(BuildRecorder):
     """A bar whose first update raises KeyboardInterrupt, as Ctrl-C would during a build."""
 

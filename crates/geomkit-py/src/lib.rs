@@ -14,9 +14,10 @@
 //! - the library's errors become `ValueError` with its message.
 
 use geomkit::bspline::{
-    interpolate_surface_flat_with_progress, make_interp_spline_with_progress,
-    make_interp_surface_with_progress, BsplineCurve, BsplineSurface, EndCondition, EndSpec,
-    Extrapolate, Parametrization, SplineEnds, SplineOptions, SurfaceInterpolationOptions,
+    interpolate_surface_flat_with_progress, interpolate_surface_tiled_with_progress,
+    make_interp_spline_tiled, make_interp_spline_with_progress, make_interp_surface_with_progress,
+    BsplineCurve, BsplineSurface, EndCondition, EndSpec, Extrapolate, Parametrization, SplineEnds,
+    SplineOptions, SurfaceInterpolationOptions, TileOptions, MIN_TILE_SIZE,
 };
 use geomkit_model::{AnyModel, BsplineCurveModel, BsplineSurfaceModel};
 use numpy::{
@@ -272,9 +273,11 @@ fn end_spec(end: Option<Vec<(usize, PyReadonlyArray1<'_, f64>)>>) -> PyResult<En
 /// SciPy's representation: `geomkit::bspline::make_interp_spline` with the knots `t` (or
 /// SciPy's placement) and the ends `left`, `right` (see `end_spec`), or periodic ends.
 /// `progress`: a callable `progress(done, total)` told how far the build is (see
-/// `progress.rs`; Ctrl-C then interrupts it).
+/// `progress.rs`; Ctrl-C then interrupts it). `tile`: solve in tiles of that many
+/// coefficients (`geomkit::bspline::make_interp_spline_tiled`, its default halo; the whole
+/// system where the tiler refuses), at least `MIN_TILE_SIZE`.
 #[pyfunction]
-#[pyo3(signature = (x, y, k, t=None, left=None, right=None, periodic=false, progress=None))]
+#[pyo3(signature = (x, y, k, t=None, left=None, right=None, periodic=false, progress=None, tile=None))]
 fn make_interp_spline_curve(
     py: Python<'_>,
     x: PyReadonlyArray1<'_, f64>,
@@ -285,7 +288,9 @@ fn make_interp_spline_curve(
     right: Option<Vec<(usize, PyReadonlyArray1<'_, f64>)>>,
     periodic: bool,
     progress: Option<Bound<'_, PyAny>>,
+    tile: Option<usize>,
 ) -> PyResult<Curve> {
+    let tiles = tile_options(tile)?;
     let ends = if periodic {
         SplineEnds::Periodic
     } else {
@@ -300,11 +305,24 @@ fn make_interp_spline_curve(
     }
     let x = x.as_slice()?;
     let (_, dim, y) = matrix(&y)?;
-    let inner = progress::run(py, progress.as_ref(), |p| {
-        make_interp_spline_with_progress(x, y, dim, &options, p)
+    let inner = progress::run(py, progress.as_ref(), |p| match &tiles {
+        Some(tiles) => make_interp_spline_tiled(x, y, dim, &options, tiles, p),
+        None => make_interp_spline_with_progress(x, y, dim, &options, p),
     })?
     .map_err(value_error)?;
     Ok(Curve { inner })
+}
+
+/// The tiles of `tile` points each (the library's default halo), `None` without tiles;
+/// a `ValueError` below [`MIN_TILE_SIZE`] (the Python layer checks first, in its words).
+fn tile_options(tile: Option<usize>) -> PyResult<Option<TileOptions>> {
+    match tile {
+        None => Ok(None),
+        Some(t) if t < MIN_TILE_SIZE => Err(PyValueError::new_err(format!(
+            "tile must be at least {MIN_TILE_SIZE} points (got {t})"
+        ))),
+        Some(t) => Ok(Some(TileOptions::default().with_tile_size(t))),
+    }
 }
 
 /// A tensor-product B-spline surface of heights (FITPACK's tck of `RectBivariateSpline`):
@@ -536,9 +554,11 @@ fn surface_end(name: &str) -> PyResult<EndCondition> {
 /// `dim` numbers, row-major), with parameters by `param` ("chord", "centripetal",
 /// "uniform", averaged over the grid lines) and an end condition per direction
 /// (`geomkit::bspline::interpolate_surface_flat`). Returns the surface and the parameters of
-/// the grid rows and columns.
+/// the grid rows and columns. `tile`: solve in square blocks of that many points a side
+/// (`geomkit::bspline::interpolate_surface_tiled`, its default halo), which refuses periodic
+/// ends.
 #[pyfunction]
-#[pyo3(signature = (points, rows, cols, end_u, end_v, param, progress=None))]
+#[pyo3(signature = (points, rows, cols, end_u, end_v, param, progress=None, tile=None))]
 fn interpolate_grid(
     py: Python<'_>,
     points: PyReadonlyArray2<'_, f64>,
@@ -548,7 +568,9 @@ fn interpolate_grid(
     end_v: &str,
     param: &str,
     progress: Option<Bound<'_, PyAny>>,
+    tile: Option<usize>,
 ) -> PyResult<(Surface, Vec<f64>, Vec<f64>)> {
+    let tiles = tile_options(tile)?;
     let parametrization = match param {
         "chord" => Parametrization::ChordLength,
         "centripetal" => Parametrization::Centripetal,
@@ -568,8 +590,11 @@ fn interpolate_grid(
             "{n} points do not make a {rows} x {cols} grid"
         )));
     }
-    let fit = progress::run(py, progress.as_ref(), |p| {
-        interpolate_surface_flat_with_progress(rows, cols, dim, flat, &options, p)
+    let fit = progress::run(py, progress.as_ref(), |p| match &tiles {
+        Some(tiles) => {
+            interpolate_surface_tiled_with_progress(rows, cols, dim, flat, &options, tiles, p)
+        }
+        None => interpolate_surface_flat_with_progress(rows, cols, dim, flat, &options, p),
     })?
     .map_err(value_error)?;
     Ok((Surface { inner: fit.surface }, fit.params_u, fit.params_v))
@@ -596,6 +621,7 @@ fn _geomkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(surface_grid_parameters, m)?)?;
     m.add("MAX_SPLINE_DEGREE", geomkit::bspline::MAX_SPLINE_DEGREE)?;
     m.add("MAX_DEGREE", BsplineCurve::MAX_DEGREE)?;
+    m.add("MIN_TILE_SIZE", MIN_TILE_SIZE)?;
     model::register(m)?;
     bezier::register(m)?;
     compose::register(m)?;

@@ -158,6 +158,39 @@ fn tiles_equal_the_global_solve_for_every_degree() {
     );
 }
 
+/// Every tile size from 1 to past N (tiles owning a few coefficients, tiles whose halo
+/// reaches just short of an end, one tile), streamed and in parallel, for every degree and
+/// the balanced end pairs: the global solve's knots and coefficients. (Windows stopping a
+/// few rows short of an end once read data before the first point — a panic — or ended
+/// on the end's knots without its conditions — a singular system.)
+#[test]
+fn every_tile_size_equals_the_global_solve() {
+    let (x, y) = data(260, 2, true);
+    for k in 1..=7 {
+        for ends in end_pairs(k).into_iter().filter(balanced) {
+            let opts = SplineOptions::new(k).with_ends(ends.clone());
+            let global = make_interp_spline(&x, &y, 2, &opts).unwrap();
+            for size in 1..=270 {
+                let what = format!("k={k} tile={size} {ends:?}");
+                let tiles = TileOptions::default().with_tile_size(size);
+                let (c, t) = streamed(&x, &y, 2, &opts, &tiles).unwrap_or_else(|e| {
+                    panic!("{what}: {e}");
+                });
+                assert_eq!(t, global.knots(), "{what}");
+                let e = rel_diff(global.control_flat(), &c);
+                assert!(e <= 1e-12, "{what}: {e:e}");
+                // In parallel: the same tiles, or the whole solve where a seam's rows do not
+                // hold to rounding.
+                let tiled =
+                    make_interp_spline_tiled(&x, &y, 2, &opts, &tiles, &Progress::none()).unwrap();
+                assert_eq!(tiled.knots(), global.knots(), "{what}");
+                let e = rel_diff(global.control_flat(), tiled.control_flat());
+                assert!(e <= 1e-12, "{what}: {e:e}");
+            }
+        }
+    }
+}
+
 #[test]
 fn even_degrees_with_derivative_ends_are_solved_whole() {
     // Knots at the data: no decay, the tiler refuses; the tiled call gives the global curve.

@@ -294,7 +294,12 @@ OUT by extension: .json (the model; a height field has 1-D net points [z] and kn
 y), .csv or .npy (a K×L grid of points uniform over the parameter domain, row-major; columns
 x,y,z for heights; .npy shape (K, L, columns)), .obj (the K×L grid triangulated, with normals
 for 3-D points and heights), .svg (a wireframe, or for heights a shaded height map with
-contour lines). Default: the JSON model on standard output.";
+contour lines). Default: the JSON model on standard output.
+
+With --tile, a grid of points is solved in square blocks of N×N points with halos, in
+parallel (equal to the global solve within rounding; natural, clamped, bessel, not-a-knot or
+outer ends, since periodic and repeat couple the whole grid). A long solve shows a progress
+bar on stderr when it is a terminal (never in pipes).";
 
 /// End conditions of an open interpolating curve (or of a surface's grid lines).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -615,6 +620,12 @@ pub struct SurfaceArgs {
     /// Sample grid for .csv/.npy/.obj/.svg output: K×L points (K or KxL) [default: 101x101].
     #[arg(long, value_name = "KxL", value_parser = parse_samples)]
     pub samples: Option<Samples>,
+    /// Solve in square blocks of N×N grid points (with halos, in parallel; points input).
+    #[arg(long, value_name = "N", conflicts_with = "heights")]
+    pub tile: Option<usize>,
+    /// With --tile: grid lines solved on each side of a block and discarded [default: 32].
+    #[arg(long, value_name = "H", requires = "tile")]
+    pub halo: Option<usize>,
 }
 
 /// Arguments of `eval`.

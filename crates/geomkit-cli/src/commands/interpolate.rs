@@ -22,11 +22,12 @@ use clap::ValueEnum;
 use geomkit::bspline::{
     interpolate_curve_at_with_progress, interpolate_curve_flat_with_progress,
     interpolate_curve_tiled_with_progress, interpolate_heights_at_with_progress,
-    interpolate_heights_with_progress, interpolate_surface_flat_with_progress, last_repeats_first,
-    make_interp_spline_tiled, make_interp_spline_with_progress, make_interp_surface_with_progress,
-    parameters, BsplineCurve, BsplineSurface, CurveTiler, EndCondition, EndSpec,
-    InterpolationOptions, Parametrization, SplineEnds, SplineOptions, SurfaceInterpolationOptions,
-    TileOptions, TileSolution, MAX_SPLINE_DEGREE, MIN_SPLINE_HALO,
+    interpolate_heights_with_progress, interpolate_surface_flat_with_progress,
+    interpolate_surface_tiled_with_progress, last_repeats_first, make_interp_spline_tiled,
+    make_interp_spline_with_progress, make_interp_surface_with_progress, parameters, BsplineCurve,
+    BsplineSurface, CurveTiler, EndCondition, EndSpec, InterpolationOptions, Parametrization,
+    SplineEnds, SplineOptions, SurfaceInterpolationOptions, TileOptions, TileSolution,
+    MAX_SPLINE_DEGREE, MIN_SPLINE_HALO, MIN_TILE_SIZE,
 };
 use geomkit_plot::figures::{
     bspline_curve_figure, heightmap_svg, linspace, surface_svg, Layer, REFERENCE,
@@ -370,7 +371,9 @@ fn curve_extended(
         .with_parametrization(param);
     let tiles = match args.tile {
         None => None,
-        Some(t) if t < 2 => bail!("--tile must be at least 2 points (got {t})"),
+        Some(t) if t < MIN_TILE_SIZE => {
+            bail!("--tile must be at least {MIN_TILE_SIZE} points (got {t})")
+        }
         Some(_) if matches!(args.end, EndArg::Periodic | EndArg::Repeat) => bail!(
             "--tile takes natural, clamped, bessel, not-a-knot or outer ends (periodic and \
              repeat couple the whole curve; solve them without --tile, it is O(N) too)"
@@ -432,7 +435,9 @@ fn curve_scipy(
     }
     let tiles = match args.tile {
         None => None,
-        Some(t) if t < 2 => bail!("--tile must be at least 2 points (got {t})"),
+        Some(t) if t < MIN_TILE_SIZE => {
+            bail!("--tile must be at least {MIN_TILE_SIZE} points (got {t})")
+        }
         Some(_) if args.end == EndArg::Periodic => bail!(
             "--tile takes open ends (periodic couples the whole curve; solve it without \
              --tile, it is O(N) too)"
@@ -925,6 +930,27 @@ fn surface(args: SurfaceArgs) -> Result<()> {
     if args.offset.is_some() && end_u != EndArg::Outer && end_v != EndArg::Outer {
         bail!("--offset applies to --end outer only");
     }
+    let tiles = match args.tile {
+        None => None,
+        Some(t) if t < MIN_TILE_SIZE => {
+            bail!("--tile must be at least {MIN_TILE_SIZE} points (got {t})")
+        }
+        Some(_)
+            if [end_u, end_v]
+                .iter()
+                .any(|e| matches!(e, EndArg::Periodic | EndArg::Repeat)) =>
+        {
+            bail!(
+                "--tile takes natural, clamped, bessel, not-a-knot or outer ends (periodic and \
+                 repeat couple the whole grid; solve them without --tile, it is O(N) too)"
+            )
+        }
+        Some(t) => Some(
+            TileOptions::default()
+                .with_tile_size(t)
+                .with_halo(args.halo.unwrap_or(TileOptions::default().halo)),
+        ),
+    };
     let spacing = (args.dx.unwrap_or(1.0), args.dy.unwrap_or(1.0));
     let origin = (args.x0.unwrap_or(0.0), args.y0.unwrap_or(0.0));
     if args.heights {
@@ -1028,9 +1054,15 @@ fn surface(args: SurfaceArgs) -> Result<()> {
         let report = progress.reporter();
         let hook = geomkit::progress::Progress::new(&report);
         let data = &grid.table.data;
-        let fit =
-            interpolate_surface_flat_with_progress(rows, cols, grid.dim, data, &options, &hook)
-                .map_err(explain)?;
+        let fit = match &tiles {
+            Some(tiles) => interpolate_surface_tiled_with_progress(
+                rows, cols, grid.dim, data, &options, tiles, &hook,
+            ),
+            None => {
+                interpolate_surface_flat_with_progress(rows, cols, grid.dim, data, &options, &hook)
+            }
+        }
+        .map_err(explain)?;
         SurfaceFit {
             surface: fit.surface,
             params_u: fit.params_u,

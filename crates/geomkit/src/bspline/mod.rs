@@ -66,5 +66,5 @@ pub use surface::{
 pub use tiles::{
     interpolate_curve_tiled, interpolate_curve_tiled_with_progress, interpolate_surface_tiled,
     interpolate_surface_tiled_with_progress, paper_fragments_averaged, CurveTiler, TileOptions,
-    TilePlan, TileSolution,
+    TilePlan, TileSolution, MIN_TILE_SIZE,
 };

@@ -252,7 +252,17 @@ impl SplineTiler {
         (0..nt.div_ceil(self.tile))
             .map(|w| {
                 let (a0, a1) = (w * self.tile, ((w + 1) * self.tile).min(nt));
-                let (r0, r1) = (a0.saturating_sub(self.halo), (a1 + self.halo).min(nt));
+                let (r0, r1) = (
+                    a0.saturating_sub(self.halo),
+                    a1.saturating_add(self.halo).min(nt),
+                );
+                // A window's data and knots reach up to 3k + 2 rows beyond its rows: a window
+                // that would stop nearer an end than that runs to the end itself (it would
+                // read data before the first point, or end on the end's knots without its
+                // conditions: tiles owning coefficients just beyond a halo's reach).
+                let margin = 3 * k + 2;
+                let r0 = if r0 < margin { 0 } else { r0 };
+                let r1 = if nt - r1 < margin { nt } else { r1 };
                 let (xb, xe) = self.local_x(r0, r1);
                 // The x the local knots need: knot j reads x near j - k - 1 + h >= j - 2k - 1.
                 let need0 = if r0 == 0 {

@@ -31,6 +31,11 @@ use crate::progress::Progress;
 use crate::{Error, Result};
 use std::ops::Range;
 
+/// The fewest points per tile the front ends accept (the CLI's `--tile`, the Python
+/// package's `tile=`): with a halo of 0 a tile of one point would be a single point, too few
+/// for any solve. [`TileOptions::with_tile_size`] itself takes any size from 1.
+pub const MIN_TILE_SIZE: usize = 2;
+
 /// Tile sizes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
@@ -200,7 +205,7 @@ fn plan_tiles(n: usize, tiles: &TileOptions) -> Vec<TilePlan> {
             let w0 = if a == 0 { 0 } else { a + 1 };
             let w1 = if b == n { n + 2 } else { b + 1 };
             TilePlan {
-                read: a.saturating_sub(h)..(b + h).min(n),
+                read: a.saturating_sub(h)..b.saturating_add(h).min(n),
                 write: w0..w1,
             }
         })
