@@ -565,14 +565,14 @@ pub(crate) fn knots_around_parameters(
     t0: f64,
 ) -> Result<Vec<f64>> {
     let count = points.len() / dim + usize::from(closed);
-    let mut knots = vec![0.0; count + 6];
+    let mut knots = crate::mem::zeros(count + 6);
     fill_parameters(points, dim, kind, closed, t0, &mut knots[3..count + 3])?;
     Ok(knots)
 }
 
 /// [`knots_around_parameters`] for given parameters `t`.
 pub(crate) fn knots_around(t: &[f64]) -> Vec<f64> {
-    let mut knots = vec![0.0; t.len() + 6];
+    let mut knots = crate::mem::zeros(t.len() + 6);
     crate::points::par_copy(t, &mut knots[3..t.len() + 3]);
     knots
 }
@@ -781,7 +781,7 @@ impl Solver1d {
         validated: bool,
         progress: &Progress,
     ) -> Result<CurveInterpolation> {
-        let mut control = vec![0.0; self.n_control() * dim];
+        let mut control = crate::mem::zeros(self.n_control() * dim);
         self.solve_checked_reporting(points, dim, &mut control, validated, progress)?;
         Ok(CurveInterpolation::new(
             BsplineCurve::from_trusted(3, self.knots, dim, control),

@@ -263,7 +263,7 @@ pub fn interpolate_surface_tiled_with_progress(
     let (plan_u, plan_v) = (plan_tiles(rows, tiles), plan_tiles(cols, tiles));
     let rows_read: usize = plan_u.iter().map(|p| p.read.len()).sum();
     progress.add_total(2 * (rows_read * plan_v.len()) as u64)?;
-    let mut control = vec![0.0; nu * nv * dim];
+    let mut control = crate::mem::zeros(nu * nv * dim);
     // Split the net into the disjoint row bands that each row of blocks writes.
     let mut bands: Vec<(&TilePlan, &mut [f64])> = Vec::with_capacity(plan_u.len());
     let mut rest = control.as_mut_slice();
@@ -369,7 +369,7 @@ pub fn interpolate_curve_tiled_with_progress(
     let mut knots = knots_around_parameters(points, dim, options.parametrization, false, 0.0)?;
     // Each tile writes its range of the control points straight into the result (the
     // ranges follow one another): no copy of the whole curve, only a few tiles of scratch.
-    let mut control = vec![0.0; (n + 2) * dim];
+    let mut control = crate::mem::zeros((n + 2) * dim);
     let mut ranges: Vec<&mut [f64]> = Vec::with_capacity(plan.len());
     let mut rest = control.as_mut_slice();
     for p in &plan {
