@@ -928,32 +928,19 @@ fn surface_tiles_equal_the_global_solve() {
         }
     }
     // Sampled output through the tiles: the grid of the whole solve within rounding.
-    ok(
-        d,
-        &[
+    for (out, tile) in [("w.npy", &[][..]), ("t.npy", &["--tile", "30"][..])] {
+        let mut args = vec![
             "interpolate",
             "surface",
             "g.npy",
             "--samples",
             "7x9",
             "-o",
-            "w.npy",
-        ],
-    );
-    ok(
-        d,
-        &[
-            "interpolate",
-            "surface",
-            "g.npy",
-            "--samples",
-            "7x9",
-            "-o",
-            "t.npy",
-            "--tile",
-            "30",
-        ],
-    );
+            out,
+        ];
+        args.extend_from_slice(tile);
+        ok(d, &args);
+    }
     let ((ws, w), (ts, t)) = (read_npy(&d.join("w.npy")), read_npy(&d.join("t.npy")));
     assert_eq!(
         (ws.as_slice(), ts.as_slice()),
