@@ -270,3 +270,98 @@ fn bicubic_composite_costs_at_most_75_operations_per_patch() {
         "{per_patch} operations per bicubic patch"
     );
 }
+
+/// The tape's sums (chains of up to four terms per instruction), fused pairs, and roots
+/// that are written in place, copied (read again later, or the same as another root),
+/// variables or constants, over three blocks and a ragged tail: every value exact (small
+/// integers), against the same sums in integer arithmetic.
+#[test]
+fn tape_roots_sums_and_fused_pairs_are_exact() {
+    let mut g = Graph::new();
+    // Nine terms: chained over three sums; abs(u - i) fuses into one instruction.
+    let s = p(
+        &mut g,
+        "5 + abs(u) - 2*abs(u-1) + 3*abs(u-2) - abs(u-3) + abs(u-4) + 4*abs(u-5) - abs(u-6) \
+         + 2*v - 3*abs(v-2)",
+    );
+    let prod = p(&mut g, "(u*v)/2"); // u·v then ·0.5: fused
+    let later = g.add(s, prod); // reads root s after it is complete
+    let u = p(&mut g, "u");
+    let seven = p(&mut g, "7");
+    let roots = [s, prod, u, seven, s, later];
+    let tape = Tape::new(&g, &roots, &["u", "v"]).unwrap();
+    let n = 2 * geomkit_expr::tape::LANES + 37;
+    let us: Vec<f64> = (0..n).map(|i| (i % 13) as f64 - 6.0).collect();
+    let vs: Vec<f64> = (0..n).map(|i| (i % 7) as f64 * 2.0).collect();
+    let mut out = vec![vec![f64::NAN; n]; roots.len()];
+    let mut rows: Vec<&mut [f64]> = out.iter_mut().map(|r| r.as_mut_slice()).collect();
+    tape.eval_batch(&[&us, &vs], &mut rows).unwrap();
+    for i in 0..n {
+        let (a, b) = ((i % 13) as i64 - 6, (i % 7) as i64 * 2);
+        let k = [1, -2, 3, -1, 1, 4, -1];
+        let want_s = 5
+            + (0..7).map(|j| k[j] * (a - j as i64).abs()).sum::<i64>()
+            + 2 * b
+            - 3 * (b - 2).abs();
+        let want_prod = a * b; // even: b is
+        let want = [
+            want_s as f64,
+            want_prod as f64 / 2.0,
+            a as f64,
+            7.0,
+            want_s as f64,
+            want_s as f64 + want_prod as f64 / 2.0,
+        ];
+        for (r, w) in want.iter().enumerate() {
+            assert_eq!(out[r][i], *w, "root {r} at point {i}");
+        }
+    }
+}
+
+/// Sums of absolute values of one variable (the papers' ramps), each one instruction that
+/// reads the variable alone, with inner coefficients, signs, a constant, an absolute
+/// value that is also a root of its own, and sums too long for one instruction: exact
+/// integers against integer arithmetic.
+#[test]
+fn tape_sums_of_absolute_values_are_exact() {
+    let mut g = Graph::new();
+    let texts = [
+        "abs(2*u - 3) - 3*abs(u + 1) + abs(-u + 2) + 4",
+        "abs(u) + abs(u-1) - abs(u-2)",
+        "abs(u-1)",
+        "abs(u) + abs(u-1) + abs(u-2) + abs(u-3) - 2*abs(u-4)",
+        "abs(v - 1) - abs(u - 1)",
+    ];
+    let roots: Vec<Id> = texts.iter().map(|t| p(&mut g, t)).collect();
+    let tape = Tape::new(&g, &roots, &["u", "v"]).unwrap();
+    let n = geomkit_expr::tape::LANES + 5;
+    let us: Vec<f64> = (0..n).map(|i| (i % 11) as f64 - 5.0).collect();
+    let vs: Vec<f64> = (0..n).map(|i| (i % 3) as f64).collect();
+    let mut out = vec![vec![f64::NAN; n]; roots.len()];
+    let mut rows: Vec<&mut [f64]> = out.iter_mut().map(|r| r.as_mut_slice()).collect();
+    tape.eval_batch(&[&us, &vs], &mut rows).unwrap();
+    for i in 0..n {
+        let (u, v) = ((i % 11) as i64 - 5, (i % 3) as i64);
+        let want = [
+            (2 * u - 3).abs() - 3 * (u + 1).abs() + (2 - u).abs() + 4,
+            u.abs() + (u - 1).abs() - (u - 2).abs(),
+            (u - 1).abs(),
+            u.abs() + (u - 1).abs() + (u - 2).abs() + (u - 3).abs() - 2 * (u - 4).abs(),
+            (v - 1).abs() - (u - 1).abs(),
+        ];
+        for (r, w) in want.iter().enumerate() {
+            assert_eq!(out[r][i], *w as f64, "{} at u = {u}, v = {v}", texts[r]);
+        }
+    }
+}
+
+/// Programs as short as the formulas allow: the paper's cube in 6 instructions (each of
+/// its four sums of |t − a| one instruction reading t alone, each scaled product one),
+/// where an instruction per operation of the formula is 32.
+#[test]
+fn tape_of_the_cube_is_six_instructions() {
+    let mut g = Graph::new();
+    let roots = fixtures::cube(&mut g);
+    let tape = Tape::new(&g, &roots, &["u", "v"]).unwrap();
+    assert_eq!(tape.len(), 6);
+}

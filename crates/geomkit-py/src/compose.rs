@@ -25,6 +25,7 @@ use geomkit_model::{AnyModel, ModelFile};
 use numpy::{PyReadonlyArray1, PyReadwriteArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use rayon::prelude::*;
 use std::sync::OnceLock;
 
 /// The geometry of a `Composite`.
@@ -162,7 +163,7 @@ fn chunks(n: usize, threads: usize, min: usize) -> Vec<(usize, usize)> {
 }
 
 /// Runs `work(start, end, outputs)` on disjoint chunks of the rows of `out` (`rows` rows of
-/// `n` numbers, row-major) on scoped threads.
+/// `n` numbers, row-major), in parallel.
 fn run_chunked<F>(out: &mut [f64], rows: usize, n: usize, threads: usize, work: F) -> PyResult<()>
 where
     F: Fn(usize, usize, &mut [&mut [f64]]) -> PyResult<()> + Sync,
@@ -185,24 +186,14 @@ where
         let (a, b) = parts[0];
         return work(a, b, &mut per_chunk[0]);
     }
-    std::thread::scope(|s| {
-        let handles: Vec<_> = parts
-            .iter()
-            .zip(per_chunk)
-            .map(|(&(a, b), mut cols)| {
-                let work = &work;
-                s.spawn(move || work(a, b, &mut cols))
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| {
-                h.join()
-                    .unwrap_or_else(|_| Err(PyValueError::new_err("evaluation failed")))
-            })
-            .collect::<PyResult<Vec<()>>>()
-            .map(|_| ())
-    })
+    // On rayon's pool (threads kept between calls: spawning two threads per call cost
+    // 40-80 µs here, a few percent of a call on 10^6 points).
+    parts
+        .into_par_iter()
+        .zip(per_chunk)
+        .map(|((a, b), mut cols)| work(a, b, &mut cols))
+        .collect::<PyResult<Vec<()>>>()
+        .map(|_| ())
 }
 
 /// The threads to use: `threads`, or every core for 0.
