@@ -271,8 +271,7 @@ impl Tape {
                         ramp_terms.extend(list);
                         let d = em.alloc.get();
                         let end = (imm != 0.0).then_some(imm);
-                        em.ops
-                            .push(Op::AbsSum(d, x, start, regs.len() as u32, end));
+                        em.ops.push(Op::AbsSum(d, x, start, regs.len() as u32, end));
                         Val::Reg(d)
                     } else {
                         Val::Reg(em.sum(&mut terms, &regs, imm))
@@ -612,13 +611,7 @@ fn route_outputs(ops: &mut [Op], roots: &[Val], terms: &[(u32, f64)], nvars: usi
 /// Runs the program over the `n` points, block by block, compiled for the CPU's AVX-512 or
 /// AVX2 where it has them (checked once by `pulp`), else as it is: the same bits either way
 /// (the loops use no fused multiply-adds), in wider instructions.
-fn run(
-    program: Program,
-    regs: &mut [Block],
-    ins: &[&[f64]],
-    outs: &mut [&mut [f64]],
-    n: usize,
-) {
+fn run(program: Program, regs: &mut [Block], ins: &[&[f64]], outs: &mut [&mut [f64]], n: usize) {
     let job = Job {
         program,
         regs,

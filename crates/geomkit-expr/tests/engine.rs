@@ -299,9 +299,7 @@ fn tape_roots_sums_and_fused_pairs_are_exact() {
     for i in 0..n {
         let (a, b) = ((i % 13) as i64 - 6, (i % 7) as i64 * 2);
         let k = [1, -2, 3, -1, 1, 4, -1];
-        let want_s = 5
-            + (0..7).map(|j| k[j] * (a - j as i64).abs()).sum::<i64>()
-            + 2 * b
+        let want_s = 5 + (0..7).map(|j| k[j] * (a - j as i64).abs()).sum::<i64>() + 2 * b
             - 3 * (b - 2).abs();
         let want_prod = a * b; // even: b is
         let want = [

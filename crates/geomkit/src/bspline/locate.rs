@@ -26,6 +26,18 @@ pub(super) fn with_avx2(kernel: impl FnOnce()) {
     kernel()
 }
 
+/// [`with_avx2`], preferring AVX-512 where the CPU has it (the same bits: no fused
+/// multiply-adds either way). Measured for the cubic evaluation kernel on an AMD EPYC with
+/// AVX-512: 11 % faster on one thread (10^7 sorted points); the other kernels keep AVX2.
+#[inline(always)]
+pub(super) fn with_avx512(kernel: impl FnOnce()) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(v4) = pulp::x86::V4::try_new() {
+        return v4.vectorize(kernel);
+    }
+    with_avx2(kernel)
+}
+
 /// Brings the cache line of a value closer ahead of its use: a prefetch request, which does
 /// not wait for the line (x86-64), else a read of the value folded into `touched`.
 #[derive(Clone, Copy)]

@@ -9,7 +9,7 @@
 //! keeps j below the samples per span.
 
 use super::curve::{basis_funs_derivs, cubic_basis_at_knot, BsplineCurve};
-use super::locate::{with_avx2, CubicLanes, Locator, Prefetcher, BLOCK};
+use super::locate::{with_avx512, CubicLanes, Locator, Prefetcher, BLOCK};
 use crate::geom::Curve;
 use crate::par::*;
 use crate::points::check_eval_args;
@@ -349,14 +349,14 @@ fn fd_steps<const D: usize>(state: &[f64], out: &mut [f64]) {
     }
 }
 
-/// [`eval_cubic`], compiled for AVX2 where the CPU has it.
+/// [`eval_cubic`], compiled for AVX-512 or AVX2 where the CPU has them.
 fn eval_cubic_best<const D: usize>(
     curve: &BsplineCurve,
     loc: &Locator,
     ts: &[f64],
     out: &mut [f64],
 ) {
-    with_avx2(
+    with_avx512(
         #[inline(always)]
         || eval_cubic::<D>(curve, loc, ts, out),
     )
