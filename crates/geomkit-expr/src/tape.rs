@@ -85,6 +85,11 @@ impl Op {
         pair.into_iter().flatten().chain(sum.iter().map(|t| t.0))
     }
 
+    /// The register (or, from [`OUT`] on, the output) the instruction writes.
+    fn dest(mut self) -> u32 {
+        *self.dest_mut()
+    }
+
     /// Whether the instruction reads register `r`.
     fn reads(&self, r: u32, terms: &[(u32, f64)]) -> bool {
         self.sources(terms).any(|s| s == r)
@@ -244,11 +249,11 @@ impl Tape {
                         regs.swap(0, j);
                         ids.swap(0, j);
                     }
-                    let reg_of = |id: Id| match val[pos[&id]] {
-                        Val::Reg(r) => Some(r),
-                        Val::Imm(_) => None,
+                    let var_reg = |id: Id| match val[pos[&id]] {
+                        Val::Reg(r) if (r as usize) < nvars => Some(r),
+                        _ => None,
                     };
-                    let ramps = abs_terms(g, &regs, &ids, reg_of);
+                    let ramps = abs_terms(g, &regs, &ids, var_reg);
                     let mut em = Emitter {
                         ops: &mut ops,
                         alloc: &mut alloc,
@@ -469,7 +474,9 @@ impl Tape {
 
 /// The terms of a sum (`regs`: coefficient and register, `ids`: the nodes) as
 /// (k, k_in, a) of k·|k_in·x + a| when every one is such an absolute value of the same
-/// x (2 to [`LIN`] terms): x's register and the list, else `None`. k_in·x + a is what the
+/// variable x (2 to [`LIN`] terms; a variable's register is never reused, where an
+/// intermediate x may be gone by the time of the sum): x's register and the list, else
+/// `None`. k_in·x + a is what the
 /// program computes for the node inside the absolute value (`x + a` for k_in = 1, `−x + a`
 /// for −1: the same bits), |x| is |1·x + 0| (x + 0 differs from x only at −0, where the
 /// absolute values agree).
@@ -477,7 +484,7 @@ fn abs_terms(
     g: &Graph,
     regs: &[(f64, u32)],
     ids: &[Id],
-    reg_of: impl Fn(Id) -> Option<u32>,
+    var_reg: impl Fn(Id) -> Option<u32>,
 ) -> Option<(u32, Vec<[f64; 3]>)> {
     if !(2..=LIN).contains(&regs.len()) {
         return None;
@@ -489,8 +496,8 @@ fn abs_terms(
             return None;
         };
         let (x, k_in, a) = match g.node(*arg) {
-            Node::Add(c, ts) if ts.len() == 1 => (reg_of(ts[0].1)?, ts[0].0.to_f64(), c.to_f64()),
-            _ => (reg_of(*arg)?, 1.0, 0.0),
+            Node::Add(c, ts) if ts.len() == 1 => (var_reg(ts[0].1)?, ts[0].0.to_f64(), c.to_f64()),
+            _ => (var_reg(*arg)?, 1.0, 0.0),
         };
         if *x0.get_or_insert(x) != x {
             return None;
@@ -513,7 +520,7 @@ fn live(ops: Vec<Op>, roots: &[Val], terms: &[(u32, f64)]) -> Vec<Op> {
         .collect();
     let mut keep = vec![false; ops.len()];
     for (i, op) in ops.iter().enumerate().rev() {
-        let d = *op.clone().dest_mut();
+        let d = op.dest();
         let Some(j) = needed.iter().position(|&r| r == d) else {
             continue;
         };
@@ -533,9 +540,9 @@ fn live(ops: Vec<Op>, roots: &[Val], terms: &[(u32, f64)]) -> Vec<Op> {
 
 /// The program with pairs of instructions merged where the first one's result is read
 /// only by the second, which follows it (and whose register is not one of the first one's
-/// operands: no instruction writes what it reads): `AddC` then `abs` into [`Op::AbsAddC`], `Mul` then
-/// `MulC` into [`Op::MulMulC`] (the same operations in the same order: the same bits, one
-/// pass over the block instead of two).
+/// operands: no instruction writes what it reads): `AddC` then `abs` into
+/// [`Op::AbsAddC`], `Mul` then `MulC` into [`Op::MulMulC`] (the same operations in the
+/// same order: the same bits, one pass over the block instead of two).
 fn fuse(ops: Vec<Op>, roots: &[Val], terms: &[(u32, f64)]) -> Vec<Op> {
     // Whether register `t`, written by ops[i], is read by ops[i + 1] alone.
     let only_next = |i: usize, t: u32| {
@@ -543,7 +550,7 @@ fn fuse(ops: Vec<Op>, roots: &[Val], terms: &[(u32, f64)]) -> Vec<Op> {
             if op.reads(t, terms) {
                 return false;
             }
-            if *op.clone().dest_mut() == t {
+            if op.dest() == t {
                 return true;
             }
         }
@@ -591,7 +598,7 @@ fn route_outputs(ops: &mut [Op], roots: &[Val], terms: &[(u32, f64)], nvars: usi
             Val::Reg(r) => {
                 let shared = roots.iter().filter(|w| **w == Val::Reg(r)).count() > 1;
                 // A root's register is never freed: its last writer defines it.
-                let last = ops.iter().rposition(|op| *op.clone().dest_mut() == r);
+                let last = ops.iter().rposition(|op| op.dest() == r);
                 match last {
                     Some(j)
                         if r as usize >= nvars

@@ -329,6 +329,8 @@ fn tape_sums_of_absolute_values_are_exact() {
         "abs(u-1)",
         "abs(u) + abs(u-1) + abs(u-2) + abs(u-3) - 2*abs(u-4)",
         "abs(v - 1) - abs(u - 1)",
+        "abs(u*v - 1) + abs(u*v + 2) - abs(u*v - 3)",
+        "abs(u*u + 1) - abs(v + 3) + abs(u*u - 2)",
     ];
     let roots: Vec<Id> = texts.iter().map(|t| p(&mut g, t)).collect();
     let tape = Tape::new(&g, &roots, &["u", "v"]).unwrap();
@@ -346,6 +348,8 @@ fn tape_sums_of_absolute_values_are_exact() {
             (u - 1).abs(),
             u.abs() + (u - 1).abs() + (u - 2).abs() + (u - 3).abs() - 2 * (u - 4).abs(),
             (v - 1).abs() - (u - 1).abs(),
+            (u * v - 1).abs() + (u * v + 2).abs() - (u * v - 3).abs(),
+            (u * u + 1).abs() - (v + 3).abs() + (u * u - 2).abs(),
         ];
         for (r, w) in want.iter().enumerate() {
             assert_eq!(out[r][i], *w as f64, "{} at u = {u}, v = {v}", texts[r]);
