@@ -391,7 +391,8 @@ class _Composite(Drawable):
             `formula` prints); 'cells': the structural evaluator (each point's cell or piece,
             O(1) per point), equal to the formula within rounding.
         threads : int, optional
-            Threads to evaluate on (default: every core).
+            Parts to evaluate in parallel, on a pool of one thread per core (default: one
+            part per core; 1: on the calling thread).
 
         Returns
         -------
@@ -427,7 +428,8 @@ class _Composite(Drawable):
         Parameters
         ----------
         threads : int, optional
-            Threads to evaluate on (default: every core).
+            Parts to evaluate in parallel, on a pool of one thread per core (default: one
+            part per core; 1: on the calling thread).
 
         Returns
         -------

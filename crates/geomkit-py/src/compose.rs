@@ -448,8 +448,8 @@ impl Composite {
 
     /// The compiled evaluator: the single formula at the points `inputs[k][i]` (one 1-D
     /// C-contiguous float64 array per variable, all of one length n) into `out` (shape
-    /// (dim, n)), by geomkit-expr's `Tape::eval_batch` on `threads` threads (0: every core),
-    /// with the GIL released. NaN and infinities follow f64.
+    /// (dim, n)), by geomkit-expr's `Tape::eval_batch` in `threads` parts (0: one per core)
+    /// on rayon's pool, with the GIL released. NaN and infinities follow f64.
     #[pyo3(signature = (inputs, out, threads=0))]
     fn eval_into(
         &self,
