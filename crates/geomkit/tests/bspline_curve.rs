@@ -774,3 +774,29 @@ fn parameters_are_running_sums_bit_for_bit() {
         }
     }
 }
+
+/// An interior knot of multiplicity 4, where the curve jumps from 0 to 1: batched
+/// evaluation of sorted parameters (blocks that cross a few knots, whose spans are counted
+/// rather than looked up) takes the value on the right of the knot, as single-point
+/// evaluation does, bit for bit.
+#[test]
+fn batched_sorted_evaluation_at_a_jump() {
+    let mut knots = vec![0.0; 4];
+    knots.extend((1..20).map(|k| k as f64 * 0.02));
+    knots.extend([0.5; 4]);
+    knots.extend((1..20).map(|k| 0.5 + k as f64 * 0.02));
+    knots.extend([1.0; 4]);
+    let n_c = knots.len() - 4;
+    let control: Vec<Vec<f64>> = (0..n_c)
+        .map(|i| vec![if i < n_c / 2 { 0.0 } else { 1.0 }])
+        .collect();
+    let curve = BsplineCurve::new(3, knots, control).unwrap();
+    let ts: Vec<f64> = (0..=10_000).map(|i| i as f64 / 10_000.0).collect();
+    let mut got = vec![0.0; ts.len()];
+    curve.eval_many_par(&ts, &mut got).unwrap();
+    for (t, g) in ts.iter().zip(&got) {
+        assert_eq!(*g, curve.eval(*t)[0], "t = {t}");
+    }
+    assert_eq!(got[5000], 1.0, "the value at the jump is the right piece's");
+    assert_eq!(got[4999], 0.0);
+}

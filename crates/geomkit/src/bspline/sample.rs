@@ -379,8 +379,11 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
         let near = |s: usize| control[(s - 3) * D].to_bits();
         // Sorted parameters read what the previous point read or what follows it: nothing
         // to touch ahead.
-        let touch = !lanes.sorted(n);
-        lanes.locate(loc, n, touch, &mut touched, near);
+        let sorted = lanes.sorted(n);
+        let touch = !sorted;
+        if !(sorted && lanes.locate_sorted(loc, n)) {
+            lanes.locate(loc, n, touch, &mut touched, near);
+        }
         // Request the control points and knots each evaluation reads.
         if touch {
             for &s in &lanes.span[..n] {
