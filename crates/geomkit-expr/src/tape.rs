@@ -85,7 +85,7 @@ impl Op {
         pair.into_iter().flatten().chain(sum.iter().map(|t| t.0))
     }
 
-    /// The register (or, from [`OUT`] on, the output) the instruction writes.
+    /// [`Op::dest_mut`], by value.
     fn dest(mut self) -> u32 {
         *self.dest_mut()
     }
@@ -142,7 +142,8 @@ pub struct Tape {
     ramp_terms: Vec<[f64; 3]>,
     nregs: usize,
     nvars: usize,
-    outs: Vec<Sink>,
+    /// Where each root's values come from.
+    sinks: Vec<Sink>,
 }
 
 struct Alloc {
@@ -397,14 +398,14 @@ impl Tape {
         let roots: Vec<Val> = roots.iter().map(|r| val[pos[r]]).collect();
         let ops = live(ops, &roots, &terms);
         let mut ops = fuse(ops, &roots, &terms);
-        let outs = route_outputs(&mut ops, &roots, &terms, nvars);
+        let sinks = route_outputs(&mut ops, &roots, &terms, nvars);
         Ok(Tape {
             ops,
             terms,
             ramp_terms,
             nregs: alloc.next as usize,
             nvars,
-            outs,
+            sinks,
         })
     }
 
@@ -431,13 +432,7 @@ impl Tape {
     pub fn eval_batch(&self, inputs: &[&[f64]], out: &mut [&mut [f64]]) -> Result<()> {
         let n = self.check_shapes(inputs, out)?;
         let mut regs: Vec<Block> = vec![[0.0; LANES]; self.nregs.max(1)];
-        let program = Program {
-            ops: &self.ops,
-            terms: &self.terms,
-            ramp_terms: &self.ramp_terms,
-            sinks: &self.outs,
-        };
-        run(program, &mut regs, inputs, out, n);
+        run(self, &mut regs, inputs, out, n);
         Ok(())
     }
 
@@ -452,8 +447,8 @@ impl Tape {
         if inputs.len() != self.nvars {
             return shape("number of input arrays", inputs.len(), self.nvars);
         }
-        if out.len() != self.outs.len() {
-            return shape("number of output arrays", out.len(), self.outs.len());
+        if out.len() != self.sinks.len() {
+            return shape("number of output arrays", out.len(), self.sinks.len());
         }
         let n = inputs
             .first()
@@ -618,7 +613,7 @@ fn route_outputs(ops: &mut [Op], roots: &[Val], terms: &[(u32, f64)], nvars: usi
 /// Runs the program over the `n` points, block by block, compiled for the CPU's AVX-512 or
 /// AVX2 where it has them (checked once by `pulp`), else as it is: the same bits either way
 /// (the loops use no fused multiply-adds), in wider instructions.
-fn run(program: Program, regs: &mut [Block], ins: &[&[f64]], outs: &mut [&mut [f64]], n: usize) {
+fn run(program: &Tape, regs: &mut [Block], ins: &[&[f64]], outs: &mut [&mut [f64]], n: usize) {
     let job = Job {
         program,
         regs,
@@ -642,7 +637,7 @@ fn run(program: Program, regs: &mut [Block], ins: &[&[f64]], outs: &mut [&mut [f
 /// an `#[inline(always)]` method: with a closure instead, the whole loop was once compiled
 /// outside it (in the closure's call shim, for the baseline CPU: half the speed).
 struct Job<'a, 'o> {
-    program: Program<'a>,
+    program: &'a Tape,
     regs: &'a mut [Block],
     ins: &'a [&'a [f64]],
     outs: &'a mut [&'o mut [f64]],
@@ -660,7 +655,7 @@ impl pulp::NullaryFnOnce for Job<'_, '_> {
 
 #[inline(always)]
 fn run_blocks(
-    program: Program,
+    program: &Tape,
     regs: &mut [Block],
     ins: &[&[f64]],
     outs: &mut [&mut [f64]],
@@ -702,14 +697,14 @@ fn run_blocks(
 
 #[inline(always)]
 fn run_ops(
-    program: Program,
+    program: &Tape,
     regs: &mut [Block],
     ins: &[&[f64]],
     outs: &mut [&mut [f64]],
     at: &Range<usize>,
 ) {
-    let (terms, ramp_terms) = (program.terms, program.ramp_terms);
-    for op in program.ops {
+    let (terms, ramp_terms) = (&program.terms[..], &program.ramp_terms[..]);
+    for op in &program.ops {
         let io = Io {
             regs: &mut *regs,
             ins,
@@ -891,15 +886,6 @@ impl<'a> Io<'a, '_> {
             *o = f(x, y);
         }
     }
-}
-
-/// The compiled program: instructions, the terms of their sums, where each root goes.
-#[derive(Clone, Copy)]
-struct Program<'a> {
-    ops: &'a [Op],
-    terms: &'a [(u32, f64)],
-    ramp_terms: &'a [[f64; 3]],
-    sinks: &'a [Sink],
 }
 
 /// k·|k_in·x + a| of the term [k, k_in, a].

@@ -301,7 +301,7 @@ fn tape_roots_sums_and_fused_pairs_are_exact() {
         let k = [1, -2, 3, -1, 1, 4, -1];
         let want_s = 5 + (0..7).map(|j| k[j] * (a - j as i64).abs()).sum::<i64>() + 2 * b
             - 3 * (b - 2).abs();
-        let want_prod = a * b; // even: b is
+        let want_prod = a * b; // b is even: a·b/2 is exact
         let want = [
             want_s as f64,
             want_prod as f64 / 2.0,

@@ -196,7 +196,7 @@ where
         .map(|_| ())
 }
 
-/// The threads to use: `threads`, or every core for 0.
+/// The parts to run in parallel: `threads`, or one per core for 0.
 fn thread_count(threads: usize) -> usize {
     if threads == 0 {
         std::thread::available_parallelism().map_or(1, usize::from)
