@@ -800,3 +800,70 @@ fn batched_sorted_evaluation_at_a_jump() {
     assert_eq!(got[5000], 1.0, "the value at the jump is the right piece's");
     assert_eq!(got[4999], 0.0);
 }
+
+/// Blocks of 64 parameters within a few knot spans, which batched evaluation takes from
+/// small tables of the block's knots and control points (AVX-512): every block crossing
+/// 0 to 14 knots (the tables serve at most 10: wider blocks are split), sorted, shuffled or
+/// sorted but for one parameter, around a knot of
+/// multiplicity 3, at the first and last spans and beyond the domain, in dimensions 1 to 3
+/// — the values of single-point evaluation, bit for bit.
+#[test]
+fn batched_evaluation_of_narrow_blocks() {
+    let mut rng = Rng(23);
+    let mut knots = vec![0.0; 4];
+    let mut k = 0.0;
+    for i in 0..60 {
+        k += 0.5 + rng.uniform().abs();
+        knots.push(k);
+        if i == 30 {
+            knots.extend([k, k]);
+        }
+    }
+    let end = k + 1.0;
+    knots.extend([end; 4]);
+    let n_c = knots.len() - 4;
+    let h = end / 60.0;
+    for dim in [1usize, 2, 3] {
+        let control: Vec<Vec<f64>> = (0..n_c)
+            .map(|_| (0..dim).map(|_| rng.uniform()).collect())
+            .collect();
+        let curve = BsplineCurve::new(3, knots.clone(), control).unwrap();
+        let mut ts = Vec::new();
+        for block in 0..600 {
+            let width = h * (block % 15) as f64 * (0.8 + 0.2 * rng.uniform().abs());
+            let centre = match block % 10 {
+                0 => 0.0,
+                1 => end,
+                2 => knots[4 + 31],
+                _ => (1.2 * rng.uniform().abs() - 0.1) * end,
+            };
+            let mut b: Vec<f64> = (0..64)
+                .map(|_| centre + width / 2.0 * rng.uniform())
+                .collect();
+            b[7] = knots[(4 + block % n_c).min(knots.len() - 1)];
+            if block % 2 == 0 {
+                b.sort_by(f64::total_cmp);
+            }
+            if block % 6 == 4 {
+                // Sorted but for one late parameter past the last.
+                b[60] = b[63] + h;
+            }
+            ts.extend(b);
+        }
+        let mut got = vec![0.0; ts.len() * dim];
+        curve.eval_many_par(&ts, &mut got).unwrap();
+        for (i, (t, g)) in ts.iter().zip(got.chunks_exact(dim)).enumerate() {
+            assert_eq!(
+                g,
+                curve.eval(*t).as_slice(),
+                "dim {dim} block {} t={t}",
+                i / 64
+            );
+        }
+        let mut seq = vec![0.0; ts.len() * dim];
+        curve
+            .eval_batch(&ts, &mut seq, &BatchOptions::sequential())
+            .unwrap();
+        assert_eq!(seq, got, "dim {dim}");
+    }
+}

@@ -27,6 +27,7 @@ mod calculus;
 mod curve;
 mod interpolate;
 mod locate;
+mod narrow;
 mod piecewise;
 mod sample;
 mod scipy_cubic;

@@ -10,6 +10,7 @@
 
 use super::curve::{basis_funs_derivs, cubic_basis_at_knot, BsplineCurve};
 use super::locate::{with_avx512, CubicLanes, Locator, Prefetcher, BLOCK};
+use super::narrow::Narrow;
 use crate::geom::Curve;
 use crate::par::*;
 use crate::points::check_eval_args;
@@ -372,7 +373,13 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
     // Bits of what the touch phases read, folded by xor: one cycle each, where a sum of
     // floats would chain four (and convert the table's integers first).
     let mut touched = 0u64;
+    let narrow = Narrow::new();
     for (tb, ob) in ts.chunks(BLOCK).zip(out.chunks_mut(BLOCK * D)) {
+        if let Ok(x) = tb.try_into() {
+            if narrow.eval_cubic::<D>(loc, control, x, ob) {
+                continue;
+            }
+        }
         let n = tb.len();
         lanes.x[..n].copy_from_slice(tb);
         // The span is the table's base span or the next one: their first control point.
