@@ -150,16 +150,28 @@ pub(crate) fn check_eval_args(
     dim: usize,
     out: &[f64],
 ) -> Result<()> {
+    check_buffer(count, dim, out)?;
+    check_finite(what, params)
+}
+
+/// Checks that a batched evaluation's buffer holds `count * dim` numbers.
+pub(crate) fn check_buffer(count: usize, dim: usize, out: &[f64]) -> Result<()> {
     if out.len() != count * dim {
         return Err(Error::BufferSize {
             expected: count * dim,
             got: out.len(),
         });
     }
-    match params.iter().position(|t| !t.is_finite()) {
-        Some(index) => Err(Error::NonFinite { what, index }),
-        None => Ok(()),
+    Ok(())
+}
+
+/// Checks that every parameter is finite, naming the first that is not (`what` names them).
+pub(crate) fn check_finite(what: &'static str, params: &[f64]) -> Result<()> {
+    if all_finite(params) {
+        return Ok(());
     }
+    let index = params.iter().position(|t| !t.is_finite()).unwrap_or(0);
+    Err(Error::NonFinite { what, index })
 }
 
 /// The unit normal a × b / |a × b| of two tangent vectors in R^3, `None` where they are
@@ -182,7 +194,7 @@ pub(crate) fn unit_normal(a: &[f64], b: &[f64]) -> Option<[f64; 3]> {
 /// NaN) in eight independent lanes, which vectorize (one running sum would wait for each
 /// addition in turn).
 #[inline]
-fn all_finite(c: &[f64]) -> bool {
+pub(crate) fn all_finite(c: &[f64]) -> bool {
     let mut lanes = [0.0f64; 8];
     let mut blocks = c.chunks_exact(8);
     for b in &mut blocks {

@@ -867,3 +867,23 @@ fn batched_evaluation_of_narrow_blocks() {
         assert_eq!(seq, got, "dim {dim}");
     }
 }
+
+/// Batched evaluation checks the parameters chunk by chunk, in parallel: the error names
+/// the first that is not finite, whichever chunk finds one first.
+#[test]
+fn batched_evaluation_names_the_first_non_finite_parameter() {
+    let pts = wiggly(50, 2, 3);
+    let fit = interpolate_curve(&pts, &InterpolationOptions::default()).unwrap();
+    let (a, b) = fit.curve().domain();
+    let mut ts: Vec<f64> = (0..40_000)
+        .map(|i| a + (b - a) * i as f64 / 40_000.0)
+        .collect();
+    ts[31_000] = f64::NAN;
+    ts[9_000] = f64::NEG_INFINITY;
+    ts[20_000] = f64::NAN;
+    let mut out = vec![0.0; ts.len() * 2];
+    match fit.curve().eval_many_par(&ts, &mut out) {
+        Err(Error::NonFinite { index, .. }) => assert_eq!(index, 9_000),
+        other => panic!("{other:?}"),
+    }
+}

@@ -5,6 +5,8 @@
 //! vectorizes (on non-uniform knots the six reciprocals of the cubic Cox–de Boor recursion
 //! then cost about as much as a uniform basis).
 
+use std::sync::OnceLock;
+
 use super::curve::{basis_funs_cubic, domain_spans, find_span, uniform_cubic_basis, uniform_span};
 
 /// Parameters per block of the batched cubic kernels: first the spans of all of them,
@@ -86,9 +88,11 @@ pub(super) struct Locator<'a> {
     pub(super) hi: usize,
     /// Uniform knots: the reciprocal of the spacing (the span by one multiplication).
     pub(super) inv_step: Option<f64>,
-    /// The buckets (empty: no table): base span | knots in the bucket << [`COUNT_SHIFT`]
-    /// (saturated at [`MANY`]).
-    pub(super) table: Vec<u32>,
+    /// The number of buckets (0: no table).
+    buckets: usize,
+    /// The buckets, built by the first lookup that needs them (the narrow blocks' searches
+    /// never do): base span | knots in the bucket << [`COUNT_SHIFT`] (saturated at [`MANY`]).
+    table: OnceLock<Vec<u32>>,
     start: f64,
     inv_width: f64,
 }
@@ -119,7 +123,8 @@ impl<'a> Locator<'a> {
             lo,
             hi,
             inv_step,
-            table: Vec::new(),
+            buckets: 0,
+            table: OnceLock::new(),
             start: knots[lo],
             inv_width: 0.0,
         };
@@ -135,21 +140,31 @@ impl<'a> Locator<'a> {
         }
         // Twice as many buckets as spans (fewer for small batches): most buckets then hold
         // at most one knot even where the spans are uneven.
-        let buckets = (2 * spans).min(4 * count);
+        loc.buckets = (2 * spans).min(4 * count);
         let (a, b) = (knots[lo], knots[hi + 1]);
-        loc.inv_width = buckets as f64 / (b - a);
-        loc.table = vec![0; buckets];
-        for j in lo + 1..=hi {
-            let b = loc.bucket(knots[j]);
-            loc.table[b] += 1;
-        }
-        let mut base = lo as u32;
-        for e in &mut loc.table {
-            let here = *e;
-            *e = base | (here.min(MANY) << COUNT_SHIFT);
-            base += here;
-        }
+        loc.inv_width = loc.buckets as f64 / (b - a);
         loc
+    }
+
+    /// The bucket table (empty: none), built on the first call.
+    #[inline(always)]
+    pub(super) fn table(&self) -> &[u32] {
+        if self.buckets == 0 {
+            return &[];
+        }
+        self.table.get_or_init(|| {
+            let mut table = vec![0; self.buckets];
+            for &k in &self.knots[self.lo + 1..=self.hi] {
+                table[self.bucket(k)] += 1;
+            }
+            let mut base = self.lo as u32;
+            for e in &mut table {
+                let here = *e;
+                *e = base | (here.min(MANY) << COUNT_SHIFT);
+                base += here;
+            }
+            table
+        })
     }
 
     /// The bucket of t (clamped to the table).
@@ -157,7 +172,7 @@ impl<'a> Locator<'a> {
     pub(super) fn bucket(&self, t: f64) -> usize {
         // Clamped first, truncation is floor; NaN converts to 0 (through i64, as in
         // `uniform_span`).
-        let b = ((t - self.start) * self.inv_width).clamp(0.0, (self.table.len() - 1) as f64);
+        let b = ((t - self.start) * self.inv_width).clamp(0.0, (self.buckets - 1) as f64);
         b as i64 as usize
     }
 
@@ -187,13 +202,41 @@ impl<'a> Locator<'a> {
         if let Some(inv) = self.inv_step {
             return uniform_span(self.knots[0], inv, self.degree, self.n_control, t);
         }
-        if !self.table.is_empty() {
-            return self.span_in_bucket(t, self.table[self.bucket(t)]);
+        let table = self.table();
+        if !table.is_empty() {
+            return self.span_in_bucket(t, table[self.bucket(t)]);
         }
         if self.holds(hint, t) {
             return hint;
         }
         find_span(self.knots, self.lo, self.hi + 1, t)
+    }
+
+    /// The span holding t (clamped to the domain; t not NaN), as [`Locator::span`], by a
+    /// search outward from `hint` in steps that double, then a binary search: O(log d)
+    /// reads for a span d spans away, and no bucket table.
+    #[inline(always)]
+    pub(super) fn span_near(&self, t: f64, hint: usize) -> usize {
+        let (k, lo, hi) = (self.knots, self.lo, self.hi);
+        let (mut a, mut b) = (hint.clamp(lo, hi), hint.clamp(lo, hi));
+        let mut step = 1;
+        if a == lo || k[a] <= t {
+            // Up: k[a] <= t (or a = lo) throughout, until t < k[b + 1] or b = hi.
+            while b < hi && k[b + 1] <= t {
+                a = b + 1;
+                b = (b + step).min(hi);
+                step *= 2;
+            }
+        } else {
+            // Down: t < k[b + 1] throughout, until k[a] <= t or a = lo.
+            while a > lo && k[a] > t {
+                b = a - 1;
+                a = a.saturating_sub(step).max(lo);
+                step *= 2;
+            }
+        }
+        // The last span in [a, b] whose first knot is <= t.
+        a + k[a + 1..=b].partition_point(|&x| x <= t)
     }
 
     /// Whether span s holds t (the first and last span extend to ±∞).
@@ -252,22 +295,24 @@ impl CubicLanes {
                 let f = ((x - k0) * inv).max(lo).min(hi).floor();
                 *s = ((f + TWO_52).to_bits() - TWO_52.to_bits()) as usize;
             }
-        } else if loc.inv_step.is_none() && !loc.table.is_empty() && !touch {
+        } else if loc.inv_step.is_none() && !loc.table().is_empty() && !touch {
+            let table = loc.table();
             for (s, &x) in spans.iter_mut().zip(xs) {
-                *s = loc.span_in_bucket(x, loc.table[loc.bucket(x)]);
+                *s = loc.span_in_bucket(x, table[loc.bucket(x)]);
             }
-        } else if loc.inv_step.is_none() && !loc.table.is_empty() {
+        } else if loc.inv_step.is_none() && !loc.table().is_empty() {
+            let table = loc.table();
             // In rounds of independent reads.
             for (s, &x) in spans.iter_mut().zip(xs) {
                 *s = loc.bucket(x);
-                *touched ^= u64::from(loc.table[*s]);
+                *touched ^= u64::from(table[*s]);
             }
             for &b in spans.iter() {
-                let base = (loc.table[b] & ((1 << COUNT_SHIFT) - 1)) as usize;
+                let base = (table[b] & ((1 << COUNT_SHIFT) - 1)) as usize;
                 *touched ^= loc.knots[base + 1].to_bits() ^ near(base);
             }
             for (s, &x) in spans.iter_mut().zip(xs) {
-                *s = loc.span_in_bucket(x, loc.table[*s]);
+                *s = loc.span_in_bucket(x, table[*s]);
             }
         } else {
             let mut hint = loc.lo;
@@ -291,8 +336,9 @@ impl CubicLanes {
             return false;
         }
         let xs = &self.x[..n];
-        let s0 = loc.span(xs[0], loc.lo);
-        let s1 = loc.span(xs[n - 1], s0);
+        // From the previous block's last span (lanes past n repeat it; lo at first).
+        let s0 = loc.span_near(xs[0], self.span[BLOCK - 1]);
+        let s1 = loc.span_near(xs[n - 1], s0);
         if s1 - s0 > SORTED_SPANS {
             return false;
         }
@@ -359,6 +405,35 @@ impl CubicLanes {
         if loc.inv_step.is_none() {
             fetch.touch(&loc.knots[s - 2], touched);
             fetch.touch(&loc.knots[s + 3], touched);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The search from a hint finds `find_span`'s span from every hint: knots of
+    /// multiplicity 1 to 4 (a jump), parameters on knots, between them and beyond the
+    /// domain at both ends.
+    #[test]
+    fn span_near_is_find_span_from_any_hint() {
+        let mut knots = vec![0.0; 4];
+        for i in 1..40 {
+            let repeat = [1, 1, 2, 1, 3, 1, 4][i % 7];
+            knots.extend(std::iter::repeat_n(i as f64 * 0.25, repeat));
+        }
+        knots.extend([10.0; 4]);
+        let n_c = knots.len() - 4;
+        let loc = Locator::new(&knots, 3, n_c, None, 0);
+        let mut ts = vec![-1.0, 10.0, 11.0, 1e-300];
+        ts.extend(knots.iter().copied());
+        ts.extend((0..500).map(|i| i as f64 * 0.0213));
+        for &t in &ts {
+            let want = find_span(&knots, 3, n_c, t);
+            for hint in 0..n_c + 3 {
+                assert_eq!(loc.span_near(t, hint), want, "t = {t}, hint = {hint}");
+            }
         }
     }
 }

@@ -15,18 +15,20 @@ const MAX_CROSSED: usize = 10;
 /// The fewest parameters of a part of a block, each part with its own tables.
 const MIN_PART: usize = 16;
 
-/// AVX-512 where the CPU has it (checked once by `pulp`).
-#[derive(Clone, Copy)]
+/// The narrow blocks' evaluation over a run of blocks: AVX-512 where the CPU has it
+/// (checked once by `pulp`), and the last span found, where the next search starts.
 pub(super) struct Narrow {
     #[cfg(target_arch = "x86_64")]
     v4: Option<pulp::x86::V4>,
+    hint: usize,
 }
 
 impl Narrow {
-    pub(super) fn new() -> Self {
+    pub(super) fn new(loc: &Locator) -> Self {
         Narrow {
             #[cfg(target_arch = "x86_64")]
             v4: pulp::x86::V4::try_new(),
+            hint: loc.lo,
         }
     }
 
@@ -38,7 +40,7 @@ impl Narrow {
     /// AVX-512 ([`super::locate::with_avx512`]).
     #[inline(always)]
     pub(super) fn eval_cubic<const D: usize>(
-        self,
+        &mut self,
         loc: &Locator,
         control: &[f64],
         x: &[f64; BLOCK],
@@ -50,7 +52,7 @@ impl Narrow {
             while start < BLOCK {
                 let part = start..start + size;
                 let o = &mut out[part.start * D..part.end * D];
-                if x86::eval_part::<D>(v4, loc, control, &x[part], o) {
+                if x86::eval_part::<D>(v4, loc, control, &x[part], o, &mut self.hint) {
                     start += size;
                     size = size.max(1 << start.trailing_zeros()).min(BLOCK);
                 } else if size > MIN_PART {
@@ -167,7 +169,8 @@ mod x86 {
     struct Table(__m512d, __m512d);
 
     /// [`super::Narrow::eval_cubic`] on a part of a block (a multiple of 8 parameters,
-    /// at least 16): `false`, with nothing written, when it crosses too many knots.
+    /// at least 16): `false`, with nothing written, when it crosses too many knots. The
+    /// spans are searched from `hint`, which is left at the last.
     #[inline(always)]
     pub(super) fn eval_part<const D: usize>(
         v4: V4,
@@ -175,6 +178,7 @@ mod x86 {
         control: &[f64],
         x: &[f64],
         out: &mut [f64],
+        hint: &mut usize,
     ) -> bool {
         let (f, op) = (v4.avx512f, Ops(v4));
         let n = x.len();
@@ -197,8 +201,9 @@ mod x86 {
             }
             (f._mm512_reduce_min_pd(lo), f._mm512_reduce_max_pd(hi))
         };
-        let s0 = loc.span(lo, loc.lo);
-        let s1 = loc.span(hi, s0);
+        let s0 = loc.span_near(lo, *hint);
+        let s1 = loc.span_near(hi, s0);
+        *hint = s1;
         let crossed = s1 - s0;
         if crossed > MAX_CROSSED {
             return false;

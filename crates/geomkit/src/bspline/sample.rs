@@ -13,8 +13,9 @@ use super::locate::{with_avx512, CubicLanes, Locator, Prefetcher, BLOCK};
 use super::narrow::Narrow;
 use crate::geom::Curve;
 use crate::par::*;
-use crate::points::check_eval_args;
+use crate::points::{all_finite, check_buffer, check_eval_args, check_finite};
 use crate::{Error, Result};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Samples first..end fall in knot span `span`.
 #[derive(Debug, Clone, Copy)]
@@ -285,17 +286,32 @@ impl BsplineCurve {
     /// span is found by one multiplication (by the reciprocal of the spacing), otherwise
     /// from a bucket table over the domain (built for large batches) or a binary search,
     /// after trying the previous point's span (sorted parameters cost O(1) each). In
-    /// parallel over blocks; cubics of dimension 1 to 3 take a specialized kernel. Same
-    /// values, bit for bit, as [`Curve::eval_into`]. Errors: wrong buffer length,
-    /// non-finite parameters.
+    /// parallel over blocks; cubics of dimension 1 to 3 take a specialized kernel (with
+    /// AVX-512, blocks of parameters within a few knot spans take their knots and control
+    /// points from small tables). Same values, bit for bit, as [`Curve::eval_into`].
+    /// Errors: wrong buffer length; a parameter that is not finite (the first is named;
+    /// `out` then holds the values of some of the others, and is best not read).
     pub fn eval_many_par(&self, ts: &[f64], out: &mut [f64]) -> Result<()> {
         let d = self.dim();
-        check_eval_args("parameter", ts, ts.len(), d, out)?;
+        check_buffer(ts.len(), d, out)?;
         let locator = self.locator(ts.len());
         let kernel = self.batch_kernel();
+        // Each chunk checks its own parameters before it evaluates them (a pass over memory
+        // the chunk then reads from the cache, in parallel; a separate check would read all
+        // parameters once more, on one thread).
+        let non_finite = AtomicBool::new(false);
         out.par_chunks_mut(4096 * d)
             .zip(ts.par_chunks(4096))
-            .for_each(|(o, t)| kernel(self, &locator, t, o));
+            .for_each(|(o, t)| {
+                if all_finite(t) {
+                    kernel(self, &locator, t, o);
+                } else {
+                    non_finite.store(true, Ordering::Relaxed);
+                }
+            });
+        if non_finite.into_inner() {
+            check_finite("parameter", ts)?;
+        }
         Ok(())
     }
 
@@ -373,7 +389,7 @@ fn eval_cubic<const D: usize>(curve: &BsplineCurve, loc: &Locator, ts: &[f64], o
     // Bits of what the touch phases read, folded by xor: one cycle each, where a sum of
     // floats would chain four (and convert the table's integers first).
     let mut touched = 0u64;
-    let narrow = Narrow::new();
+    let mut narrow = Narrow::new(loc);
     for (tb, ob) in ts.chunks(BLOCK).zip(out.chunks_mut(BLOCK * D)) {
         if let Ok(x) = tb.try_into() {
             if narrow.eval_cubic::<D>(loc, control, x, ob) {
