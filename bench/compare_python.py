@@ -58,9 +58,9 @@ from compare_bspline import (  # noqa: E402  (the shared fixtures and timing sch
 
 FULL = dict(build_n=[10_000_000, 1_000_000], eval_n=1_000_000,
             eval_m=[10_000_000, 1_000_000], surface=4096, check=4096,
-            samples=9, min_batch=0.02, max_seconds=6.0)
+            samples=9, min_batch=0.02, max_seconds=6.0, rounds=3)
 QUICK = dict(build_n=[100_000, 10_000], eval_n=10_000, eval_m=[100_000, 10_000],
-             surface=256, check=512, samples=3, min_batch=0.005, max_seconds=0.3)
+             surface=256, check=512, samples=3, min_batch=0.005, max_seconds=0.3, rounds=1)
 
 # The issue's targets.
 GOALS = dict(build=10.0, eval=10.0, rbs_build=5.0, rbs_grid=3.0, overhead=0.10)
@@ -149,33 +149,50 @@ def agreement(a, b):
     return float(np.abs(a - b).max()) / float(np.abs(b).max())
 
 
+def rust_kind_time(rust, kind):
+    """The median time of the Rust driver's evaluation `kind` (None when it did not run)."""
+    return next((k["time"]["median_s"] for k in rust["kinds"] if k.get("kind") == kind), None)
+
+
 def measure(cfg, rust_bin, log):
     knobs = dict(samples=cfg["samples"], min_batch=cfg["min_batch"],
                  max_seconds=cfg["max_seconds"], check=cfg["check"])
     rknobs = dict(samples=cfg["samples"], min_batch_seconds=cfg["min_batch"],
                   max_seconds=cfg["max_seconds"])
     res = dict(build=[], eval=[], rbs=None)
+
+    def alternating(py_case, rust_case, rust_time, label):
+        # The binding's overhead compares two processes' times on a noisy machine: each
+        # side runs `rounds` times, alternately, and keeps its middle run (by time).
+        pys, rusts = [], []
+        for _ in range(cfg["rounds"]):
+            pys.append(run_py(py_case, log, label))
+            rusts.append(run_json([str(rust_bin), json.dumps(rust_case)], f"rust     {label}",
+                                  log))
+        pys.sort(key=lambda r: r["time"]["median_s"])
+        rusts.sort(key=rust_time)
+        return pys[len(pys) // 2], rusts[len(rusts) // 2]
+
     for n in cfg["build_n"]:
         label = f"make_interp_spline N = {n:.0e}"
-        row = dict(n=n)
-        for lib in ("geomkit", "scipy"):
-            row[lib] = run_py(dict(lib=lib, op="build", n=n, **knobs), log, label)
-        row["rust"] = run_json([str(rust_bin), json.dumps(dict(
-            op="spline_build", variant="chord", n=n, seed=SEED_CURVE, degree=3, **rknobs))],
-            f"rust     {label}", log)
+        row = dict(n=n, scipy=run_py(dict(lib="scipy", op="build", n=n, **knobs), log, label))
+        row["geomkit"], row["rust"] = alternating(
+            dict(lib="geomkit", op="build", n=n, **knobs),
+            dict(op="spline_build", variant="chord", n=n, seed=SEED_CURVE, degree=3, **rknobs),
+            lambda r: r["time"]["median_s"], label)
         res["build"].append(row)
     n = cfg["eval_n"]
     for cnt in cfg["eval_m"]:
         label = f"BSpline.__call__ {cnt:.0e} sorted points, N = {n:.0e}"
-        row = dict(n=n, m=cnt)
-        for lib in ("geomkit", "scipy"):
-            row[lib] = run_py(dict(lib=lib, op="eval", n=n, m=cnt, **knobs), log, label)
-        rust = run_json([str(rust_bin), json.dumps(dict(
-            op="curve_eval", variant="chord", n=n, seed=SEED_CURVE, check=4,
-            kinds=[dict(kind=kind, params="sorted", count=cnt, param_seed=SEED_PARAMS)
-                   for kind in ("nu", "par", "par_new")],
-            **rknobs))], f"rust     {label}", log)
-        row["rust"] = rust
+        row = dict(n=n, m=cnt,
+                   scipy=run_py(dict(lib="scipy", op="eval", n=n, m=cnt, **knobs), log, label))
+        row["geomkit"], row["rust"] = alternating(
+            dict(lib="geomkit", op="eval", n=n, m=cnt, **knobs),
+            dict(op="curve_eval", variant="chord", n=n, seed=SEED_CURVE, check=4,
+                 kinds=[dict(kind=kind, params="sorted", count=cnt, param_seed=SEED_PARAMS)
+                        for kind in ("nu", "par", "par_new")],
+                 **rknobs),
+            lambda r: rust_kind_time(r, "par_new"), label)
         res["eval"].append(row)
     r = cfg["surface"]
     label = f"RectBivariateSpline {r}^2"
@@ -240,7 +257,9 @@ def markdown(res, meta):
              "RSS (inputs included). Agreement: max |geomkit − SciPy| / max |SciPy| at check "
              "points (spline values at midpoints between data parameters; every k-th "
              "evaluated point; a 64² sub-grid of the grid). Overhead: Python / Rust − 1, the "
-             "same operation on the same data through the Rust driver.\n")
+             "same operation on the same data through the Rust driver; the geomkit and Rust "
+             f"processes of a case run alternately, {meta.get('rounds', 1)} of each, and each side's "
+             "middle run (by time) is the one shown.\n")
     b0 = res["build"][0]
     e0 = res["eval"][0]
     rbs = res["rbs"]
@@ -255,8 +274,7 @@ def markdown(res, meta):
         return row["rust"]["time"]["median_s"]
 
     def rust_kind(row, kind):
-        return next((k["time"]["median_s"] for k in row["rust"]["kinds"]
-                     if k.get("kind") == kind), None)
+        return rust_kind_time(row["rust"], kind)
 
     def rust_eval(row):
         # The kernel the package calls for a cubic in R^3 (values, extrapolating), into a new
@@ -328,7 +346,8 @@ def markdown(res, meta):
     kinds = {kind: [(r["m"], rust_kind(r, kind)) for r in res["eval"]] for kind in ("par", "nu")}
     L.append("Kind `par_new` is `eval_many_par` into a new buffer each call (its allocation "
              "and the page faults of its first touch included, as in the Python call, which "
-             "returns a new array): the batched cubic kernel `BSpline.__call__` calls for the "
+             "returns a new array; allocated by `geomkit::mem::zeros`, which advises huge pages "
+             "as NumPy does for large arrays): the batched cubic kernel `BSpline.__call__` calls for the "
              "values of cubics in R^1 to R^3 (extrapolate=True). Into a buffer kept between "
              "calls (kind `par`) it takes "
              + ", ".join(f"{fmt_time(t)} ({fmt_n(m)} points)" for m, t in kinds["par"])
@@ -373,6 +392,7 @@ def main():
         res = measure(cfg, Path(args.rust_bin), log)
         meta = machine_meta(args)
         meta["seconds"] = time.perf_counter() - t0
+        meta["rounds"] = cfg["rounds"]
         raw_path = Path(args.raw)
         raw_path.parent.mkdir(parents=True, exist_ok=True)
         raw_path.write_text(json.dumps(dict(meta=meta, config=cfg, results=res)))

@@ -35,7 +35,7 @@ pub mod compose;
 mod error;
 pub mod exact;
 pub mod geom;
-mod mem;
+pub mod mem;
 pub mod mesh;
 mod numeric;
 mod par;

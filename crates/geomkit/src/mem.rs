@@ -15,8 +15,18 @@
 const HUGE_FROM: usize = 1 << 25;
 
 /// `len` zeros for a large result that the caller's threads then fill, its pages advised
-/// as huge pages where that helps (module docs).
-pub(crate) fn zeros(len: usize) -> Vec<f64> {
+/// as huge pages where that helps (module docs): the buffer to give a batched evaluation
+/// of millions of points, as NumPy's arrays are for the Python package.
+///
+/// ```
+/// use geomkit::bspline::BsplineCurve;
+/// let curve = BsplineCurve::new(1, vec![0.0, 0.0, 1.0, 1.0], vec![vec![0.0], vec![2.0]]).unwrap();
+/// let ts: Vec<f64> = (0..5).map(|i| i as f64 / 4.0).collect();
+/// let mut out = geomkit::mem::zeros(ts.len());
+/// curve.eval_many_par(&ts, &mut out).unwrap();
+/// assert_eq!(out, [0.0, 0.5, 1.0, 1.5, 2.0]);
+/// ```
+pub fn zeros(len: usize) -> Vec<f64> {
     let v = vec![0.0f64; len];
     if len * std::mem::size_of::<f64>() >= HUGE_FROM {
         advise_huge(&v);

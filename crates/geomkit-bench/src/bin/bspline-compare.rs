@@ -30,7 +30,7 @@
 //!   `{"kind": "fd" | "par" | "par_new" | "seq" | "nu" | "pp", "params": "uniform" | "sorted" | "unsorted",
 //!   "count": M, "param_seed": s}`: `fd` = `sample_uniform_fd(M)` (uniform only), `par` =
 //!   `eval_many_par`, `par_new` = `eval_many_par` into a new buffer each call (allocation and first-touch page faults
-//!   included, as in a call from Python), `seq` = `Curve::eval_batch` on the calling thread, bit exact (the B-spline kernels),
+//!   included, as in a call from Python; `geomkit::mem::zeros`: huge pages advised, as NumPy does), `seq` = `Curve::eval_batch` on the calling thread, bit exact (the B-spline kernels),
 //!   `nu` = `eval_nu_many(t, 0, Extrapolate::Extend, out)` (SciPy's algorithm: the kernel of
 //!   the Python package's `BSpline.__call__`, `bench/compare_python.sh`), `pp` = `PiecewiseCurve::eval_many_par`
 //!   of `to_piecewise()` (built once, untimed; its time is `piecewise_build`); parameters = `linspace` over the
@@ -530,10 +530,11 @@ fn curve_eval(case: &Case, timing: Timing) -> Value {
             }
             "par" => time_it(|| curve.eval_many_par(&ts, &mut out), timing),
             "par_new" => {
-                // Into a new buffer each call, as a Python call returns a new array.
+                // Into a new buffer each call, as a Python call returns a new array (and
+                // with huge pages advised, as NumPy's large arrays are).
                 let timed = time_it(
                     || {
-                        let mut fresh = vec![0.0; m * 3];
+                        let mut fresh = geomkit::mem::zeros(m * 3);
                         curve
                             .eval_many_par(&ts, &mut fresh)
                             .map(|()| drop(black_box(fresh)))
