@@ -239,6 +239,16 @@ impl<'a> Locator<'a> {
         a + k[a + 1..=b].partition_point(|&x| x <= t)
     }
 
+    /// The span holding t (t not NaN): from the bucket table when it is built already (no
+    /// search however far t lies from `hint`), else by [`Locator::span_near`] from `hint`.
+    #[inline(always)]
+    pub(super) fn span_from(&self, t: f64, hint: usize) -> usize {
+        match self.table.get() {
+            Some(table) => self.span_in_bucket(t, table[self.bucket(t)]),
+            None => self.span_near(t, hint),
+        }
+    }
+
     /// Whether span s holds t (the first and last span extend to ±∞).
     #[inline]
     fn holds(&self, s: usize, t: f64) -> bool {

@@ -15,12 +15,20 @@ const MAX_CROSSED: usize = 10;
 /// The fewest parameters of a part of a block, each part with its own tables.
 const MIN_PART: usize = 16;
 
+/// The most blocks left to the other kernel after a failed try.
+const MAX_WAIT: u32 = 63;
+
 /// The narrow blocks' evaluation over a run of blocks: AVX-512 where the CPU has it
-/// (checked once by `pulp`), and the last span found, where the next search starts.
+/// (checked once by `pulp`), the last span found, where the next search starts, and a
+/// back-off: after a block that is not narrow, the next `wait` blocks go to the other
+/// kernel without a try, `wait` doubling with each failure in a row (up to [`MAX_WAIT`]),
+/// so that unsorted or dense parameters pay for a failed try only now and then.
 pub(super) struct Narrow {
     #[cfg(target_arch = "x86_64")]
     v4: Option<pulp::x86::V4>,
     hint: usize,
+    wait: u32,
+    backoff: u32,
 }
 
 impl Narrow {
@@ -29,6 +37,8 @@ impl Narrow {
             #[cfg(target_arch = "x86_64")]
             v4: pulp::x86::V4::try_new(),
             hint: loc.lo,
+            wait: 0,
+            backoff: 0,
         }
     }
 
@@ -48,19 +58,31 @@ impl Narrow {
     ) -> bool {
         #[cfg(target_arch = "x86_64")]
         if let Some(v4) = self.v4.filter(|_| loc.inv_step.is_none()) {
+            if self.wait > 0 {
+                self.wait -= 1;
+                return false;
+            }
             let (mut start, mut size) = (0, BLOCK);
             while start < BLOCK {
                 let part = start..start + size;
                 let o = &mut out[part.start * D..part.end * D];
-                if x86::eval_part::<D>(v4, loc, control, &x[part], o, &mut self.hint) {
-                    start += size;
-                    size = size.max(1 << start.trailing_zeros()).min(BLOCK);
-                } else if size > MIN_PART {
-                    size /= 2;
-                } else {
-                    return false;
+                match x86::eval_part::<D>(v4, loc, control, &x[part], o, &mut self.hint) {
+                    Ok(()) => {
+                        start += size;
+                        size = size.max(1 << start.trailing_zeros()).min(BLOCK);
+                    }
+                    // Split while the parts of MIN_PART could cross few enough knots.
+                    Err(crossed) if size > MIN_PART && crossed * MIN_PART <= MAX_CROSSED * size => {
+                        size /= 2;
+                    }
+                    Err(_) => {
+                        self.backoff = (2 * self.backoff + 1).min(MAX_WAIT);
+                        self.wait = self.backoff;
+                        return false;
+                    }
                 }
             }
+            self.backoff = 0;
             return true;
         }
         let _ = (loc, control, x, out);
@@ -169,8 +191,8 @@ mod x86 {
     struct Table(__m512d, __m512d);
 
     /// [`super::Narrow::eval_cubic`] on a part of a block (a multiple of 8 parameters,
-    /// at least 16): `false`, with nothing written, when it crosses too many knots. The
-    /// spans are searched from `hint`, which is left at the last.
+    /// at least 16); when it crosses too many knots, their number, with nothing written.
+    /// The spans are searched from `hint`, which is left at the last.
     #[inline(always)]
     pub(super) fn eval_part<const D: usize>(
         v4: V4,
@@ -179,7 +201,7 @@ mod x86 {
         x: &[f64],
         out: &mut [f64],
         hint: &mut usize,
-    ) -> bool {
+    ) -> Result<(), usize> {
         let (f, op) = (v4.avx512f, Ops(v4));
         let n = x.len();
         // The spans of the least and the greatest parameter: every lane's span lies
@@ -201,12 +223,12 @@ mod x86 {
             }
             (f._mm512_reduce_min_pd(lo), f._mm512_reduce_max_pd(hi))
         };
-        let s0 = loc.span_near(lo, *hint);
-        let s1 = loc.span_near(hi, s0);
+        let s0 = loc.span_from(lo, *hint);
+        let s1 = loc.span_from(hi, s0);
         *hint = s1;
         let crossed = s1 - s0;
         if crossed > MAX_CROSSED {
-            return false;
+            return Err(crossed);
         }
         let k = loc.knots;
         // The reciprocals of `cubic_span_inverses` on span s0 + r, for r <= crossed, from
@@ -269,7 +291,7 @@ mod x86 {
             }
             interleave::<D>(op, p, o);
         }
-        true
+        Ok(())
     }
 
     /// Tables by coordinate of 16 rows of D coordinates (the first 2·D vectors of `rows`).
