@@ -294,6 +294,8 @@ impl CubicLanes {
         near: impl Fn(usize) -> u64,
     ) {
         let (xs, spans) = (&self.x[..n], &mut self.span[..n]);
+        // Empty on uniform knots (no buckets there).
+        let table = loc.table();
         if let Some(inv) = loc.inv_step.filter(|_| loc.hi < LANE_INDEX_MAX) {
             // `uniform_span` lane by lane, in a loop that vectorizes: max/min send NaN to
             // the first span as its clamp does, and the floor of the clamped value, an
@@ -305,13 +307,11 @@ impl CubicLanes {
                 let f = ((x - k0) * inv).max(lo).min(hi).floor();
                 *s = ((f + TWO_52).to_bits() - TWO_52.to_bits()) as usize;
             }
-        } else if loc.inv_step.is_none() && !loc.table().is_empty() && !touch {
-            let table = loc.table();
+        } else if !table.is_empty() && !touch {
             for (s, &x) in spans.iter_mut().zip(xs) {
                 *s = loc.span_in_bucket(x, table[loc.bucket(x)]);
             }
-        } else if loc.inv_step.is_none() && !loc.table().is_empty() {
-            let table = loc.table();
+        } else if !table.is_empty() {
             // In rounds of independent reads.
             for (s, &x) in spans.iter_mut().zip(xs) {
                 *s = loc.bucket(x);
