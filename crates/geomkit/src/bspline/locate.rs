@@ -1,13 +1,13 @@
 //! Knot spans and cubic basis values for batches of parameters, shared by the batched curve
 //! and surface evaluations. Spans: one multiplication on uniform knots, a bucket table over
 //! the domain for large batches on other knots, a binary search otherwise; always
-//! [`find_span`]'s span. Basis values: lane by lane over a block of parameters, which
+//! [`find_span`](super::curve::find_span)'s span. Basis values: lane by lane over a block of parameters, which
 //! vectorizes (on non-uniform knots the six reciprocals of the cubic Cox–de Boor recursion
 //! then cost about as much as a uniform basis).
 
 use std::sync::OnceLock;
 
-use super::curve::{basis_funs_cubic, domain_spans, find_span, uniform_cubic_basis, uniform_span};
+use super::curve::{basis_funs_cubic, domain_spans, uniform_cubic_basis, uniform_span};
 
 /// Parameters per block of the batched cubic kernels: first the spans of all of them,
 /// touching the memory each will read, then their basis values, then the evaluations.
@@ -78,7 +78,7 @@ impl Prefetcher {
 /// earlier bucket is <= t and every knot in a later one > t. A bucket stores the span that
 /// count gives and how many knots it holds itself (usually at most one): the span is then
 /// one comparison away, without a branch that unsorted parameters would mispredict, and
-/// equal to [`find_span`]'s.
+/// equal to [`find_span`](super::curve::find_span)'s.
 pub(super) struct Locator<'a> {
     pub(super) knots: &'a [f64],
     degree: usize,
@@ -195,8 +195,9 @@ impl<'a> Locator<'a> {
         s
     }
 
-    /// The span holding t (clamped to the domain), trying `hint` first when there is
-    /// neither a uniform step nor a bucket table.
+    /// The span holding t (clamped to the domain; the first for NaN): by one multiplication
+    /// on uniform knots, from the bucket table when there is one, else searched from
+    /// `hint` ([`Locator::span_near`]).
     #[inline(always)]
     pub(super) fn span(&self, t: f64, hint: usize) -> usize {
         if let Some(inv) = self.inv_step {
@@ -206,18 +207,18 @@ impl<'a> Locator<'a> {
         if !table.is_empty() {
             return self.span_in_bucket(t, table[self.bucket(t)]);
         }
-        if self.holds(hint, t) {
-            return hint;
-        }
-        find_span(self.knots, self.lo, self.hi + 1, t)
+        self.span_near(t, hint)
     }
 
-    /// The span holding t (clamped to the domain; t not NaN), as [`Locator::span`], by a
-    /// search outward from `hint` in steps that double, then a binary search: O(log d)
-    /// reads for a span d spans away, and no bucket table.
+    /// The span holding t (clamped to the domain; the first for NaN), [`find_span`](super::curve::find_span)'s, by
+    /// a search outward from `hint` in steps that double, then a binary search: two reads
+    /// when `hint` holds t, O(log d) for a span d spans away, and no bucket table.
     #[inline(always)]
     pub(super) fn span_near(&self, t: f64, hint: usize) -> usize {
         let (k, lo, hi) = (self.knots, self.lo, self.hi);
+        if t.is_nan() {
+            return lo;
+        }
         let (mut a, mut b) = (hint.clamp(lo, hi), hint.clamp(lo, hi));
         let mut step = 1;
         if a == lo || k[a] <= t {
@@ -239,7 +240,7 @@ impl<'a> Locator<'a> {
         a + k[a + 1..=b].partition_point(|&x| x <= t)
     }
 
-    /// The span holding t (t not NaN): from the bucket table when it is built already (no
+    /// The span holding t: from the bucket table when it is built already (no
     /// search however far t lies from `hint`), else by [`Locator::span_near`] from `hint`.
     #[inline(always)]
     pub(super) fn span_from(&self, t: f64, hint: usize) -> usize {
@@ -247,13 +248,6 @@ impl<'a> Locator<'a> {
             Some(table) => self.span_in_bucket(t, table[self.bucket(t)]),
             None => self.span_near(t, hint),
         }
-    }
-
-    /// Whether span s holds t (the first and last span extend to ±∞).
-    #[inline]
-    fn holds(&self, s: usize, t: f64) -> bool {
-        let k = self.knots;
-        (s == self.lo || k[s] <= t) && (s == self.hi || t < k[s + 1])
     }
 }
 
@@ -421,6 +415,7 @@ impl CubicLanes {
 
 #[cfg(test)]
 mod tests {
+    use super::super::curve::find_span;
     use super::*;
 
     /// The search from a hint finds `find_span`'s span from every hint: knots of
@@ -436,13 +431,14 @@ mod tests {
         knots.extend([10.0; 4]);
         let n_c = knots.len() - 4;
         let loc = Locator::new(&knots, 3, n_c, None, 0);
-        let mut ts = vec![-1.0, 10.0, 11.0, 1e-300];
+        let mut ts = vec![-1.0, 10.0, 11.0, 1e-300, f64::NAN];
         ts.extend(knots.iter().copied());
         ts.extend((0..500).map(|i| i as f64 * 0.0213));
         for &t in &ts {
             let want = find_span(&knots, 3, n_c, t);
             for hint in 0..n_c + 3 {
                 assert_eq!(loc.span_near(t, hint), want, "t = {t}, hint = {hint}");
+                assert_eq!(loc.span(t, hint), want, "t = {t}, hint = {hint}");
             }
         }
     }
